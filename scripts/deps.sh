@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs what a fresh Debian machine lacks. Usage: scripts/deps.sh native|wasm|browser|bench|fuzz ...
+# Each group is checked first and installed only when something is missing.
+set -euo pipefail
+need=()
+want() { dpkg -s "$1" >/dev/null 2>&1 || need+=("$1"); }
+for group in "$@"; do
+  case "$group" in
+    native) want cmake; want g++; want make; want libgtest-dev; want pkg-config ;;
+    wasm) want emscripten; want nodejs ;;
+    browser) want chromium ;;
+    bench) want admesh; want libbenchmark-dev ;;
+    fuzz) want clang; want libclang-rt-14-dev ;;
+    *) echo "deps.sh: unknown group $group" >&2; exit 2 ;;
+  esac
+done
+if [ ${#need[@]} -gt 0 ]; then
+  echo "deps.sh: installing ${need[*]}" >&2
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq >&2 || true
+  $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >&2
+fi

@@ -1,0 +1,146 @@
+// stltopo command-line tool: `stltopo info [--json] FILE...`
+// The only part of the project that does file I/O and printing.
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "stltopo.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] FILE...\n"
+    "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
+    "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
+    "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
+
+struct Args {
+  bool json = false, topology = true;
+  double tolerance = 0;
+  uint32_t maxTriangles = 1u << 28;
+  std::vector<std::string> files;
+};
+
+void printText(const std::string& file, const stltopo::Mesh& m, const stltopo::Topology* t) {
+  std::printf("%s: %s STL, %zu solid%s, %u triangles, %u vertices\n", file.c_str(), stltopo::formatName(m.format),
+              m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
+  for (const auto& s : m.solids) std::printf("  solid \"%s\": %u triangles\n", s.name.c_str(), s.triangleCount);
+  if (m.nVertices() > 0)
+    std::printf("  bbox [%g, %g, %g] .. [%g, %g, %g]\n", m.bboxMin[0], m.bboxMin[1], m.bboxMin[2], m.bboxMax[0],
+                m.bboxMax[1], m.bboxMax[2]);
+  std::printf("  area %.9g, volume %.9g, colours %s, normals against winding %u\n", m.area, m.volume,
+              stltopo::colorConventionName(m.colorConvention), m.normalMismatches);
+  if (t) {
+    uint32_t faces = m.nTriangles() - t->nDegenerate;
+    long long chi = (long long)t->nUsedVertices - t->nEdges + faces;
+    bool watertight = faces > 0 && !t->nBoundaryEdges && !t->nNonManifoldEdges && !t->nInconsistentEdges;
+    std::printf("  edges %u: boundary %u, non-manifold %u, inconsistent %u\n", t->nEdges, t->nBoundaryEdges,
+                t->nNonManifoldEdges, t->nInconsistentEdges);
+    std::printf("  holes %u, seams %u, non-manifold vertices %u, degenerate triangles %u\n", t->nHoles, t->nSeams,
+                t->nNonManifoldVertices, t->nDegenerate);
+    std::printf("  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells, chi,
+                watertight ? "yes" : "no", (!t->nNonManifoldEdges && !t->nNonManifoldVertices) ? "yes" : "no");
+  }
+  for (const auto& w : m.warnings) std::printf("  warning %s\n", w.message.c_str());
+}
+
+// Reads one file (or stdin) through the streaming reader, 1 MiB at a time.
+stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& base, stltopo::Mesh& mesh) {
+  FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
+  if (!f) {
+    stltopo::Status s;
+    s.code = stltopo::Code::InvalidArgument;
+    s.message = "invalid-argument: cannot open " + path + ": " + std::strerror(errno);
+    return s;
+  }
+  stltopo::ReadOptions opt = base;
+  struct stat st;
+  if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode)) opt.sizeHint = uint64_t(st.st_size);
+  stltopo::Reader reader(opt);
+  std::vector<uint8_t> buf(1 << 20);
+  stltopo::Status s;
+  for (;;) {
+    size_t n = std::fread(buf.data(), 1, buf.size(), f);
+    if (n > 0) {
+      s = reader.feed(buf.data(), n);
+      if (!s.ok()) break;
+    }
+    if (n < buf.size()) {
+      if (std::ferror(f)) {
+        s.code = stltopo::Code::InvalidArgument;
+        s.message = "invalid-argument: read error on " + path + ": " + std::strerror(errno);
+      }
+      break;
+    }
+  }
+  if (f != stdin) std::fclose(f);
+  if (s.ok()) s = reader.finish(mesh);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  if (argc < 2) { std::fputs(kUsage, stderr); return 2; }
+  std::string cmd = argv[1];
+  if (cmd == "--help" || cmd == "-h" || cmd == "help") { std::fputs(kUsage, stdout); return 0; }
+  if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
+  if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
+  bool endOfOptions = false;
+  for (int i = 2; i < argc; ++i) {
+    std::string s = argv[i];
+    auto value = [&](const char* name) -> const char* {
+      if (i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", name); std::exit(2); }
+      return argv[++i];
+    };
+    if (!endOfOptions && s == "--") endOfOptions = true;
+    else if (!endOfOptions && s == "--json") a.json = true;
+    else if (!endOfOptions && s == "--no-topology") a.topology = false;
+    else if (!endOfOptions && s == "--tolerance") {
+      const char* v = value("--tolerance");
+      char* end;
+      a.tolerance = std::strtod(v, &end);
+      if (*end || !(a.tolerance >= 0)) { std::fprintf(stderr, "stltopo: bad --tolerance '%s'\n", v); return 2; }
+    } else if (!endOfOptions && s == "--max-triangles") {
+      const char* v = value("--max-triangles");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || n == 0 || n > 0xFFFFFFFFull) { std::fprintf(stderr, "stltopo: bad --max-triangles '%s'\n", v); return 2; }
+      a.maxTriangles = uint32_t(n);
+    } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
+      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
+      return 2;
+    } else {
+      a.files.push_back(s);
+    }
+  }
+  if (a.files.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
+
+  int rc = 0;
+  stltopo::ReadOptions ro;
+  ro.maxTriangles = a.maxTriangles;
+  stltopo::TopologyOptions to;
+  to.tolerance = a.tolerance;
+  for (const std::string& file : a.files) {
+    stltopo::Mesh mesh;
+    stltopo::Topology topo;
+    stltopo::Status s = readFile(file, ro, mesh);
+    if (s.ok() && a.topology) s = stltopo::buildTopology(mesh, topo, to);
+    if (!s.ok()) {
+      rc = 1;
+      if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
+      else std::fprintf(stderr, "%s: %s\n", file.c_str(), s.message.c_str());
+      continue;
+    }
+    const stltopo::Topology* t = a.topology ? &topo : nullptr;
+    if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t).c_str());
+    else printText(file, mesh, t);
+  }
+  return rc;
+}

@@ -1,0 +1,4 @@
+// Internal helpers shared by the core's translation units. Not installed.
+#pragma once
+#include <cstdarg>
+#include <string>

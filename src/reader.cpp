@@ -1,0 +1,951 @@
+// Streaming STL reader: binary and ASCII parsers fed side by side, an exact
+// weld while triangles arrive, and the detection rule applied at the end.
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <clocale>
+#include <cmath>
+#include <cstdio>
+#include <locale.h>
+
+#include "detail.h"
+#include "stltopo.h"
+
+namespace stltopo {
+namespace {
+
+constexpr uint64_t kHeaderBytes = 84;
+constexpr uint64_t kRecordBytes = 50;
+
+std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* f, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, f);
+  int n = std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  if (n < 0) return std::string();
+  return std::string(buf, size_t(n) < sizeof buf ? size_t(n) : sizeof buf - 1);
+}
+
+Status makeStatus(Code c, std::string msg, uint64_t offset = kNoOffset, uint64_t line = 0,
+                  uint32_t tri = kInvalid) {
+  Status s;
+  s.code = c;
+  s.message = std::string(codeName(c)) + ": " + std::move(msg);
+  s.offset = offset;
+  s.line = line;
+  s.triangle = tri;
+  return s;
+}
+
+Status oom(const char* what) { return makeStatus(Code::OutOfMemory, std::string("could not allocate ") + what); }
+
+inline uint32_t bitsOf(float f) { return std::bit_cast<uint32_t>(f); }
+inline bool finiteBits(uint32_t b) { return (b & 0x7f800000u) != 0x7f800000u; }
+
+inline uint32_t hash3(uint32_t x, uint32_t y, uint32_t z) {
+  uint32_t h = x * 0x9E3779B1u;
+  h ^= y * 0x85EBCA77u + (h << 6) + (h >> 2);
+  h ^= z * 0xC2B2AE3Du + (h << 6) + (h >> 2);
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  return h;
+}
+
+std::string trimmed(const std::string& s) {
+  size_t b = 0, e = s.size();
+  auto ws = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
+  while (b < e && ws(s[b])) ++b;
+  while (e > b && ws(s[e - 1])) --e;
+  return s.substr(b, e - b);
+}
+
+// Per binary part: the header's colour information.
+struct PartColor {
+  bool magics = false;
+  uint8_t rgb[3] = {0, 0, 0};
+};
+
+// ---------------------------------------------------------------------------
+// Builder: collects triangles into a welded Mesh.
+struct Builder {
+  ReadOptions opt;
+  Mesh mesh;
+  Array<uint64_t> table;  // (hash << 32) | vertex id; empty slot = ~0
+  uint32_t mask = 0;
+  std::vector<PartColor> partColors;  // parallel to mesh.solids (binary only)
+  bool anyVisCamBit = false;
+  bool solidOpen = false;
+  Status error;  // sticky
+
+  explicit Builder(const ReadOptions& o) : opt(o) {}
+
+  bool failed() const { return !error.ok(); }
+
+  bool reserveTriangles(uint64_t n) {
+    if (n > opt.maxTriangles) n = opt.maxTriangles;
+    if (n <= mesh.nTriangles()) return true;
+    uint64_t v = n / 2 + 16;
+    if (!mesh.triangles.reserve(size_t(n) * 3) || !mesh.attributes.reserve(size_t(n)) ||
+        (opt.keepNormals && !mesh.normals.reserve(size_t(n) * 3)) ||
+        !mesh.positions.reserve(size_t(v) * 3) || !growTable(uint32_t(std::min<uint64_t>(v, 1u << 30)))) {
+      error = oom("the mesh arrays");
+      return false;
+    }
+    return true;
+  }
+
+  bool growTable(uint32_t forVertices) {
+    size_t want = 64;
+    while (want < size_t(forVertices) * 2) want *= 2;
+    if (want <= table.size()) return true;
+    Array<uint64_t> t;
+    if (!t.assign(want, ~uint64_t(0))) return false;
+    uint32_t m = uint32_t(want - 1);
+    for (uint64_t slot : table) {
+      if (slot == ~uint64_t(0)) continue;
+      uint32_t i = uint32_t(slot >> 32) & m;
+      while (t[i] != ~uint64_t(0)) i = (i + 1) & m;
+      t[i] = slot;
+    }
+    table = std::move(t);
+    mask = m;
+    return true;
+  }
+
+  // Returns the welded vertex id, or kInvalid on allocation failure.
+  inline uint32_t weld(float x, float y, float z) {
+    // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
+    uint32_t bx = bitsOf(x + 0.0f), by = bitsOf(y + 0.0f), bz = bitsOf(z + 0.0f);
+    uint32_t h = hash3(bx, by, bz);
+    uint32_t i = h & mask;
+    const float* pos = mesh.positions.data();
+    for (;;) {
+      uint64_t slot = table[i];
+      if (slot == ~uint64_t(0)) break;
+      if (uint32_t(slot >> 32) == h) {
+        uint32_t id = uint32_t(slot);
+        const float* p = pos + size_t(id) * 3;
+        if (bitsOf(p[0] + 0.0f) == bx && bitsOf(p[1] + 0.0f) == by && bitsOf(p[2] + 0.0f) == bz) return id;
+      }
+      i = (i + 1) & mask;
+    }
+    uint32_t id = mesh.nVertices();
+    size_t n = mesh.positions.size();
+    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
+      return kInvalid;
+    (void)mesh.positions.resize(n + 3);  // capacity checked above
+    float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
+    q[0] = x; q[1] = y; q[2] = z;
+    table[i] = (uint64_t(h) << 32) | id;
+    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
+    return id;
+  }
+
+  void beginSolid(std::string name, const PartColor* color) {
+    Solid s;
+    s.name = std::move(name);
+    s.firstTriangle = mesh.nTriangles();
+    mesh.solids.push_back(std::move(s));
+    partColors.push_back(color ? *color : PartColor{});
+    solidOpen = true;
+  }
+  void endSolid() {
+    if (!solidOpen) return;
+    Solid& s = mesh.solids.back();
+    s.triangleCount = mesh.nTriangles() - s.firstTriangle;
+    solidOpen = false;
+  }
+
+  // v: 9 floats (3 corners). n: 3 floats. Returns false on error (sticky).
+  inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line) {
+    uint32_t t = mesh.nTriangles();
+    for (int k = 0; k < 9; ++k) {
+      if (!finiteBits(bitsOf(v[k]))) {
+        error = makeStatus(Code::NonFinite,
+                           fmt("triangle %u has a non-finite coordinate (corner %d: %g)", t, k / 3, double(v[k])),
+                           offset, line, t);
+        return false;
+      }
+    }
+    if (t >= opt.maxTriangles) {
+      error = makeStatus(Code::TooLarge, fmt("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
+      return false;
+    }
+    if (mesh.triangles.size() + 3 > mesh.triangles.capacity()) {
+      size_t cap = std::max<size_t>(64, mesh.triangles.capacity() / 3 * 2);
+      if (!mesh.triangles.reserve(cap * 3) || !mesh.attributes.reserve(cap) ||
+          (opt.keepNormals && !mesh.normals.reserve(cap * 3))) {
+        error = oom("the triangle array");
+        return false;
+      }
+    }
+    if (table.empty() && !growTable(64)) {
+      error = oom("the weld table");
+      return false;
+    }
+    uint32_t ids[3];
+    for (int c = 0; c < 3; ++c) {
+      ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
+      if (ids[c] == kInvalid) {
+        error = oom("the vertex array");
+        return false;
+      }
+    }
+    size_t tn = mesh.triangles.size();
+    (void)mesh.triangles.resize(tn + 3);
+    std::memcpy(mesh.triangles.data() + tn, ids, sizeof ids);
+    (void)mesh.attributes.push_back(attr);
+    if (opt.keepNormals) {
+      size_t nn = mesh.normals.size();
+      (void)mesh.normals.resize(nn + 3);
+      std::memcpy(mesh.normals.data() + nn, n, 3 * sizeof(float));
+    }
+    // Figures: bbox, area, volume, normal mismatch.
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        float x = v[3 * c + k];
+        if (t == 0 && c == 0) {
+          mesh.bboxMin[k] = mesh.bboxMax[k] = x;
+        } else {
+          if (x < mesh.bboxMin[k]) mesh.bboxMin[k] = x;
+          if (x > mesh.bboxMax[k]) mesh.bboxMax[k] = x;
+        }
+      }
+    }
+    double ax = v[0], ay = v[1], az = v[2], bx = v[3], by = v[4], bz = v[5], cx = v[6], cy = v[7], cz = v[8];
+    double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
+    double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+    mesh.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
+    mesh.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+    if (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) {
+      double d = double(n[0]) * nx + double(n[1]) * ny + double(n[2]) * nz;
+      if (d < 0) ++mesh.normalMismatches;
+    }
+    if (attr & 0x8000u) anyVisCamBit = true;
+    return true;
+  }
+
+  static uint8_t c5(unsigned v) { return uint8_t((v * 255u + 15u) / 31u); }
+
+  bool decodeColors() {
+    bool magics = false;
+    for (const PartColor& p : partColors) magics |= p.magics;
+    ColorConvention conv = magics ? ColorConvention::Magics
+                                  : (anyVisCamBit ? ColorConvention::VisCam : ColorConvention::None);
+    mesh.colorConvention = conv;
+    if (conv == ColorConvention::None) return true;
+    uint32_t nt = mesh.nTriangles();
+    if (!mesh.colors.assign(size_t(nt) * 3, 0) || !mesh.colorValid.assign(nt, 0)) return false;
+    for (size_t s = 0; s < mesh.solids.size(); ++s) {
+      const Solid& so = mesh.solids[s];
+      const PartColor& pc = partColors[s];
+      for (uint32_t t = so.firstTriangle; t < so.firstTriangle + so.triangleCount; ++t) {
+        unsigned a = mesh.attributes[t];
+        uint8_t* rgb = mesh.colors.data() + size_t(t) * 3;
+        if (pc.magics) {
+          if (a & 0x8000u) {
+            rgb[0] = pc.rgb[0]; rgb[1] = pc.rgb[1]; rgb[2] = pc.rgb[2];
+          } else {
+            rgb[0] = c5(a & 31u); rgb[1] = c5((a >> 5) & 31u); rgb[2] = c5((a >> 10) & 31u);
+          }
+          mesh.colorValid[t] = 1;
+        } else if (conv == ColorConvention::VisCam && (a & 0x8000u)) {
+          rgb[0] = c5((a >> 10) & 31u); rgb[1] = c5((a >> 5) & 31u); rgb[2] = c5(a & 31u);
+          mesh.colorValid[t] = 1;
+        }
+      }
+    }
+    return true;
+  }
+
+  void addWarning(Code c, std::string msg, uint64_t offset = kNoOffset, uint64_t line = 0) {
+    mesh.warnings.push_back(makeStatus(c, std::move(msg), offset, line));
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Binary parser (handles concatenated parts).
+struct BinaryParser {
+  Builder b;
+  uint8_t header[kHeaderBytes];
+  uint32_t headerHave = 0;
+  uint8_t rec[kRecordBytes];
+  uint32_t recHave = 0;
+  bool inRecords = false;
+  uint32_t partIndex = 0;      // number of parts whose header has been read
+  uint64_t partStart = 0;      // offset of the current part's header
+  uint32_t partCount = 0;      // triangles promised by the current part
+  uint32_t partDone = 0;
+  uint64_t partFirst = 0;      // triangles read before the current part
+  uint64_t offset = 0;         // bytes consumed
+  bool skipping = false;       // over maxTriangles or after a content error: count bytes only
+  uint64_t skipNeeded = 0;     // bytes needed to complete the current part when skipping
+  Status contentError;         // e.g. non-finite: reported unless the file is also truncated
+
+  explicit BinaryParser(const ReadOptions& o) : b(o) {}
+
+  void startPart() {
+    uint32_t n;
+    std::memcpy(&n, header + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) n = __builtin_bswap32(n);
+    partCount = n;
+    partDone = 0;
+    partFirst = b.mesh.nTriangles();
+    ++partIndex;
+    size_t len = 0;
+    while (len < 80 && header[len] != 0) ++len;
+    std::string name = trimmed(std::string(reinterpret_cast<const char*>(header), len));
+    PartColor pc;
+    static const char kColor[] = "COLOR=";
+    for (size_t i = 0; i + 6 + 4 <= 80; ++i) {
+      if (std::memcmp(header + i, kColor, 6) == 0) {
+        pc.magics = true;
+        pc.rgb[0] = header[i + 6]; pc.rgb[1] = header[i + 7]; pc.rgb[2] = header[i + 8];
+        break;
+      }
+    }
+    b.beginSolid(std::move(name), &pc);
+    uint64_t total = uint64_t(b.mesh.nTriangles()) + n;
+    if (total > b.opt.maxTriangles) {
+      skipping = true;
+      skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(n);
+      return;
+    }
+    // Reserve only what the known input size can hold.
+    if (b.opt.sizeHint > partStart + kHeaderBytes) {
+      uint64_t fits = (b.opt.sizeHint - partStart - kHeaderBytes) / kRecordBytes;
+      b.reserveTriangles(uint64_t(b.mesh.nTriangles()) + std::min<uint64_t>(n, fits));
+    }
+    inRecords = n > 0;
+    if (!inRecords) finishPart();
+  }
+
+  void finishPart() {
+    b.endSolid();
+    inRecords = false;
+    headerHave = 0;
+    partStart = offset;
+  }
+
+  inline void record(const uint8_t* r, uint64_t recOffset) {
+    float f[12];
+    std::memcpy(f, r, 48);
+    uint16_t attr;
+    std::memcpy(&attr, r + 48, 2);
+    if constexpr (std::endian::native == std::endian::big) {
+      for (float& x : f) x = std::bit_cast<float>(__builtin_bswap32(std::bit_cast<uint32_t>(x)));
+      attr = __builtin_bswap16(attr);
+    }
+    if (!b.add(f, f + 3, attr, recOffset, 0)) {
+      // A size problem (truncated) outranks a content problem found before it, so keep
+      // counting bytes to learn whether the part is complete; drop the arrays.
+      contentError = b.error;
+      b.error = Status{};
+      b.mesh = Mesh{};
+      b.table.release();
+      skipping = true;
+      skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(partCount);
+    }
+  }
+
+  void feed(const uint8_t* p, size_t n) {
+    size_t i = 0;
+    while (i < n && !b.failed()) {
+      if (skipping) {
+        uint64_t have = offset - partStart;
+        uint64_t take = std::min<uint64_t>(n - i, skipNeeded > have ? skipNeeded - have : 0);
+        if (take == 0) take = n - i;  // beyond: the outcome (too-large) is known; just count
+        offset += take;
+        i += size_t(take);
+        continue;
+      }
+      if (!inRecords) {
+        uint32_t take = uint32_t(std::min<size_t>(kHeaderBytes - headerHave, n - i));
+        std::memcpy(header + headerHave, p + i, take);
+        headerHave += take;
+        i += take;
+        offset += take;
+        if (headerHave == kHeaderBytes) startPart();
+        continue;
+      }
+      if (recHave > 0) {
+        uint32_t take = uint32_t(std::min<size_t>(kRecordBytes - recHave, n - i));
+        std::memcpy(rec + recHave, p + i, take);
+        recHave += take;
+        i += take;
+        offset += take;
+        if (recHave == kRecordBytes) {
+          recHave = 0;
+          record(rec, offset - kRecordBytes);
+          if (skipping) continue;
+          if (++partDone == partCount) finishPart();
+        }
+        continue;
+      }
+      // Fast path: whole records straight from the input.
+      uint64_t left = uint64_t(partCount - partDone);
+      uint64_t whole = std::min<uint64_t>(left, (n - i) / kRecordBytes);
+      for (uint64_t k = 0; k < whole && !skipping; ++k) {
+        record(p + i, offset);
+        i += kRecordBytes;
+        offset += kRecordBytes;
+        ++partDone;
+      }
+      if (skipping) continue;
+      if (partDone == partCount) {
+        finishPart();
+        continue;
+      }
+      if (i < n) {
+        uint32_t take = uint32_t(n - i);  // < 50
+        std::memcpy(rec, p + i, take);
+        recHave = take;
+        i += take;
+        offset += take;
+      }
+    }
+  }
+
+  // Outcome at end of input.
+  enum class End { Exact, Trailing, Error, TooShort };
+  End end(Status& st) {
+    if (b.failed()) { st = b.error; return End::Error; }
+    if (partIndex == 0) return End::TooShort;  // < 84 bytes: no header at all
+    if (skipping) {
+      uint64_t needBytes = partStart + skipNeeded;
+      if (offset < needBytes) {
+        st = truncated(needBytes);
+      } else if (!contentError.ok()) {
+        st = contentError;
+      } else {
+        st = makeStatus(Code::TooLarge,
+                        fmt("the header promises %u triangles, more than maxTriangles (%u)", partCount, b.opt.maxTriangles),
+                        partStart + 80);
+      }
+      return End::Error;
+    }
+    if (inRecords) {
+      st = truncated(partStart + kHeaderBytes + kRecordBytes * uint64_t(partCount));
+      return End::Error;
+    }
+    if (headerHave > 0) return End::Trailing;  // < 84 bytes after the last part
+    return End::Exact;
+  }
+
+  Status truncated(uint64_t needBytes) {
+    // The first incomplete triangle: triangles before this part plus the complete records.
+    uint64_t body = offset - partStart > kHeaderBytes ? offset - partStart - kHeaderBytes : 0;
+    uint32_t tri = uint32_t(std::min<uint64_t>(partFirst + body / kRecordBytes, kInvalid - 1));
+    std::string part = partIndex > 1 ? fmt("part %u (header at offset %llu): ", partIndex, (unsigned long long)partStart) : std::string();
+    return makeStatus(Code::Truncated,
+                      fmt("%sthe header promises %u triangles (%llu bytes) but the file has %llu bytes; "
+                          "data stops at offset %llu, inside triangle %u",
+                          part.c_str(), partCount, (unsigned long long)needBytes, (unsigned long long)offset,
+                          (unsigned long long)offset, tri),
+                      offset, 0, tri);
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Locale-independent strtof.
+locale_t cLocale() {
+  static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
+  return loc;
+}
+
+// Parses a whole token as a float exactly as strtof does in the C locale.
+bool parseFloat(const char* s, size_t len, float& out) {
+  // Fast path: [sign] digits [. digits] [e [sign] digits], mantissa < 2^24, |exp| <= 10:
+  // one correctly rounded float operation gives strtof's result.
+  {
+    size_t i = 0;
+    bool neg = false;
+    if (i < len && (s[i] == '-' || s[i] == '+')) neg = s[i++] == '-';
+    uint64_t m = 0;
+    int digits = 0, fracDigits = 0;
+    bool overflow = false;
+    while (i < len && unsigned(s[i] - '0') < 10) {
+      if (m < (1ull << 40)) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
+      ++digits; ++i;
+    }
+    if (i < len && s[i] == '.') {
+      ++i;
+      while (i < len && unsigned(s[i] - '0') < 10) {
+        if (m < (1ull << 40)) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
+        ++digits; ++fracDigits; ++i;
+      }
+    }
+    int e = 0;
+    bool ok = digits > 0;
+    if (ok && i < len && (s[i] == 'e' || s[i] == 'E')) {
+      ++i;
+      bool eneg = false;
+      if (i < len && (s[i] == '-' || s[i] == '+')) eneg = s[i++] == '-';
+      int ed = 0;
+      while (i < len && unsigned(s[i] - '0') < 10) {
+        if (e < 10000) e = e * 10 + (s[i] - '0');
+        ++ed; ++i;
+      }
+      if (ed == 0) ok = false;
+      if (eneg) e = -e;
+    }
+    if (ok && i == len && !overflow) {
+      int ex = e - fracDigits;
+      // Strip trailing zeros of the mantissa into the exponent.
+      while (m != 0 && m % 10 == 0 && ex < 0) { m /= 10; ++ex; }
+      if (m == 0) { out = neg ? -0.0f : 0.0f; return true; }
+      static const float kPow10[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+      if (m <= (1u << 24) && ex >= -10 && ex <= 10) {
+        float f = float(m);
+        f = ex < 0 ? f / kPow10[-ex] : f * kPow10[ex];
+        out = neg ? -f : f;
+        return true;
+      }
+    }
+  }
+  // General path: the C library's strtof in the "C" locale.
+  char buf[kMaxNumberChars + 1];
+  if (len > kMaxNumberChars) return false;
+  std::memcpy(buf, s, len);
+  buf[len] = 0;
+  char* end = nullptr;
+  float f = strtof_l(buf, &end, cLocale());
+  if (end != buf + len || len == 0) return false;
+  out = f;
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// ASCII parser: a token state machine that survives any chunking.
+struct AsciiParser {
+  enum State : uint8_t {
+    ExpectSolid, SolidName, ExpectFacetOrEnd, AfterFacet, NormalNums, ExpectOuter, ExpectLoop,
+    ExpectVertexOrEndloop, VertexNums, ExpectEndfacet, SkipLine,
+  };
+  Builder b;
+  State state = ExpectSolid;
+  State afterSkip = ExpectSolid;
+  bool isSolid = false;      // first token began with "solid"
+  bool decided = false;      // we know whether the file starts with "solid"
+  bool binaryLooking = false;  // died on a control byte
+  bool sawCR = false;
+  uint64_t line = 1;
+  uint64_t offset = 0;
+  uint64_t tokenOffset = 0, tokenLine = 1;
+  std::string carry;         // a token split across chunks
+  bool inToken = false;
+  bool carryOverlong = false;
+  std::string name;
+  bool nameCut = false;
+  uint64_t nameLine = 1;
+  int numIndex = 0, vertexCount = 0;
+  float normal[3] = {0, 0, 0};
+  float verts[9];
+  uint64_t facetLine = 1, facetOffset = 0;
+  bool bomChecked = false;
+  uint8_t bomHave = 0;
+
+  explicit AsciiParser(const ReadOptions& o) : b(o) {}
+
+  bool dead() const { return b.failed() || (decided && !isSolid); }
+
+  void fail(Code c, std::string msg, uint64_t atLine, uint64_t atOffset) {
+    if (!b.failed()) b.error = makeStatus(c, std::move(msg), atOffset, atLine);
+  }
+
+  static bool ieq(const char* t, size_t n, const char* kw) {
+    size_t k = std::strlen(kw);
+    if (n != k) return false;
+    for (size_t i = 0; i < n; ++i)
+      if ((t[i] | 0x20) != kw[i]) return false;
+    return true;
+  }
+  static bool iprefix(const char* t, size_t n, const char* kw) {
+    size_t k = std::strlen(kw);
+    if (n < k) return false;
+    for (size_t i = 0; i < k; ++i)
+      if ((t[i] | 0x20) != kw[i]) return false;
+    return true;
+  }
+
+  std::string show(const char* t, size_t n) {
+    std::string s(t, std::min<size_t>(n, 40));
+    for (char& c : s)
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    if (n > 40) s += "...";
+    return s;
+  }
+
+  void token(const char* t, size_t n) {
+    switch (state) {
+      case ExpectSolid:
+        if (iprefix(t, n, "solid")) {
+          if (!decided) { decided = true; isSolid = true; }
+          name.assign(t + 5, n - 5);
+          nameCut = false;
+          nameLine = tokenLine;
+          state = SolidName;
+          return;
+        }
+        if (!decided) { decided = true; isSolid = false; return; }
+        fail(Code::AsciiSyntax, fmt("expected 'solid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case ExpectFacetOrEnd:
+        if (ieq(t, n, "facet")) {
+          state = AfterFacet;
+          facetLine = tokenLine;
+          facetOffset = tokenOffset;
+          normal[0] = normal[1] = normal[2] = 0;
+          vertexCount = 0;
+          return;
+        }
+        if (iprefix(t, n, "endsolid")) {
+          b.endSolid();
+          state = SkipLine;
+          afterSkip = ExpectSolid;
+          return;
+        }
+        fail(Code::AsciiSyntax, fmt("expected 'facet' or 'endsolid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case AfterFacet:
+        if (ieq(t, n, "normal")) { state = NormalNums; numIndex = 0; return; }
+        if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
+        fail(Code::AsciiSyntax, fmt("expected 'normal' or 'outer' after 'facet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case NormalNums:
+        if (!number(t, n, normal[numIndex])) return;
+        if (++numIndex == 3) state = ExpectOuter;
+        return;
+      case ExpectOuter:
+        if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
+        fail(Code::AsciiSyntax, fmt("expected 'outer' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case ExpectLoop:
+        if (ieq(t, n, "loop")) { state = ExpectVertexOrEndloop; return; }
+        fail(Code::AsciiSyntax, fmt("expected 'loop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case ExpectVertexOrEndloop:
+        if (ieq(t, n, "vertex")) {
+          if (vertexCount == 3) {
+            fail(Code::AsciiSyntax, fmt("facet at line %llu has more than 3 vertices (line %llu)", (unsigned long long)facetLine, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+            return;
+          }
+          state = VertexNums;
+          numIndex = 0;
+          return;
+        }
+        if (ieq(t, n, "endloop")) {
+          if (vertexCount != 3) {
+            fail(Code::AsciiSyntax, fmt("facet at line %llu has %d vertices, expected 3 (line %llu)", (unsigned long long)facetLine, vertexCount, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+            return;
+          }
+          state = SkipLine;
+          afterSkip = ExpectEndfacet;
+          return;
+        }
+        fail(Code::AsciiSyntax, fmt("expected 'vertex' or 'endloop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case VertexNums:
+        if (!number(t, n, verts[vertexCount * 3 + numIndex])) return;
+        if (++numIndex == 3) { ++vertexCount; state = ExpectVertexOrEndloop; }
+        return;
+      case ExpectEndfacet:
+        if (ieq(t, n, "endfacet")) {
+          if (!b.add(normal, verts, 0, facetOffset, facetLine)) return;
+          state = SkipLine;
+          afterSkip = ExpectFacetOrEnd;
+          return;
+        }
+        fail(Code::AsciiSyntax, fmt("expected 'endfacet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        return;
+      case SolidName:
+      case SkipLine:
+        return;  // not reached: handled by the line scanner
+    }
+  }
+
+  bool number(const char* t, size_t n, float& out) {
+    if (parseFloat(t, n, out)) return true;
+    fail(Code::AsciiSyntax, fmt("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+    return false;
+  }
+
+  inline void newlineChar(uint8_t c) {
+    if (c == '\r') { ++line; sawCR = true; }
+    else if (c == '\n') { if (!sawCR) ++line; sawCR = false; }
+    else sawCR = false;
+  }
+
+  static inline bool isSpace(uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+
+  void feed(const uint8_t* p, size_t n) {
+    size_t i = 0;
+    // An optional UTF-8 byte-order mark at offset 0.
+    while (!bomChecked && i < n) {
+      static const uint8_t kBom[3] = {0xEF, 0xBB, 0xBF};
+      if (p[i] == kBom[bomHave]) {
+        ++bomHave; ++i; ++offset;
+        if (bomHave == 3) bomChecked = true;
+      } else {
+        if (bomHave > 0) { decided = true; isSolid = false; return; }  // a broken BOM
+        bomChecked = true;
+      }
+    }
+    while (i < n && !dead()) {
+      if (state == SolidName || state == SkipLine) {
+        size_t j = i;
+        while (j < n && p[j] != '\n' && p[j] != '\r') {
+          if (p[j] < 0x20 && p[j] != '\t' && p[j] != '\v' && p[j] != '\f') { badByte(p[j], offset + (j - i)); return; }
+          ++j;
+        }
+        if (state == SolidName) {
+          size_t room = kMaxNameBytes + 1 > name.size() ? kMaxNameBytes + 1 - name.size() : 0;
+          name.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
+        }
+        offset += j - i;
+        i = j;
+        if (i < n) {  // end of line reached
+          if (state == SolidName) {
+            openSolid();
+            state = ExpectFacetOrEnd;
+          } else {
+            state = afterSkip;
+          }
+        }
+        continue;
+      }
+      if (!inToken) {
+        // Skip whitespace.
+        while (i < n && isSpace(p[i])) { newlineChar(p[i]); ++i; ++offset; }
+        if (i == n) break;
+        sawCR = false;
+        if (p[i] < 0x20 || p[i] == 0x7f) { badByte(p[i], offset); return; }
+        size_t j = i;
+        while (j < n && !isSpace(p[j]) && p[j] >= 0x20 && p[j] != 0x7f) ++j;
+        tokenOffset = offset;
+        tokenLine = line;
+        if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
+        if (j == n) {  // token may continue in the next chunk
+          inToken = true;
+          carry.assign(reinterpret_cast<const char*>(p + i), std::min(j - i, kMaxNumberChars + 1));
+          carryOverlong = j - i > kMaxNumberChars;
+          offset += j - i;
+          i = j;
+          break;
+        }
+        offset += j - i;
+        token(reinterpret_cast<const char*>(p + i), j - i);
+        i = j;
+        continue;
+      }
+      // Continue a carried token.
+      size_t j = i;
+      while (j < n && !isSpace(p[j]) && p[j] >= 0x20 && p[j] != 0x7f) ++j;
+      if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
+      size_t room = kMaxNumberChars + 1 > carry.size() ? kMaxNumberChars + 1 - carry.size() : 0;
+      if (j - i > room) carryOverlong = true;
+      carry.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
+      offset += j - i;
+      i = j;
+      if (i < n) endCarry();
+    }
+  }
+
+  void endCarry() {
+    inToken = false;
+    if (carryOverlong && state != ExpectSolid) {
+      fail(Code::AsciiSyntax, fmt("token longer than %zu bytes at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      return;
+    }
+    token(carry.data(), carry.size());
+    carry.clear();
+  }
+
+  void badByte(uint8_t c, uint64_t at) {
+    if (!decided) { decided = true; isSolid = false; return; }
+    binaryLooking = true;
+    fail(Code::AsciiSyntax, fmt("unexpected byte 0x%02X at offset %llu (line %llu): not ASCII STL text", c, (unsigned long long)at, (unsigned long long)line), line, at);
+  }
+
+  void openSolid() {
+    std::string nm = trimmed(name.size() > kMaxNameBytes ? name.substr(0, kMaxNameBytes) : name);
+    if (name.size() > kMaxNameBytes) {
+      // Cut at a UTF-8 character boundary.
+      while (!nm.empty() && (static_cast<unsigned char>(nm.back()) & 0xC0) == 0x80) nm.pop_back();
+      if (!nm.empty() && static_cast<unsigned char>(nm.back()) >= 0xC0) nm.pop_back();
+      b.addWarning(Code::NameTruncated, fmt("solid name at line %llu is longer than %zu bytes and was cut", (unsigned long long)nameLine, kMaxNameBytes), kNoOffset, nameLine);
+    }
+    b.beginSolid(std::move(nm), nullptr);
+    name.clear();
+  }
+
+  // Outcome at end of input.
+  Status end() {
+    if (b.failed()) return b.error;
+    if (inToken) {
+      endCarry();
+      if (b.failed()) return b.error;
+    }
+    State s = state == SkipLine ? afterSkip : state;
+    switch (s) {
+      case ExpectSolid:
+        return Status{};  // after endsolid (or between solids)
+      case SolidName:
+        openSolid();
+        [[fallthrough]];
+      case ExpectFacetOrEnd:
+        b.endSolid();
+        b.addWarning(Code::MissingEndsolid,
+                     fmt("the file ends after line %llu without 'endsolid'", (unsigned long long)tokenLine), offset, tokenLine);
+        return Status{};
+      default:
+        return makeStatus(Code::UnexpectedEnd,
+                          fmt("the file ends after line %llu inside the facet that starts at line %llu",
+                              (unsigned long long)tokenLine, (unsigned long long)facetLine),
+                          offset, tokenLine);
+    }
+  }
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+struct Reader::Impl {
+  ReadOptions opt;
+  BinaryParser* bin = nullptr;
+  AsciiParser* ascii = nullptr;
+  uint64_t total = 0;
+  Status sticky;
+  bool finished = false;
+
+  explicit Impl(const ReadOptions& o) : opt(o) { start(); }
+  ~Impl() { clear(); }
+  void clear() {
+    delete bin; bin = nullptr;
+    delete ascii; ascii = nullptr;
+  }
+  void start() {
+    clear();
+    bin = new (std::nothrow) BinaryParser(opt);
+    ascii = new (std::nothrow) AsciiParser(opt);
+    total = 0;
+    sticky = Status{};
+    finished = false;
+    if (!bin || !ascii) sticky = oom("the reader");
+  }
+
+  bool binaryDead() const { return bin == nullptr || bin->b.failed(); }
+  bool asciiDead() const { return ascii == nullptr || ascii->dead(); }
+
+  // The detection rule. atEnd: all input has arrived.
+  Status decide(bool atEnd, Mesh* out) {
+    Status bs;
+    BinaryParser::End be = BinaryParser::End::Error;
+    if (bin) {
+      if (atEnd) be = bin->end(bs);
+      else bs = bin->b.error;
+    }
+    bool solidFile = ascii && ascii->decided && ascii->isSolid;
+    auto takeBinary = [&](bool trailing) -> Status {
+      if (trailing) {
+        uint64_t extra = bin->offset - bin->partStart;
+        bin->b.addWarning(Code::TrailingBytes,
+                          fmt("%llu extra byte%s after the last triangle at offset %llu were ignored",
+                              (unsigned long long)extra, extra == 1 ? "" : "s", (unsigned long long)bin->partStart),
+                          bin->partStart);
+      }
+      bin->b.mesh.format = Format::Binary;
+      return finishBuilder(bin->b, out);
+    };
+    if (atEnd && be == BinaryParser::End::Exact) return takeBinary(false);
+    if (solidFile) {
+      Status as = atEnd ? ascii->end() : ascii->b.error;
+      if (as.ok()) {
+        ascii->b.mesh.format = Format::Ascii;
+        return finishBuilder(ascii->b, out);
+      }
+      if (atEnd && be == BinaryParser::End::Trailing) return takeBinary(true);
+      if (ascii->binaryLooking && !bs.ok()) return bs;
+      return as;
+    }
+    if (atEnd && total == 0) return makeStatus(Code::Empty, "the file is empty (0 bytes)", 0);
+    if (atEnd && be == BinaryParser::End::TooShort)
+      return makeStatus(Code::NotStl,
+                        fmt("the file has %llu bytes: too short for a binary STL (84-byte minimum) and it does not start with 'solid'",
+                            (unsigned long long)total),
+                        0);
+    if (atEnd && be == BinaryParser::End::Trailing) return takeBinary(true);
+    return bs;
+  }
+
+  Status finishBuilder(Builder& b, Mesh* out) {
+    b.endSolid();
+    if (!b.decodeColors()) return oom("the colour array");
+    b.table.release();
+    if (out) *out = std::move(b.mesh);
+    return Status{};
+  }
+};
+
+Reader::Reader(const ReadOptions& options) : impl_(new Impl(options)) {}
+Reader::~Reader() { delete impl_; }
+uint64_t Reader::bytesRead() const { return impl_->total; }
+void Reader::reset() { impl_->start(); }
+
+Status Reader::feed(const uint8_t* data, size_t size) {
+  Impl& m = *impl_;
+  if (m.finished) return makeStatus(Code::InvalidArgument, "feed() after finish(); call reset() first");
+  if (!m.sticky.ok()) return m.sticky;
+  if (m.opt.maxBytes && m.total + size > m.opt.maxBytes) {
+    m.sticky = makeStatus(Code::TooLarge, fmt("the input is larger than maxBytes (%llu)", (unsigned long long)m.opt.maxBytes), m.opt.maxBytes);
+    m.clear();
+    return m.sticky;
+  }
+  m.total += size;
+  if (!m.binaryDead()) {
+    m.bin->feed(data, size);
+    if (m.bin->b.failed()) {  // keep its status, drop its arrays
+      m.bin->b.mesh = Mesh{};
+      m.bin->b.table.release();
+    }
+  }
+  if (!m.asciiDead()) {
+    m.ascii->feed(data, size);
+    if (m.asciiDead() && m.ascii->decided && !m.ascii->isSolid) {
+      delete m.ascii;  // not an ASCII file: free it now
+      m.ascii = nullptr;
+    }
+  }
+  if (m.binaryDead() && m.asciiDead()) {
+    m.sticky = m.decide(false, nullptr);
+    if (m.sticky.ok()) m.sticky = makeStatus(Code::NotStl, "the input is not STL");
+    m.clear();
+    return m.sticky;
+  }
+  return Status{};
+}
+
+Status Reader::finish(Mesh& out) {
+  Impl& m = *impl_;
+  if (m.finished) return makeStatus(Code::InvalidArgument, "finish() called twice; call reset() first");
+  m.finished = true;
+  if (!m.sticky.ok()) return m.sticky;
+  Status s = m.decide(true, &out);
+  m.clear();
+  if (!s.ok()) m.sticky = s;
+  return s;
+}
+
+Status readStl(const uint8_t* data, size_t size, Mesh& out, const ReadOptions& options) {
+  ReadOptions o = options;
+  if (o.sizeHint == 0) o.sizeHint = size;
+  Reader r(o);
+  Status s = r.feed(data, size);
+  if (!s.ok()) return s;
+  return r.finish(out);
+}
+
+}  // namespace stltopo

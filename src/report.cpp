@@ -1,0 +1,257 @@
+// The `stltopo info --json` report. Shared by the native CLI and the wasm build,
+// so both print byte-identical JSON.
+#include <clocale>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <locale.h>
+
+#include "stltopo.h"
+
+namespace stltopo {
+namespace {
+
+locale_t cLocale() {
+  static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
+  return loc;
+}
+
+// Shortest decimal that reads back as the same value (float32 or double), rendered
+// like JavaScript's Number#toString: fixed notation for exponents in [-7, 21).
+std::string shortest(double x, bool isFloat) {
+  if (x == 0) return std::signbit(x) ? "-0" : "0";
+  char buf[64];
+  int maxp = isFloat ? 9 : 17;
+  std::string digits;
+  int exp10 = 0;
+  for (int p = 1; p <= maxp; ++p) {
+    std::snprintf(buf, sizeof buf, "%.*e", p - 1, x);
+    // Collect the mantissa digits and the exponent without trusting the locale's point.
+    digits.clear();
+    const char* s = buf;
+    bool neg = *s == '-';
+    if (neg) ++s;
+    while (*s && *s != 'e') {
+      if (*s >= '0' && *s <= '9') digits += *s;
+      ++s;
+    }
+    exp10 = *s == 'e' ? std::atoi(s + 1) : 0;
+    std::string canon = std::string(neg ? "-" : "") + digits.substr(0, 1) + (digits.size() > 1 ? "." + digits.substr(1) : "") +
+                        "e" + std::to_string(exp10);
+    bool same = isFloat ? strtof_l(canon.c_str(), nullptr, cLocale()) == float(x)
+                        : strtod_l(canon.c_str(), nullptr, cLocale()) == x;
+    if (same || p == maxp) {
+      while (digits.size() > 1 && digits.back() == '0') digits.pop_back();
+      std::string out = neg ? "-" : "";
+      int n = int(digits.size());
+      if (exp10 >= 21 || exp10 < -7) {
+        out += digits.substr(0, 1);
+        if (n > 1) out += "." + digits.substr(1);
+        out += exp10 < 0 ? "e-" : "e+";
+        out += std::to_string(exp10 < 0 ? -exp10 : exp10);
+      } else if (exp10 < 0) {
+        out += "0." + std::string(size_t(-exp10 - 1), '0') + digits;
+      } else if (exp10 + 1 >= n) {
+        out += digits + std::string(size_t(exp10 + 1 - n), '0');
+      } else {
+        out += digits.substr(0, size_t(exp10 + 1)) + "." + digits.substr(size_t(exp10 + 1));
+      }
+      return out;
+    }
+  }
+  return "0";
+}
+
+struct Json {
+  std::string s;
+  bool first = true;
+  void open(char c) { s += c; first = true; }
+  void close(char c) { s += c; first = false; }
+  void key(const char* k) {
+    if (!first) s += ',';
+    first = false;
+    s += '"';
+    s += k;
+    s += "\":";
+  }
+  void sep() {
+    if (!first) s += ',';
+    first = false;
+  }
+  void u(uint64_t v) { s += std::to_string(v); }
+  void i(int64_t v) { s += std::to_string(v); }
+  void str(const std::string& v) { s += jsonString(v); }
+  void b(bool v) { s += v ? "true" : "false"; }
+};
+
+void location(Json& j, const Status& st) {
+  if (st.offset != kNoOffset) { j.key("offset"); j.u(st.offset); }
+  if (st.line != 0) { j.key("line"); j.u(st.line); }
+  if (st.triangle != kInvalid) { j.key("triangle"); j.u(st.triangle); }
+}
+
+}  // namespace
+
+std::string jsonString(const std::string& in) {
+  std::string o = "\"";
+  const unsigned char* p = reinterpret_cast<const unsigned char*>(in.data());
+  size_t n = in.size();
+  for (size_t i = 0; i < n;) {
+    unsigned char c = p[i];
+    if (c < 0x80) {
+      switch (c) {
+        case '"': o += "\\\""; break;
+        case '\\': o += "\\\\"; break;
+        case '\n': o += "\\n"; break;
+        case '\r': o += "\\r"; break;
+        case '\t': o += "\\t"; break;
+        case '\b': o += "\\b"; break;
+        case '\f': o += "\\f"; break;
+        default:
+          if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            o += buf;
+          } else {
+            o += char(c);
+          }
+      }
+      ++i;
+      continue;
+    }
+    // Validate one UTF-8 sequence; invalid bytes become U+FFFD.
+    int len = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+    bool ok = len > 0 && i + size_t(len) <= n;
+    for (int k = 1; ok && k < len; ++k) ok = (p[i + k] & 0xC0) == 0x80;
+    if (ok && len == 3) {
+      unsigned cp = ((c & 0x0F) << 12) | ((p[i + 1] & 0x3F) << 6);
+      ok = cp >= 0x800 && !(cp >= 0xD800 && cp <= 0xDFFF);
+    }
+    if (ok && len == 4) {
+      unsigned cp = ((c & 0x07) << 18) | ((p[i + 1] & 0x3F) << 12);
+      ok = cp >= 0x10000 && cp <= 0x10FFFF;
+    }
+    if (ok) {
+      o.append(reinterpret_cast<const char*>(p + i), size_t(len));
+      i += size_t(len);
+    } else {
+      o += "\xEF\xBF\xBD";
+      ++i;
+    }
+  }
+  o += '"';
+  return o;
+}
+
+std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo) {
+  Json j;
+  j.open('{');
+  j.key("file"); j.str(file);
+  j.key("format"); j.str(formatName(mesh.format));
+  j.key("solids");
+  j.open('[');
+  for (const Solid& s : mesh.solids) {
+    j.sep();
+    j.open('{');
+    j.key("name"); j.str(s.name);
+    j.key("triangles"); j.u(s.triangleCount);
+    j.close('}');
+  }
+  j.close(']');
+  const uint32_t nt = mesh.nTriangles();
+  j.key("triangles"); j.u(nt);
+  j.key("vertices"); j.u(mesh.nVertices());
+  uint32_t degenerate = 0;
+  if (topo) {
+    degenerate = topo->nDegenerate;
+  } else {
+    for (uint32_t t = 0; t < nt; ++t) {
+      const uint32_t* c = mesh.triangles.data() + 3 * size_t(t);
+      degenerate += (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) ? 1 : 0;
+    }
+  }
+  j.key("degenerateTriangles"); j.u(degenerate);
+  j.key("colors"); j.str(colorConventionName(mesh.colorConvention));
+  j.key("normalMismatches"); j.u(mesh.normalMismatches);
+  j.key("bbox");
+  if (mesh.nVertices() == 0) {
+    j.s += "null";
+    j.first = false;
+  } else {
+    j.open('{');
+    for (int m = 0; m < 2; ++m) {
+      j.key(m == 0 ? "min" : "max");
+      const float* v = m == 0 ? mesh.bboxMin : mesh.bboxMax;
+      j.s += '[';
+      for (int k = 0; k < 3; ++k) {
+        if (k) j.s += ',';
+        j.s += shortest(v[k] + 0.0f, true);
+      }
+      j.s += ']';
+    }
+    j.close('}');
+  }
+  j.key("area"); j.s += shortest(mesh.area, false);
+  j.key("volume"); j.s += shortest(mesh.volume, false);
+  j.key("warnings");
+  j.open('[');
+  for (const Status& w : mesh.warnings) {
+    j.sep();
+    j.open('{');
+    j.key("code"); j.str(codeName(w.code));
+    j.key("message"); j.str(w.message);
+    location(j, w);
+    j.close('}');
+  }
+  j.close(']');
+  if (topo) {
+    const Topology& t = *topo;
+    j.key("edges"); j.u(t.nEdges);
+    j.key("boundaryEdges"); j.u(t.nBoundaryEdges);
+    j.key("nonManifoldEdges"); j.u(t.nNonManifoldEdges);
+    j.key("inconsistentEdges"); j.u(t.nInconsistentEdges);
+    j.key("nonManifoldVertices"); j.u(t.nNonManifoldVertices);
+    j.key("holes"); j.u(t.nHoles);
+    j.key("seams"); j.u(t.nSeams);
+    j.key("holeSizes");
+    j.open('[');
+    for (uint32_t l = 0; l < t.nLoops(); ++l) {
+      if (t.loopIsSeam[l]) continue;
+      j.sep();
+      j.u(t.loopOffsets[l + 1] - t.loopOffsets[l]);
+    }
+    j.close(']');
+    j.key("shells"); j.u(t.nShells);
+    uint32_t nonDegenerate = nt - t.nDegenerate;
+    int64_t chi = int64_t(t.nUsedVertices) - int64_t(t.nEdges) + int64_t(nonDegenerate);
+    j.key("eulerCharacteristic"); j.i(chi);
+    bool watertight = nonDegenerate > 0 && t.nBoundaryEdges == 0 && t.nNonManifoldEdges == 0 && t.nInconsistentEdges == 0;
+    j.key("genus");
+    if (watertight) {
+      int64_t twice = 2 * int64_t(t.nShells) - chi;  // genus = (2 shells - chi) / 2
+      j.s += shortest(double(twice) / 2, false);
+    } else {
+      j.s += "null";
+    }
+    j.key("watertight"); j.b(watertight);
+    j.key("manifold"); j.b(t.nNonManifoldEdges == 0 && t.nNonManifoldVertices == 0);
+  }
+  j.close('}');
+  return j.s;
+}
+
+std::string errorJson(const std::string& file, const Status& error) {
+  Json j;
+  j.open('{');
+  j.key("file"); j.str(file);
+  j.key("error");
+  j.open('{');
+  j.key("code"); j.str(codeName(error.code));
+  j.key("message"); j.str(error.message);
+  location(j, error);
+  j.close('}');
+  j.close('}');
+  return j.s;
+}
+
+}  // namespace stltopo

@@ -1,0 +1,363 @@
+// Half-edge topology: pairing of triangle sides, boundary loops ("hole faces")
+// built with the fan rule, vertex loops and the per-element problem flags.
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "stltopo.h"
+
+namespace stltopo {
+namespace {
+
+Status fail(Code c, const char* msg) {
+  Status s;
+  s.code = c;
+  s.message = std::string(codeName(c)) + ": " + msg;
+  return s;
+}
+Status oom() { return fail(Code::OutOfMemory, "could not allocate the topology arrays"); }
+
+struct UnionFind {
+  Array<uint32_t> parent;
+  bool init(uint32_t n) {
+    if (!parent.resize(n)) return false;
+    for (uint32_t i = 0; i < n; ++i) parent[i] = i;
+    return true;
+  }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b) parent[b] = a; else parent[a] = b;
+  }
+};
+
+// Deterministic tolerance weld (topology only): vertices in id order; a vertex joins the
+// lowest-id representative within `tol` (Euclidean, in double) found in its own or the 26
+// neighbouring grid cells of size `tol`; otherwise it becomes a representative itself.
+bool toleranceWeld(const Mesh& mesh, double tol, Array<uint32_t>& rep) {
+  uint32_t nv = mesh.nVertices();
+  if (!rep.resize(nv)) return false;
+  auto cellOf = [&](double x) -> int64_t {
+    double c = std::floor(x / tol);
+    if (c > 4e18) c = 4e18;
+    if (c < -4e18) c = -4e18;
+    return int64_t(c);
+  };
+  struct Key {
+    int64_t x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint64_t h = uint64_t(k.x) * 0x9E3779B97F4A7C15ull;
+      h ^= uint64_t(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+      h ^= uint64_t(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+      return size_t(h ^ (h >> 29));
+    }
+  };
+  Array<uint32_t> chain;  // next representative in the same cell
+  if (!chain.assign(nv, kInvalid)) return false;
+  std::unordered_map<Key, uint32_t, KeyHash> cells;
+  const float* p = mesh.positions.data();
+  double tol2 = tol * tol;
+  for (uint32_t v = 0; v < nv; ++v) {
+    double x = p[3 * v], y = p[3 * v + 1], z = p[3 * v + 2];
+    Key k{cellOf(x), cellOf(y), cellOf(z)};
+    uint32_t best = kInvalid;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          auto it = cells.find(Key{k.x + dx, k.y + dy, k.z + dz});
+          if (it == cells.end()) continue;
+          for (uint32_t r = it->second; r != kInvalid; r = chain[r]) {
+            double ex = p[3 * r] - x, ey = p[3 * r + 1] - y, ez = p[3 * r + 2] - z;
+            if (ex * ex + ey * ey + ez * ez <= tol2 && r < best) best = r;
+          }
+        }
+    if (best != kInvalid) {
+      rep[v] = best;
+    } else {
+      rep[v] = v;
+      auto [it, inserted] = cells.try_emplace(k, v);
+      if (!inserted) {
+        chain[v] = it->second;
+        it->second = v;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
+  out = Topology{};
+  const uint32_t nt = mesh.nTriangles();
+  const uint32_t nv = mesh.nVertices();
+  out.nTriangles = nt;
+  out.nVertices = nv;
+  if (uint64_t(nt) * 3 >= uint64_t(kInvalid) / 2)
+    return fail(Code::TooLarge, "too many triangles for 32-bit half-edge ids");
+  const uint32_t* tri = mesh.triangles.data();
+
+  // Vertex map for the topology (identity for the exact weld).
+  if (options.tolerance > 0) {
+    if (!toleranceWeld(mesh, options.tolerance, out.vertexWeld)) return oom();
+  } else {
+    if (!out.vertexWeld.resize(nv)) return oom();
+    for (uint32_t v = 0; v < nv; ++v) out.vertexWeld[v] = v;
+  }
+  const uint32_t* W = out.vertexWeld.data();
+  auto corner = [&](uint32_t s) { return W[tri[s]]; };  // s = 3t + c
+
+  // Degenerate triangles.
+  if (!out.triangleDegenerate.assign(nt, 0)) return oom();
+  for (uint32_t t = 0; t < nt; ++t) {
+    uint32_t a = corner(3 * t), b = corner(3 * t + 1), c = corner(3 * t + 2);
+    if (a == b || b == c || a == c) {
+      out.triangleDegenerate[t] = 1;
+      ++out.nDegenerate;
+    }
+  }
+  const uint8_t* degen = out.triangleDegenerate.data();
+  const uint32_t ns = 3 * nt;  // side s = 3t + c runs from corner c to corner (c+1)%3
+
+  // Group sides by undirected edge: CSR over the smaller vertex.
+  Array<uint32_t> offsets, bucketSide, bucketOther;
+  if (!offsets.assign(size_t(nv) + 1, 0)) return oom();
+  uint32_t nLive = 0;
+  for (uint32_t s = 0; s < ns; ++s) {
+    if (degen[s / 3]) continue;
+    uint32_t a = corner(s), b = corner(s - s % 3 + (s % 3 + 1) % 3);
+    ++offsets[std::min(a, b) + 1];
+    ++nLive;
+  }
+  for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+  if (!bucketSide.resize(nLive) || !bucketOther.resize(nLive)) return oom();
+  {
+    Array<uint32_t> cursor;
+    if (!cursor.resize(nv)) return oom();
+    std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
+    for (uint32_t s = 0; s < ns; ++s) {
+      if (degen[s / 3]) continue;
+      uint32_t a = corner(s), b = corner(s - s % 3 + (s % 3 + 1) % 3);
+      uint32_t lo = std::min(a, b);
+      uint32_t i = cursor[lo]++;
+      bucketSide[i] = s;
+      bucketOther[i] = std::max(a, b);
+    }
+  }
+
+  // Pair the sides of each undirected edge; classify; union triangles into shells.
+  Array<uint32_t> partner;   // per side: paired side, or kInvalid (boundary / cut)
+  Array<uint8_t> sideKind;   // per side: EdgeKind of its undirected edge
+  UnionFind uf;
+  if (!partner.assign(ns, kInvalid) || !sideKind.assign(ns, 0) || !uf.init(nt)) return oom();
+  {
+    std::vector<std::pair<uint32_t, uint32_t>> tmp;  // (other, side) for large buckets
+    std::vector<uint32_t> queue[2];
+    for (uint32_t v = 0; v < nv; ++v) {
+      uint32_t b0 = offsets[v], b1 = offsets[v + 1];
+      if (b0 == b1) continue;
+      uint32_t* sd = bucketSide.data() + b0;
+      uint32_t* ot = bucketOther.data() + b0;
+      uint32_t k = b1 - b0;
+      // Stable sort by other vertex (sides are already in file order).
+      if (k <= 32) {
+        for (uint32_t i = 1; i < k; ++i) {
+          uint32_t o = ot[i], s = sd[i], j = i;
+          while (j > 0 && ot[j - 1] > o) { ot[j] = ot[j - 1]; sd[j] = sd[j - 1]; --j; }
+          ot[j] = o; sd[j] = s;
+        }
+      } else {
+        tmp.resize(k);
+        for (uint32_t i = 0; i < k; ++i) tmp[i] = {ot[i], sd[i]};
+        std::sort(tmp.begin(), tmp.end());
+        for (uint32_t i = 0; i < k; ++i) { ot[i] = tmp[i].first; sd[i] = tmp[i].second; }
+      }
+      for (uint32_t g0 = 0; g0 < k;) {
+        uint32_t g1 = g0 + 1;
+        while (g1 < k && ot[g1] == ot[g0]) ++g1;
+        uint32_t m = g1 - g0;
+        ++out.nEdges;
+        for (uint32_t i = g0 + 1; i < g1; ++i) uf.unite(sd[g0] / 3, sd[i] / 3);
+        EdgeKind kind;
+        if (m == 1) {
+          kind = EdgeKind::Boundary;
+          ++out.nBoundaryEdges;
+        } else if (m == 2) {
+          uint32_t s0 = sd[g0], s1 = sd[g0 + 1];
+          bool d0 = corner(s0) == v, d1 = corner(s1) == v;  // true: runs lo -> hi
+          if (d0 != d1) {
+            kind = EdgeKind::Interior;
+            partner[s0] = s1;
+            partner[s1] = s0;
+          } else {
+            kind = EdgeKind::Inconsistent;
+            ++out.nInconsistentEdges;
+          }
+        } else {
+          kind = EdgeKind::NonManifold;
+          ++out.nNonManifoldEdges;
+          // First unpaired with first unpaired, opposite directions, in file order.
+          queue[0].clear();
+          queue[1].clear();
+          size_t head[2] = {0, 0};
+          for (uint32_t i = g0; i < g1; ++i) {
+            uint32_t s = sd[i];
+            int d = corner(s) == v ? 1 : 0;
+            if (head[1 - d] < queue[1 - d].size()) {
+              uint32_t o = queue[1 - d][head[1 - d]++];
+              partner[s] = o;
+              partner[o] = s;
+            } else {
+              queue[d].push_back(s);
+            }
+          }
+        }
+        for (uint32_t i = g0; i < g1; ++i) sideKind[sd[i]] = uint8_t(kind);
+        g0 = g1;
+      }
+    }
+  }
+  bucketSide.release();
+  bucketOther.release();
+  offsets.release();
+
+  // Number the pairs in file order: a side either closes the pair of its earlier
+  // partner (odd id) or opens a new pair (even id). partner[] is overwritten in place
+  // by the side's half-edge id.
+  uint32_t nPairs = 0;
+  Array<uint8_t>& pairKind = out.pairKind;
+  if (!pairKind.reserve(nLive)) return oom();
+  for (uint32_t s = 0; s < ns; ++s) {
+    if (degen[s / 3]) continue;
+    uint32_t p = partner[s];
+    if (p != kInvalid && p < s) {
+      partner[s] = partner[p] ^ 1u;
+    } else {
+      partner[s] = 2 * nPairs++;
+      (void)pairKind.push_back(sideKind[s]);
+    }
+  }
+  const uint32_t* heOf = partner.data();
+  const uint32_t nh = 2 * nPairs;
+  if (!out.next.assign(nh, kInvalid) || !out.prev.assign(nh, kInvalid) || !out.vert.resize(nh) ||
+      !out.face.assign(nh, kInvalid) || !out.triangleHalfedge.assign(nt, kInvalid))
+    return oom();
+  uint32_t* next = out.next.data();
+  uint32_t* prev = out.prev.data();
+  uint32_t* vert = out.vert.data();
+  uint32_t* face = out.face.data();
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (degen[t]) continue;
+    uint32_t h0 = heOf[3 * t], h1 = heOf[3 * t + 1], h2 = heOf[3 * t + 2];
+    out.triangleHalfedge[t] = h0;
+    uint32_t c0 = corner(3 * t), c1 = corner(3 * t + 1), c2 = corner(3 * t + 2);
+    vert[h0] = c0; vert[h1] = c1; vert[h2] = c2;
+    next[h0] = h1; next[h1] = h2; next[h2] = h0;
+    prev[h0] = h2; prev[h1] = h0; prev[h2] = h1;
+    face[h0] = face[h1] = face[h2] = t;
+    // The twin of a side starts where the side ends (for unpaired sides this is the
+    // boundary twin; for paired ones the partner writes the same value).
+    vert[h0 ^ 1u] = c1; vert[h1 ^ 1u] = c2; vert[h2 ^ 1u] = c0;
+  }
+  partner.release();
+  sideKind.release();
+
+  // Boundary next by the fan rule: for the twin b of side s = u->v, turn around u through
+  // the triangles (lPrev, then across the paired edge) until the next unpaired side p;
+  // next[b] = twin(p), which leaves u in the same fan.
+  for (uint32_t b = 0; b < nh; ++b) {
+    if (face[b] != kInvalid) continue;
+    uint32_t h = b ^ 1u;
+    uint32_t steps = 0;
+    for (;;) {
+      uint32_t p = prev[h];
+      if (face[p ^ 1u] == kInvalid) {
+        next[b] = p ^ 1u;
+        prev[p ^ 1u] = b;
+        break;
+      }
+      h = p ^ 1u;
+      if (++steps > nh) return fail(Code::Invalid, "internal error: fan walk did not end");
+    }
+  }
+
+  // Label the boundary loops in order of their lowest half-edge id.
+  uint32_t nLoops = 0;
+  if (!out.loopOffsets.push_back(0)) return oom();
+  for (uint32_t e = 0; e < nh; ++e) {
+    if (face[e] != kInvalid) continue;
+    uint32_t f = nt + nLoops;
+    bool seam = false;
+    double perim = 0;
+    uint32_t x = e, steps = 0;
+    do {
+      face[x] = f;
+      if (!out.loopHalfedges.push_back(x)) return oom();
+      if (pairKind[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
+      const float* a = mesh.positions.data() + size_t(vert[x]) * 3;
+      const float* c = mesh.positions.data() + size_t(vert[x ^ 1u]) * 3;
+      double dx = double(a[0]) - c[0], dy = double(a[1]) - c[1], dz = double(a[2]) - c[2];
+      perim += std::sqrt(dx * dx + dy * dy + dz * dz);
+      x = next[x];
+      if (++steps > nh) return fail(Code::Invalid, "internal error: boundary loop did not close");
+    } while (x != e);
+    if (!out.loopHalfedge.push_back(e) || !out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) ||
+        !out.loopIsSeam.push_back(seam ? 1 : 0) || !out.loopPerimeter.push_back(perim))
+      return oom();
+    if (seam) ++out.nSeams; else ++out.nHoles;
+    ++nLoops;
+  }
+
+  // One outgoing half-edge per vertex: the lowest-id boundary half-edge when the vertex
+  // is on a boundary loop, else the lowest-id half-edge.
+  if (!out.vertexHalfedge.assign(nv, kInvalid)) return oom();
+  uint32_t* vh = out.vertexHalfedge.data();
+  for (uint32_t e = 0; e < nh; ++e) {
+    uint32_t v = vert[e];
+    if (vh[v] == kInvalid || (face[e] >= nt && face[vh[v]] < nt)) vh[v] = e;
+  }
+  for (uint32_t v = 0; v < nv; ++v)
+    if (vh[v] != kInvalid) ++out.nUsedVertices;
+
+  // Vertex loops: a used vertex whose outgoing half-edges form more than one vnext cycle
+  // is non-manifold.
+  if (!out.vertexNonManifold.assign(nv, 0)) return oom();
+  {
+    Array<uint8_t> seen;
+    if (!seen.assign(nh, 0)) return oom();
+    uint8_t* nm = out.vertexNonManifold.data();
+    for (uint32_t e = 0; e < nh; ++e) {
+      if (seen[e]) continue;
+      uint32_t x = e, steps = 0;
+      do {
+        seen[x] = 1;
+        x = next[x ^ 1u];
+        if (++steps > nh) return fail(Code::Invalid, "internal error: vertex loop did not close");
+      } while (x != e);
+      uint32_t v = vert[e];
+      if (nm[v] < 2) ++nm[v];
+    }
+    for (uint32_t v = 0; v < nv; ++v) {
+      nm[v] = nm[v] >= 2 ? 1 : 0;
+      out.nNonManifoldVertices += nm[v];
+    }
+  }
+
+  // Shells: edge-connected components of the non-degenerate triangles.
+  for (uint32_t t = 0; t < nt; ++t)
+    if (!degen[t] && uf.find(t) == t) ++out.nShells;
+  return Status{};
+}
+
+}  // namespace stltopo
