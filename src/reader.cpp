@@ -702,8 +702,11 @@ struct AsciiParser {
           ++j;
         }
         if (state == SolidName) {
+          size_t from = i;
+          if (name.empty())  // leading blanks are not part of the name
+            while (from < j && (p[from] == ' ' || p[from] == '\t' || p[from] == '\v' || p[from] == '\f')) ++from;
           size_t room = kMaxNameBytes + 1 > name.size() ? kMaxNameBytes + 1 - name.size() : 0;
-          name.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
+          name.append(reinterpret_cast<const char*>(p + from), std::min(room, j - from));
         }
         offset += j - i;
         i = j;

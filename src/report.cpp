@@ -36,25 +36,41 @@ std::string shortest(double x, bool isFloat) {
       ++s;
     }
     exp10 = *s == 'e' ? std::atoi(s + 1) : 0;
-    std::string canon = std::string(neg ? "-" : "") + digits.substr(0, 1) + (digits.size() > 1 ? "." + digits.substr(1) : "") +
-                        "e" + std::to_string(exp10);
+    std::string canon;
+    if (neg) canon += '-';
+    canon += digits[0];
+    if (digits.size() > 1) {
+      canon += '.';
+      canon.append(digits, 1, std::string::npos);
+    }
+    canon += 'e';
+    canon += std::to_string(exp10);
     bool same = isFloat ? strtof_l(canon.c_str(), nullptr, cLocale()) == float(x)
                         : strtod_l(canon.c_str(), nullptr, cLocale()) == x;
     if (same || p == maxp) {
       while (digits.size() > 1 && digits.back() == '0') digits.pop_back();
-      std::string out = neg ? "-" : "";
+      std::string out;
+      if (neg) out += '-';
       int n = int(digits.size());
       if (exp10 >= 21 || exp10 < -7) {
-        out += digits.substr(0, 1);
-        if (n > 1) out += "." + digits.substr(1);
+        out += digits[0];
+        if (n > 1) {
+          out += '.';
+          out.append(digits, 1, std::string::npos);
+        }
         out += exp10 < 0 ? "e-" : "e+";
         out += std::to_string(exp10 < 0 ? -exp10 : exp10);
       } else if (exp10 < 0) {
-        out += "0." + std::string(size_t(-exp10 - 1), '0') + digits;
+        out += "0.";
+        out.append(size_t(-exp10 - 1), '0');
+        out += digits;
       } else if (exp10 + 1 >= n) {
-        out += digits + std::string(size_t(exp10 + 1 - n), '0');
+        out += digits;
+        out.append(size_t(exp10 + 1 - n), '0');
       } else {
-        out += digits.substr(0, size_t(exp10 + 1)) + "." + digits.substr(size_t(exp10 + 1));
+        out.append(digits, 0, size_t(exp10 + 1));
+        out += '.';
+        out.append(digits, size_t(exp10 + 1), std::string::npos);
       }
       return out;
     }

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# `npm test`: every test suite, in order: native (GoogleTest + reference check + CMake
+# consumers), sanitizers and fuzz smoke, Node (wasm package), browser (demo page).
+# Installs what a fresh Debian machine lacks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+step() {
+  local name=$1; shift
+  local t0=$SECONDS
+  echo "=== $name"
+  "$@"
+  echo "=== $name: ok ($((SECONDS - t0)) s)"
+}
+step native bash scripts/test-native.sh
+for s in test-sanitize test-node test-browser test-bench-smoke; do
+  if [ -f "scripts/$s.sh" ]; then step "$s" bash "scripts/$s.sh"; fi
+done
+echo "=== all tests passed"

@@ -1,0 +1,135 @@
+// Test helpers: generate meshes and write them as binary or ASCII STL bytes.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "stltopo.h"
+
+namespace gen {
+
+struct Soup {
+  std::vector<std::array<float, 3>> v;      // vertices
+  std::vector<std::array<uint32_t, 3>> f;   // faces (indices into v)
+  std::vector<uint16_t> attr;               // optional per face
+};
+
+inline std::array<float, 3> normalOf(const Soup& s, size_t t) {
+  auto& a = s.v[s.f[t][0]];
+  auto& b = s.v[s.f[t][1]];
+  auto& c = s.v[s.f[t][2]];
+  double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  double wx = c[0] - a[0], wy = c[1] - a[1], wz = c[2] - a[2];
+  double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+  double l = std::sqrt(nx * nx + ny * ny + nz * nz);
+  if (l == 0) return {0, 0, 0};
+  return {float(nx / l), float(ny / l), float(nz / l)};
+}
+
+inline std::string binary(const Soup& s, const std::string& header = "stltopo test") {
+  std::string out(84, '\0');
+  std::memcpy(&out[0], header.data(), std::min<size_t>(80, header.size()));
+  uint32_t n = uint32_t(s.f.size());
+  std::memcpy(&out[80], &n, 4);
+  for (size_t t = 0; t < s.f.size(); ++t) {
+    char rec[50];
+    auto nn = normalOf(s, t);
+    std::memcpy(rec, nn.data(), 12);
+    for (int c = 0; c < 3; ++c) std::memcpy(rec + 12 + 12 * c, s.v[s.f[t][c]].data(), 12);
+    uint16_t a = t < s.attr.size() ? s.attr[t] : 0;
+    std::memcpy(rec + 48, &a, 2);
+    out.append(rec, 50);
+  }
+  return out;
+}
+
+// Floats printed with %.9g read back exactly.
+inline std::string ascii(const Soup& s, const std::string& name = "test") {
+  std::string out = "solid " + name + "\n";
+  char buf[256];
+  for (size_t t = 0; t < s.f.size(); ++t) {
+    auto nn = normalOf(s, t);
+    std::snprintf(buf, sizeof buf, "  facet normal %.9g %.9g %.9g\n    outer loop\n", nn[0], nn[1], nn[2]);
+    out += buf;
+    for (int c = 0; c < 3; ++c) {
+      auto& p = s.v[s.f[t][c]];
+      std::snprintf(buf, sizeof buf, "      vertex %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+      out += buf;
+    }
+    out += "    endloop\n  endfacet\n";
+  }
+  out += "endsolid " + name + "\n";
+  return out;
+}
+
+inline void append(Soup& dst, const Soup& src) {
+  uint32_t base = uint32_t(dst.v.size());
+  dst.v.insert(dst.v.end(), src.v.begin(), src.v.end());
+  for (auto f : src.f) dst.f.push_back({f[0] + base, f[1] + base, f[2] + base});
+}
+
+// Axis-aligned cube [o, o+s]^3, outward winding, 12 triangles (2 per side).
+inline Soup cube(float ox = 0, float oy = 0, float oz = 0, float s = 1) {
+  Soup m;
+  for (int i = 0; i < 8; ++i) m.v.push_back({ox + s * (i & 1), oy + s * ((i >> 1) & 1), oz + s * ((i >> 2) & 1)});
+  // quads as (a,b,c,d) counter-clockwise seen from outside
+  const uint32_t q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (auto& f : q) {
+    m.f.push_back({f[0], f[1], f[2]});
+    m.f.push_back({f[0], f[2], f[3]});
+  }
+  return m;
+}
+
+// Torus grid: n x m quads, 2 triangles each; `skip` quads (i*m + j) are left out (holes).
+inline Soup torus(int n, int m, const std::vector<int>& skip = {}, float R = 3, float r = 1) {
+  Soup s;
+  const double pi = 3.14159265358979323846;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      double u = 2 * pi * i / n, v = 2 * pi * j / m;
+      s.v.push_back({float((R + r * std::cos(v)) * std::cos(u)), float((R + r * std::cos(v)) * std::sin(u)),
+                     float(r * std::sin(v))});
+    }
+  auto id = [&](int i, int j) { return uint32_t(((i + n) % n) * m + (j + m) % m); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      bool skipped = false;
+      for (int k : skip) skipped |= k == i * m + j;
+      if (skipped) continue;
+      uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      s.f.push_back({a, b, c});
+      s.f.push_back({a, c, d});
+    }
+  return s;
+}
+
+inline std::string readFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+inline stltopo::Status read(const std::string& bytes, stltopo::Mesh& m, const stltopo::ReadOptions& o = {}) {
+  return stltopo::readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m, o);
+}
+
+inline stltopo::Status readChunked(const std::string& bytes, size_t chunk, stltopo::Mesh& m,
+                                   const stltopo::ReadOptions& o = {}) {
+  stltopo::Reader r(o);
+  for (size_t i = 0; i < bytes.size(); i += chunk) {
+    auto s = r.feed(reinterpret_cast<const uint8_t*>(bytes.data()) + i, std::min(chunk, bytes.size() - i));
+    if (!s.ok()) return s;
+  }
+  return r.finish(m);
+}
+
+}  // namespace gen

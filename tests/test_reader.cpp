@@ -1,0 +1,405 @@
+// Reading: detection, ASCII grammar, streaming, welding, colours, errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <locale.h>
+
+#include "stl_gen.h"
+
+using namespace stltopo;
+
+namespace {
+
+void expectSameMesh(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  EXPECT_EQ(0, std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(float)));
+  EXPECT_EQ(0, std::memcmp(a.triangles.data(), b.triangles.data(), a.triangles.size() * sizeof(uint32_t)));
+}
+
+void expectIdentical(const Mesh& a, const Mesh& b) {
+  expectSameMesh(a, b);
+  EXPECT_EQ(a.format, b.format);
+  ASSERT_EQ(a.solids.size(), b.solids.size());
+  for (size_t i = 0; i < a.solids.size(); ++i) {
+    EXPECT_EQ(a.solids[i].name, b.solids[i].name);
+    EXPECT_EQ(a.solids[i].triangleCount, b.solids[i].triangleCount);
+  }
+  ASSERT_EQ(a.warnings.size(), b.warnings.size());
+  for (size_t i = 0; i < a.warnings.size(); ++i) EXPECT_EQ(a.warnings[i].message, b.warnings[i].message);
+  EXPECT_EQ(a.attributes.size(), b.attributes.size());
+  EXPECT_EQ(a.colorConvention, b.colorConvention);
+  EXPECT_EQ(a.normalMismatches, b.normalMismatches);
+  EXPECT_DOUBLE_EQ(a.volume, b.volume);
+}
+
+Status readErr(const std::string& bytes, const ReadOptions& o = {}) {
+  Mesh m;
+  return gen::read(bytes, m, o);
+}
+
+std::string facet(const char* v1, const char* v2, const char* v3) {
+  return std::string("facet normal 0 0 1\n outer loop\n  vertex ") + v1 + "\n  vertex " + v2 + "\n  vertex " + v3 +
+         "\n endloop\nendfacet\n";
+}
+
+}  // namespace
+
+TEST(ReadStl, BinaryAndAsciiOfTheSameMeshGiveIdenticalArrays) {
+  gen::Soup s = gen::torus(12, 8);
+  Mesh a, b;
+  ASSERT_TRUE(gen::read(gen::binary(s), a).ok());
+  ASSERT_TRUE(gen::read(gen::ascii(s), b).ok());
+  EXPECT_EQ(a.format, Format::Binary);
+  EXPECT_EQ(b.format, Format::Ascii);
+  EXPECT_EQ(a.nTriangles(), 192u);
+  EXPECT_EQ(a.nVertices(), 96u);
+  expectSameMesh(a, b);
+}
+
+TEST(ReadStl, ChunkedReadingEqualsWholeBuffer) {
+  gen::Soup s = gen::torus(10, 6, {3, 17});
+  s.attr.assign(s.f.size(), 0x8000 | 0x1234);
+  std::string cat = gen::binary(s, "first part") + gen::binary(gen::cube(5, 5, 5), "second part") + "\n";
+  std::string asc = gen::ascii(s, "one") + "\r\n" + gen::ascii(gen::cube(), "two");
+  std::string crOnly = asc;
+  for (char& c : crOnly)
+    if (c == '\n') c = '\r';
+  for (const std::string* bytes : {&cat, &asc, &crOnly}) {
+    Mesh whole;
+    ASSERT_TRUE(gen::read(*bytes, whole).ok());
+    for (size_t chunk : {1, 7, 50, 4096}) {
+      Mesh m;
+      ASSERT_TRUE(gen::readChunked(*bytes, chunk, m).ok()) << chunk;
+      expectIdentical(whole, m);
+    }
+  }
+}
+
+TEST(ReadStl, ChunkedReadingOfEveryFixtureEqualsWholeBuffer) {
+  const char* files[] = {"wolph_numpy-stl/tests/stl_binary/HalfDonut.stl", "wolph_numpy-stl/tests/stl_ascii/HalfDonut.stl",
+                         "mikedh_trimesh/models/multibody.stl", "wolph_numpy-stl/tests/stl_tests/dos.stl",
+                         "mikedh_trimesh/models/20mm-xyz-cube.stl", "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl"};
+  for (const char* f : files) {
+    std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + f);
+    ASSERT_FALSE(bytes.empty()) << f;
+    Mesh whole;
+    ASSERT_TRUE(gen::read(bytes, whole).ok()) << f;
+    for (size_t chunk : {7, 50, 4096}) {
+      Mesh m;
+      ASSERT_TRUE(gen::readChunked(bytes, chunk, m).ok()) << f << " " << chunk;
+      expectIdentical(whole, m);
+    }
+  }
+}
+
+TEST(ReadStl, SolidHeaderWithExactBinarySizeIsBinary) {
+  gen::Soup s = gen::cube();
+  std::string b = gen::binary(s, "solid looks like ascii");
+  Mesh m;
+  ASSERT_TRUE(gen::read(b, m).ok());
+  EXPECT_EQ(m.format, Format::Binary);
+  EXPECT_EQ(m.solids[0].name, "solid looks like ascii");
+  Mesh c;
+  ASSERT_TRUE(gen::readChunked(b, 1, c).ok());
+  EXPECT_EQ(c.format, Format::Binary);
+}
+
+TEST(ReadStl, TrailingBytesAreAcceptedWithAWarning) {
+  std::string b = gen::binary(gen::cube(), "solid x") + std::string(83, 'z');
+  Mesh m;
+  ASSERT_TRUE(gen::read(b, m).ok());
+  EXPECT_EQ(m.nTriangles(), 12u);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_EQ(m.warnings[0].code, Code::TrailingBytes);
+  EXPECT_EQ(m.warnings[0].offset, 84u + 600u);
+}
+
+TEST(ReadStl, ConcatenatedBinaryFilesFormOneComplex) {
+  std::string b = gen::binary(gen::cube(), "  alpha \0junk") + gen::binary(gen::cube(1, 0, 0), "beta");
+  Mesh m;
+  ASSERT_TRUE(gen::read(b, m).ok());
+  ASSERT_EQ(m.solids.size(), 2u);
+  EXPECT_EQ(m.solids[0].name, "alpha");
+  EXPECT_EQ(m.solids[1].name, "beta");
+  EXPECT_EQ(m.solids[1].firstTriangle, 12u);
+  EXPECT_EQ(m.nTriangles(), 24u);
+  EXPECT_EQ(m.nVertices(), 12u);  // the shared face welds across solids
+}
+
+TEST(ReadStl, AsciiKeywordsAnyCaseWhitespaceAndBom) {
+  std::string f = "\xEF\xBB\xBF  \t\r\nSOLID  Mixed Name  \r\n  FaCeT NoRmAl 0 0 1\r  OUTER\tLOOP\n"
+                  "VERTEX 0 0 0 vertex 1 0 0\n vertex 0 1 0\n ENDLOOP trailing words\n ENDFACET more\nEndSolid Mixed\n";
+  Mesh m;
+  Status s = gen::read(f, m);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(m.format, Format::Ascii);
+  ASSERT_EQ(m.solids.size(), 1u);
+  EXPECT_EQ(m.solids[0].name, "Mixed Name");
+  EXPECT_EQ(m.nTriangles(), 1u);
+}
+
+TEST(ReadStl, SeveralSolidsWithEmptyAndUtf8Names) {
+  std::string f = "solid\n" + facet("0 0 0", "1 0 0", "0 1 0") + "endsolid\nsolid \xE6\x9C\x88\xE7\x90\x83\nendsolid\n";
+  Mesh m;
+  ASSERT_TRUE(gen::read(f, m).ok());
+  ASSERT_EQ(m.solids.size(), 2u);
+  EXPECT_EQ(m.solids[0].name, "");
+  EXPECT_EQ(m.solids[0].triangleCount, 1u);
+  EXPECT_EQ(m.solids[1].name, "\xE6\x9C\x88\xE7\x90\x83");
+  EXPECT_EQ(m.solids[1].triangleCount, 0u);
+}
+
+TEST(ReadStl, NumbersFollowStrtofInTheCLocale) {
+  const char* nums[] = {"1", "-0", "+1.5", ".5", "1.", "1E+02", "-1.25e-3", "0x1p-2", "3.4028234e38",
+                        "0.1000000000000000055511151231257827", "1.00000005960464477539062", "7e-46",
+                        "16777217", "123456789012345678901234567890", "1.17549435e-38", "0.3"};
+  setlocale(LC_NUMERIC, "de_DE.UTF-8");  // the reader must not care (it may not exist; then a no-op)
+  for (const char* n : nums) {
+    std::string f = std::string("solid n\n") + facet((std::string(n) + " 0 0").c_str(), "1 1 0", "0 1 1") + "endsolid\n";
+    Mesh m;
+    Status s = gen::read(f, m);
+    ASSERT_TRUE(s.ok()) << n << ": " << s.message;
+    locale_t c = newlocale(LC_ALL_MASK, "C", locale_t(0));
+    float expected = strtof_l(n, nullptr, c);
+    freelocale(c);
+    uint32_t a, b;
+    std::memcpy(&a, &m.positions[0], 4);
+    std::memcpy(&b, &expected, 4);
+    EXPECT_EQ(a, b) << n;
+  }
+  setlocale(LC_NUMERIC, "C");
+}
+
+TEST(ReadStl, NegativeZeroWeldsWithPositiveZero) {
+  std::string f = "solid z\n" + facet("-0 0 0", "1 0 0", "0 1 0") + facet("0 -0 0", "0 1 0", "1 0 0") + "endsolid\n";
+  Mesh m;
+  ASSERT_TRUE(gen::read(f, m).ok());
+  EXPECT_EQ(m.nVertices(), 3u);
+  EXPECT_TRUE(std::signbit(m.positions[0]));  // first-seen coordinates are kept as written
+  EXPECT_EQ(m.triangles[3], 0u);
+}
+
+TEST(ReadStl, VertexIdsFollowFirstAppearance) {
+  std::string f = "solid z\n" + facet("5 5 5", "1 0 0", "0 1 0") + facet("0 1 0", "1 0 0", "9 9 9") + "endsolid\n";
+  Mesh m;
+  ASSERT_TRUE(gen::read(f, m).ok());
+  const uint32_t expected[6] = {0, 1, 2, 2, 1, 3};
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(m.triangles[i], expected[i]);
+  EXPECT_EQ(m.positions[9], 9.0f);
+}
+
+TEST(ReadStl, VisCamColours) {
+  gen::Soup s = gen::cube();
+  s.attr.assign(12, 0);
+  s.attr[0] = 0x8000 | (31 << 10) | (0 << 5) | 1;  // R=31, G=0, B=1
+  std::string b = gen::binary(s, "no colour header");
+  Mesh m;
+  ASSERT_TRUE(gen::read(b, m).ok());
+  EXPECT_EQ(m.colorConvention, ColorConvention::VisCam);
+  EXPECT_EQ(m.colors[0], 255);
+  EXPECT_EQ(m.colors[1], 0);
+  EXPECT_EQ(m.colors[2], 8);
+  EXPECT_EQ(m.colorValid[0], 1);
+  EXPECT_EQ(m.colorValid[1], 0);
+  EXPECT_EQ(m.attributes[0], s.attr[0]);
+}
+
+TEST(ReadStl, MagicsColours) {
+  gen::Soup s = gen::cube();
+  s.attr.assign(12, 0x8000);                 // default colour
+  s.attr[3] = (31) | (16 << 5) | (0 << 10);  // own colour R=31, G=16, B=0
+  std::string header = std::string("COLOR=") + char(10) + char(20) + char(30) + char(255) + " MATERIAL=abcdefghijkl";
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(s, header), m).ok());
+  EXPECT_EQ(m.colorConvention, ColorConvention::Magics);
+  EXPECT_EQ(m.colors[0], 10);
+  EXPECT_EQ(m.colors[1], 20);
+  EXPECT_EQ(m.colors[2], 30);
+  EXPECT_EQ(m.colors[9], 255);
+  EXPECT_EQ(m.colors[10], 132);
+  EXPECT_EQ(m.colors[11], 0);
+  for (int t = 0; t < 12; ++t) EXPECT_EQ(m.colorValid[t], 1);
+}
+
+TEST(ReadStl, NormalsAreKeptOnRequestAndMismatchesCounted) {
+  gen::Soup s = gen::cube();
+  std::string b = gen::binary(s);
+  // Flip the stored normal of triangle 2.
+  for (int k = 0; k < 3; ++k) {
+    float x;
+    std::memcpy(&x, &b[84 + 2 * 50 + 4 * k], 4);
+    x = -x;
+    std::memcpy(&b[84 + 2 * 50 + 4 * k], &x, 4);
+  }
+  ReadOptions o;
+  o.keepNormals = true;
+  Mesh m;
+  ASSERT_TRUE(gen::read(b, m, o).ok());
+  EXPECT_EQ(m.normalMismatches, 1u);
+  ASSERT_EQ(m.normals.size(), 36u);
+  EXPECT_EQ(m.normals[6 + 2], -1.0f);  // triangle 2 is a top (+z) triangle, stored flipped
+}
+
+TEST(ReadStl, VolumeAndAreaOfAUnitCube) {
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(gen::cube(0, 0, 0, 2)), m).ok());
+  EXPECT_NEAR(m.volume, 8.0, 1e-12);
+  EXPECT_NEAR(m.area, 24.0, 1e-12);
+  EXPECT_EQ(m.bboxMax[0], 2.0f);
+}
+
+// --- errors, each with its location -----------------------------------------
+
+TEST(ReadStlErrors, EmptyInput) {
+  Status s = readErr("");
+  EXPECT_EQ(s.code, Code::Empty);
+}
+
+TEST(ReadStlErrors, ShortNonSolidInputIsNotStl) {
+  Status s = readErr("hello world, this is not an STL file");
+  EXPECT_EQ(s.code, Code::NotStl);
+  EXPECT_NE(s.message.find("84"), std::string::npos);
+}
+
+TEST(ReadStlErrors, TruncatedBinaryStatesCountBytesAndOffset) {
+  std::string b = gen::binary(gen::cube(), "trunc");
+  b.resize(84 + 50 * 5 + 20);
+  Status s = readErr(b);
+  EXPECT_EQ(s.code, Code::Truncated);
+  EXPECT_EQ(s.offset, 354u);
+  EXPECT_EQ(s.triangle, 5u);
+  EXPECT_NE(s.message.find("12 triangles"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("684 bytes"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("354 bytes"), std::string::npos) << s.message;
+}
+
+TEST(ReadStlErrors, AbsurdCountIsTruncatedWithoutAllocating) {
+  std::string b(1000, '\xff');
+  Status s = readErr(b);
+  EXPECT_EQ(s.code, Code::Truncated);
+  EXPECT_NE(s.message.find("4294967295"), std::string::npos);
+}
+
+TEST(ReadStlErrors, CountBeyondMaxTrianglesIsTooLarge) {
+  ReadOptions o;
+  o.maxTriangles = 10;
+  Status s = readErr(gen::binary(gen::cube()), o);
+  EXPECT_EQ(s.code, Code::TooLarge);
+  Status a = readErr(gen::ascii(gen::cube()), o);
+  EXPECT_EQ(a.code, Code::TooLarge);
+  EXPECT_EQ(a.triangle, 10u);
+  EXPECT_GT(a.line, 0u);
+}
+
+TEST(ReadStlErrors, MaxBytes) {
+  ReadOptions o;
+  o.maxBytes = 100;
+  Status s = readErr(gen::binary(gen::cube()), o);
+  EXPECT_EQ(s.code, Code::TooLarge);
+  EXPECT_EQ(s.offset, 100u);
+}
+
+TEST(ReadStlErrors, NonFiniteBinaryCoordinateNamesTheTriangle) {
+  std::string b = gen::binary(gen::cube());
+  float nan = std::nanf("");
+  std::memcpy(&b[84 + 50 * 7 + 12 + 4], &nan, 4);
+  Status s = readErr(b);
+  EXPECT_EQ(s.code, Code::NonFinite);
+  EXPECT_EQ(s.triangle, 7u);
+  EXPECT_EQ(s.offset, 84u + 350u);
+}
+
+TEST(ReadStlErrors, AsciiInfAndHugeNumbersAreNonFinite) {
+  for (const char* v : {"1e999 0 0", "inf 0 0", "nan 0 0", "-INFINITY 0 0"}) {
+    std::string f = "solid x\n" + facet("0 0 0", "0 1 0", "1 1 1") + facet(v, "1 0 0", "0 1 0") + "endsolid\n";
+    Status s = readErr(f);
+    EXPECT_EQ(s.code, Code::NonFinite) << v;
+    EXPECT_EQ(s.triangle, 1u) << v;
+    EXPECT_EQ(s.line, 9u) << v;
+  }
+}
+
+TEST(ReadStlErrors, EndInsideAFacetIsUnexpectedEnd) {
+  std::string f = "solid x\n" + facet("0 0 0", "1 0 0", "0 1 0") + "facet normal 0 0 1\n outer loop\n vertex 1 2 3\n";
+  Status s = readErr(f);
+  EXPECT_EQ(s.code, Code::UnexpectedEnd);
+  EXPECT_EQ(s.line, 11u);
+  EXPECT_NE(s.message.find("line 9"), std::string::npos) << s.message;
+}
+
+TEST(ReadStlErrors, WrongVertexCountAndBadNumbersAreAsciiSyntax) {
+  std::string four = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
+  Status s = readErr(four);
+  EXPECT_EQ(s.code, Code::AsciiSyntax);
+  EXPECT_EQ(s.line, 7u);
+  std::string two = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";
+  s = readErr(two);
+  EXPECT_EQ(s.code, Code::AsciiSyntax);
+  EXPECT_EQ(s.line, 6u);
+  std::string bad = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1,5 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  s = readErr(bad);
+  EXPECT_EQ(s.code, Code::AsciiSyntax);
+  EXPECT_EQ(s.line, 5u);
+  EXPECT_NE(s.message.find("1,5"), std::string::npos);
+  std::string extra = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0 7\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  EXPECT_EQ(readErr(extra).code, Code::AsciiSyntax);
+}
+
+TEST(ReadStlErrors, HugeNumberTokenIsCappedNotBuffered) {
+  std::string f = "solid x\nfacet normal 0 0 1\nouter loop\nvertex " + std::string(1 << 20, '7') + " 0 0\n";
+  Mesh m;
+  Status s = gen::readChunked(f, 4096, m);
+  EXPECT_EQ(s.code, Code::AsciiSyntax);
+  EXPECT_EQ(s.line, 4u);
+}
+
+TEST(ReadStlWarnings, MissingEndsolidAndLongNames) {
+  std::string f = "solid " + std::string(5000, 'n') + "\n" + facet("0 0 0", "1 0 0", "0 1 0");
+  Mesh m;
+  ASSERT_TRUE(gen::read(f, m).ok());
+  ASSERT_EQ(m.warnings.size(), 2u);
+  EXPECT_EQ(m.warnings[0].code, Code::NameTruncated);
+  EXPECT_EQ(m.warnings[1].code, Code::MissingEndsolid);
+  EXPECT_EQ(m.solids[0].name.size(), kMaxNameBytes);
+  EXPECT_EQ(m.nTriangles(), 1u);
+}
+
+TEST(ReadStlWarnings, EmptySolidIsValid) {
+  Mesh m;
+  ASSERT_TRUE(gen::read("solid empty\nendsolid empty", m).ok());
+  EXPECT_EQ(m.nTriangles(), 0u);
+  EXPECT_EQ(m.solids.size(), 1u);
+  EXPECT_TRUE(m.warnings.empty());
+}
+
+TEST(ReadStl, ReaderIsCleanAfterAnError) {
+  Reader r;
+  std::string bad = "solid x\nfacet oops\n";
+  // feed() may only report the error once no reading of the bytes can succeed; finish() must.
+  Status f = r.feed(reinterpret_cast<const uint8_t*>(bad.data()), bad.size());
+  EXPECT_TRUE(f.ok() || f.code == Code::AsciiSyntax);
+  Mesh m;
+  EXPECT_EQ(r.finish(m).code, Code::AsciiSyntax);
+  r.reset();
+  std::string good = gen::binary(gen::cube());
+  ASSERT_TRUE(r.feed(reinterpret_cast<const uint8_t*>(good.data()), good.size()).ok());
+  ASSERT_TRUE(r.finish(m).ok());
+  EXPECT_EQ(m.nTriangles(), 12u);
+}
+
+TEST(ReadStl, PeerChokers) {
+  // A count of 0 with a body: the body is trailing data (< 84 bytes) or a further part.
+  std::string zero = gen::binary(gen::Soup{}, "zero") + std::string(50, '\1');
+  Mesh m;
+  ASSERT_TRUE(gen::read(zero, m).ok());
+  EXPECT_EQ(m.nTriangles(), 0u);
+  EXPECT_EQ(m.warnings[0].code, Code::TrailingBytes);
+  // Under 84 bytes of binary-looking data.
+  EXPECT_EQ(readErr(std::string(50, '\0')).code, Code::NotStl);
+  // 'solid' header with binary content that is truncated: the size error wins.
+  std::string solidBin = gen::binary(gen::cube(), "solid cad export");
+  solidBin.resize(solidBin.size() - 10);
+  EXPECT_EQ(readErr(solidBin).code, Code::Truncated);
+}

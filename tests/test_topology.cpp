@@ -1,0 +1,312 @@
+// Topology: pairing, boundary loops (holes vs seams, fan rule), vertex loops,
+// report fields, navigation identities and validate() on generated meshes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "stl_gen.h"
+
+using namespace stltopo;
+
+namespace {
+
+struct Built {
+  Mesh mesh;
+  Topology topo;
+};
+
+Built build(const gen::Soup& s, double tolerance = 0) {
+  Built b;
+  Status st = gen::read(gen::binary(s), b.mesh);
+  EXPECT_TRUE(st.ok()) << st.message;
+  TopologyOptions o;
+  o.tolerance = tolerance;
+  st = buildTopology(b.mesh, b.topo, o);
+  EXPECT_TRUE(st.ok()) << st.message;
+  Status v = validate(b.mesh, b.topo);
+  EXPECT_TRUE(v.ok()) << v.message;
+  return b;
+}
+
+std::vector<uint32_t> holeSizes(const Topology& t) {
+  std::vector<uint32_t> out;
+  for (uint32_t l = 0; l < t.nLoops(); ++l)
+    if (!t.loopIsSeam[l]) out.push_back(t.loopOffsets[l + 1] - t.loopOffsets[l]);
+  return out;
+}
+
+// The defining properties of the navigation operators, on every half-edge.
+void checkNavigation(const Topology& t) {
+  for (uint32_t e = 0; e < t.nHalfedges(); ++e) {
+    ASSERT_EQ(sym(sym(e)), e);
+    ASSERT_EQ(org(t, oNext(t, e)), org(t, e));
+    ASSERT_EQ(org(t, oPrev(t, e)), org(t, e));
+    ASSERT_EQ(lFace(t, lNext(t, e)), lFace(t, e));
+    ASSERT_EQ(lFace(t, lPrev(t, e)), lFace(t, e));
+    ASSERT_EQ(dst(t, dNext(t, e)), dst(t, e));
+    ASSERT_EQ(dst(t, dPrev(t, e)), dst(t, e));
+    ASSERT_EQ(rFace(t, rNext(t, e)), rFace(t, e));
+    ASSERT_EQ(rFace(t, rPrev(t, e)), rFace(t, e));
+    ASSERT_EQ(oPrev(t, oNext(t, e)), e);
+    ASSERT_EQ(oNext(t, oPrev(t, e)), e);
+    ASSERT_EQ(lPrev(t, lNext(t, e)), e);
+    ASSERT_EQ(dPrev(t, dNext(t, e)), e);
+    ASSERT_EQ(dNext(t, dPrev(t, e)), e);
+    ASSERT_EQ(rPrev(t, rNext(t, e)), e);
+    ASSERT_EQ(rNext(t, rPrev(t, e)), e);
+    ASSERT_EQ(vnext(t, e), oPrev(t, e));
+    ASSERT_EQ(dst(t, e), org(t, lNext(t, e)));
+  }
+}
+
+// The mesh vertex id of a position (mesh ids follow first appearance, not the soup's).
+uint32_t vid(const Mesh& m, std::array<float, 3> p) {
+  for (uint32_t v = 0; v < m.nVertices(); ++v)
+    if (m.positions[3 * v] == p[0] && m.positions[3 * v + 1] == p[1] && m.positions[3 * v + 2] == p[2]) return v;
+  ADD_FAILURE() << "no such vertex";
+  return kInvalid;
+}
+
+gen::Soup openCube() {
+  gen::Soup s = gen::cube();
+  s.f.erase(s.f.begin() + 2, s.f.begin() + 4);  // the top (+z) side
+  return s;
+}
+
+}  // namespace
+
+TEST(Topology, ClosedCubeIsWatertightGenusZero) {
+  Built b = build(gen::cube());
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nEdges, 18u);
+  EXPECT_EQ(t.nHalfedges(), 36u);
+  EXPECT_EQ(t.nLoops(), 0u);
+  EXPECT_EQ(t.nShells, 1u);
+  EXPECT_EQ(t.nNonManifoldVertices, 0u);
+  std::string j = infoJson("cube", b.mesh, &t);
+  EXPECT_NE(j.find("\"eulerCharacteristic\":2,\"genus\":0,\"watertight\":true,\"manifold\":true"), std::string::npos) << j;
+  checkNavigation(t);
+}
+
+TEST(Topology, HalfEdgesArePairedInFirstMetOrder) {
+  Built b = build(gen::cube());
+  const Topology& t = b.topo;
+  // Triangle 0 = (0,2,3): its sides open pairs 0,1,2 in corner order.
+  EXPECT_EQ(t.triangleHalfedge[0], 0u);
+  EXPECT_EQ(t.next[0], 2u);
+  EXPECT_EQ(t.next[2], 4u);
+  EXPECT_EQ(t.vert[0], b.mesh.triangles[0]);
+  EXPECT_EQ(t.vert[1], b.mesh.triangles[1]);  // twin starts where the side ends
+  // Triangle 1 = (0,3,1): side 0->3 is the twin of triangle 0's side 3->0 (half-edge 4).
+  EXPECT_EQ(t.triangleHalfedge[1], 5u);
+}
+
+TEST(Topology, OpenCubeHasOneHoleOfFourEdges) {
+  Built b = build(openCube());
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nHoles, 1u);
+  EXPECT_EQ(t.nSeams, 0u);
+  EXPECT_EQ(t.nBoundaryEdges, 4u);
+  EXPECT_EQ(holeSizes(t), std::vector<uint32_t>{4});
+  EXPECT_NEAR(t.loopPerimeter[0], 4.0, 1e-12);
+  EXPECT_EQ(t.face[t.loopHalfedge[0]], 10u);  // the hole face comes after the 10 triangles
+  // Boundary vertices point at the boundary half-edge that leaves them.
+  for (std::array<float, 3> p : {std::array<float, 3>{0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}})
+    EXPECT_GE(t.face[t.vertexHalfedge[vid(b.mesh, p)]], 10u);
+  // Walking around a boundary vertex from its hole half-edge visits its whole fan:
+  // corner (0,0,1) has 2 triangles left, so 2 triangle half-edges + 1 hole half-edge.
+  uint32_t v = vid(b.mesh, {0, 0, 1}), n = 0;
+  forEachOutgoing(t, t.vertexHalfedge[v], [&](uint32_t e) { EXPECT_EQ(org(t, e), v); ++n; });
+  EXPECT_EQ(n, 3u);
+  checkNavigation(t);
+}
+
+TEST(Topology, TorusHasGenusOne) {
+  Built b = build(gen::torus(16, 8));
+  EXPECT_EQ(b.topo.nEdges, 16u * 8 * 3);
+  std::string j = infoJson("t", b.mesh, &b.topo);
+  EXPECT_NE(j.find("\"eulerCharacteristic\":0,\"genus\":1,\"watertight\":true"), std::string::npos) << j;
+  checkNavigation(b.topo);
+}
+
+TEST(Topology, TorusWithTwoSeparateHoles) {
+  Built b = build(gen::torus(16, 8, {0, 8 * 8 + 4}));
+  EXPECT_EQ(b.topo.nHoles, 2u);
+  EXPECT_EQ(holeSizes(b.topo), (std::vector<uint32_t>{4, 4}));
+  EXPECT_EQ(b.topo.nNonManifoldVertices, 0u);
+  checkNavigation(b.topo);
+}
+
+TEST(Topology, TwoHolesTouchingAtAVertexFormOneLoopUnderTheFanRule) {
+  // Quads (2,2) and (3,3) share only the corner vertex (3,3).
+  gen::Soup s = gen::torus(16, 8, {2 * 8 + 2, 3 * 8 + 3});
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nBoundaryEdges, 8u);
+  EXPECT_EQ(t.nHoles, 1u);
+  EXPECT_EQ(holeSizes(t), std::vector<uint32_t>{8});
+  EXPECT_EQ(t.nNonManifoldVertices, 1u);
+  uint32_t pinch = vid(b.mesh, s.v[3 * 8 + 3]);
+  EXPECT_EQ(t.vertexNonManifold[pinch], 1u);
+  uint32_t visits = 0;
+  forEachFaceHalfedge(t, t.loopHalfedge[0], [&](uint32_t e) { visits += org(t, e) == pinch; });
+  EXPECT_EQ(visits, 2u);
+  checkNavigation(t);
+}
+
+TEST(Topology, TwoCubesSharingAnEdgeStayClosed) {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 0));
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(b.mesh.nVertices(), 14u);
+  EXPECT_EQ(t.nNonManifoldEdges, 1u);
+  EXPECT_EQ(t.nLoops(), 0u);  // opposite sides pair up within each cube
+  EXPECT_EQ(t.nBoundaryEdges, 0u);
+  EXPECT_EQ(t.nNonManifoldVertices, 2u);
+  EXPECT_EQ(t.nShells, 1u);
+  std::string j = infoJson("c", b.mesh, &t);
+  EXPECT_NE(j.find("\"watertight\":false,\"manifold\":false"), std::string::npos) << j;
+  checkNavigation(t);
+}
+
+TEST(Topology, TwoCubesTouchingAtACorner) {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 1));
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(b.mesh.nVertices(), 15u);
+  EXPECT_EQ(t.nNonManifoldEdges, 0u);
+  EXPECT_EQ(t.nNonManifoldVertices, 1u);
+  EXPECT_EQ(t.vertexNonManifold[vid(b.mesh, {1, 1, 1})], 1u);
+  EXPECT_EQ(t.nShells, 2u);
+  std::string j = infoJson("c", b.mesh, &t);
+  // chi = 15 - 36 + 24 = 3; watertight (no bad edges) but not manifold; genus = (4 - 3) / 2.
+  EXPECT_NE(j.find("\"eulerCharacteristic\":3,\"genus\":0.5,\"watertight\":true,\"manifold\":false"), std::string::npos) << j;
+}
+
+TEST(Topology, FlippedTriangleGivesThreeInconsistentEdgesAndSeamsNotHoles) {
+  gen::Soup s = gen::cube();
+  std::swap(s.f[5][1], s.f[5][2]);
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nInconsistentEdges, 3u);
+  EXPECT_EQ(t.nBoundaryEdges, 0u);
+  EXPECT_EQ(t.nHoles, 0u);
+  // The flipped triangle's cut sides close one 3-loop; the cube's opening another.
+  EXPECT_EQ(t.nSeams, 2u);
+  uint32_t cutPairs = 0;
+  for (uint8_t k : t.pairKind) cutPairs += k == uint8_t(EdgeKind::Inconsistent);
+  EXPECT_EQ(cutPairs, 6u);
+  checkNavigation(t);
+}
+
+TEST(Topology, DegenerateTriangleIsFlaggedAndLeftOut) {
+  gen::Soup s = gen::cube();
+  s.f.push_back({0, 1, 1});
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nDegenerate, 1u);
+  EXPECT_EQ(t.triangleDegenerate[12], 1u);
+  EXPECT_EQ(t.triangleHalfedge[12], kInvalid);
+  EXPECT_EQ(t.nEdges, 18u);
+  std::string j = infoJson("c", b.mesh, &t);
+  EXPECT_NE(j.find("\"degenerateTriangles\":1"), std::string::npos);
+  EXPECT_NE(j.find("\"watertight\":true"), std::string::npos);
+}
+
+TEST(Topology, NonManifoldEdgeWithALeftoverSideMakesASeam) {
+  gen::Soup s = gen::cube();
+  s.v.push_back({0.5f, 0.5f, 3});
+  s.f.push_back({4, 5, 8});  // a fin on the top edge 4-5, same direction as a cube side
+  Built b = build(s);
+  const Topology& t = b.topo;
+  EXPECT_EQ(t.nNonManifoldEdges, 1u);
+  EXPECT_EQ(t.nBoundaryEdges, 2u);
+  EXPECT_EQ(t.nHoles, 0u);
+  EXPECT_EQ(t.nSeams, 1u);
+  checkNavigation(t);
+}
+
+TEST(Topology, ShuffledTrianglesGiveTheSameCounts) {
+  gen::Soup s = gen::torus(12, 6, {5, 40});
+  Built a = build(s);
+  std::mt19937 rng(7);
+  std::shuffle(s.f.begin(), s.f.end(), rng);
+  Built b = build(s);
+  std::string ja = infoJson("x", a.mesh, &a.topo), jb = infoJson("x", b.mesh, &b.topo);
+  auto strip = [](const std::string& j) { return j.substr(j.find("\"edges\"")); };
+  EXPECT_EQ(strip(ja), strip(jb));
+  EXPECT_EQ(a.mesh.nVertices(), b.mesh.nVertices());
+}
+
+TEST(Topology, SoupOfSeparateTriangles) {
+  gen::Soup s;
+  for (int i = 0; i < 5; ++i) {
+    float x = float(i * 3);
+    uint32_t base = uint32_t(s.v.size());
+    s.v.push_back({x, 0, 0});
+    s.v.push_back({x + 1, 0, 0});
+    s.v.push_back({x, 1, 0});
+    s.f.push_back({base, base + 1, base + 2});
+  }
+  Built b = build(s);
+  EXPECT_EQ(b.topo.nHoles, 5u);
+  EXPECT_EQ(b.topo.nShells, 5u);
+  EXPECT_EQ(holeSizes(b.topo), (std::vector<uint32_t>{3, 3, 3, 3, 3}));
+}
+
+TEST(Topology, EmptyMeshIsNotWatertight) {
+  Mesh m;
+  ASSERT_TRUE(gen::read("solid e\nendsolid e\n", m).ok());
+  Topology t;
+  ASSERT_TRUE(buildTopology(m, t).ok());
+  EXPECT_TRUE(validate(m, t).ok());
+  std::string j = infoJson("e", m, &t);
+  EXPECT_NE(j.find("\"bbox\":null"), std::string::npos);
+  EXPECT_NE(j.find("\"genus\":null,\"watertight\":false,\"manifold\":true"), std::string::npos) << j;
+}
+
+TEST(Topology, ToleranceWeldClosesCracksWithoutMovingPositions) {
+  gen::Soup s = gen::cube();
+  // Split vertex 7 into a copy 1e-6 away used by the last triangle that touches it.
+  s.v.push_back({1.000001f, 1, 1});
+  for (auto it = s.f.rbegin(); it != s.f.rend(); ++it) {
+    bool done = false;
+    for (auto& c : *it)
+      if (c == 7) { c = 8; done = true; }
+    if (done) break;
+  }
+  Built exact = build(s);
+  EXPECT_GT(exact.topo.nBoundaryEdges, 0u);
+  Built welded = build(s, 1e-5);
+  EXPECT_EQ(welded.topo.nBoundaryEdges, 0u);
+  EXPECT_EQ(welded.topo.vertexWeld[8], vid(welded.mesh, {1, 1, 1}));
+  EXPECT_EQ(welded.mesh.positions[3 * 8], 1.000001f);
+  EXPECT_EQ(welded.mesh.nVertices(), 9u);
+}
+
+TEST(Validate, DetectsABrokenInvariant) {
+  Built b = build(gen::cube());
+  std::swap(b.topo.next[0], b.topo.next[2]);
+  Status s = validate(b.mesh, b.topo);
+  EXPECT_EQ(s.code, Code::Invalid);
+  EXPECT_NE(s.element, kInvalid);
+}
+
+TEST(Report, JsonEscapesAndNumbers) {
+  EXPECT_EQ(jsonString("a\"b\\c\n\x01"), "\"a\\\"b\\\\c\\n\\u0001\"");
+  EXPECT_EQ(jsonString("\xff" "ok"), "\"\xEF\xBF\xBDok\"");
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(gen::cube(0, 0, 0, 0.1f)), m).ok());
+  std::string j = infoJson("f", m, nullptr);
+  EXPECT_NE(j.find("\"max\":[0.1,0.1,0.1]"), std::string::npos) << j;
+  EXPECT_EQ(j.find("\"edges\""), std::string::npos);
+  Status e;
+  e.code = Code::Truncated;
+  e.message = "truncated: x";
+  e.offset = 7;
+  e.triangle = 2;
+  EXPECT_EQ(errorJson("f", e), "{\"file\":\"f\",\"error\":{\"code\":\"truncated\",\"message\":\"truncated: x\",\"offset\":7,\"triangle\":2}}");
+}
