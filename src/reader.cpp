@@ -73,7 +73,16 @@ struct PartColor {
 struct Builder {
   ReadOptions opt;
   Mesh mesh;
-  Array<uint64_t> table;  // (hash << 32) | vertex id; empty slot = ~0
+  // Weld table: open addressing, each slot holds the normalised coordinate bits and the
+  // vertex id, so a probe never touches the positions array. In front of it sits a small
+  // direct-mapped cache of recent vertices: STL files list neighbouring triangles close
+  // together, so most corners are found there without a cache miss.
+  struct Slot {
+    uint32_t x, y, z, id;  // id == kInvalid: empty
+  };
+  static constexpr uint32_t kRecent = 4096;
+  Array<Slot> table;
+  Array<Slot> recent;
   uint32_t mask = 0;
   std::vector<PartColor> partColors;  // parallel to mesh.solids (binary only)
   bool anyVisCamBit = false;
@@ -97,17 +106,29 @@ struct Builder {
     return true;
   }
 
+  void releaseWeld() {
+    table.release();
+    recent.release();
+  }
+  void dropArrays() {
+    mesh = Mesh{};
+    releaseWeld();
+  }
+
+  static inline uint32_t slotHash(const Slot& k) { return hash3(k.x, k.y, k.z); }
+
   bool growTable(uint32_t forVertices) {
     size_t want = 64;
     while (want < size_t(forVertices) * 2) want *= 2;
     if (want <= table.size()) return true;
-    Array<uint64_t> t;
-    if (!t.assign(want, ~uint64_t(0))) return false;
+    Array<Slot> t;
+    if (!t.assign(want, Slot{0, 0, 0, kInvalid})) return false;
+    if (recent.empty() && !recent.assign(kRecent, Slot{0, 0, 0, kInvalid})) return false;
     uint32_t m = uint32_t(want - 1);
-    for (uint64_t slot : table) {
-      if (slot == ~uint64_t(0)) continue;
-      uint32_t i = uint32_t(slot >> 32) & m;
-      while (t[i] != ~uint64_t(0)) i = (i + 1) & m;
+    for (const Slot& slot : table) {
+      if (slot.id == kInvalid) continue;
+      uint32_t i = slotHash(slot) & m;
+      while (t[i].id != kInvalid) i = (i + 1) & m;
       t[i] = slot;
     }
     table = std::move(t);
@@ -118,17 +139,17 @@ struct Builder {
   // Returns the welded vertex id, or kInvalid on allocation failure.
   inline uint32_t weld(float x, float y, float z) {
     // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
-    uint32_t bx = bitsOf(x + 0.0f), by = bitsOf(y + 0.0f), bz = bitsOf(z + 0.0f);
-    uint32_t h = hash3(bx, by, bz);
+    Slot k{bitsOf(x + 0.0f), bitsOf(y + 0.0f), bitsOf(z + 0.0f), 0};
+    uint32_t h = slotHash(k);
+    Slot& r = recent[h & (kRecent - 1)];
+    if (r.x == k.x && r.y == k.y && r.z == k.z && r.id != kInvalid) return r.id;
     uint32_t i = h & mask;
-    const float* pos = mesh.positions.data();
     for (;;) {
-      uint64_t slot = table[i];
-      if (slot == ~uint64_t(0)) break;
-      if (uint32_t(slot >> 32) == h) {
-        uint32_t id = uint32_t(slot);
-        const float* p = pos + size_t(id) * 3;
-        if (bitsOf(p[0] + 0.0f) == bx && bitsOf(p[1] + 0.0f) == by && bitsOf(p[2] + 0.0f) == bz) return id;
+      const Slot& slot = table[i];
+      if (slot.id == kInvalid) break;
+      if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
+        r = slot;
+        return slot.id;
       }
       i = (i + 1) & mask;
     }
@@ -139,7 +160,9 @@ struct Builder {
     (void)mesh.positions.resize(n + 3);  // capacity checked above
     float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
     q[0] = x; q[1] = y; q[2] = z;
-    table[i] = (uint64_t(h) << 32) | id;
+    k.id = id;
+    table[i] = k;
+    r = k;
     if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
     return id;
   }
@@ -344,8 +367,7 @@ struct BinaryParser {
       // counting bytes to learn whether the part is complete; drop the arrays.
       contentError = b.error;
       b.error = Status{};
-      b.mesh = Mesh{};
-      b.table.release();
+      b.dropArrays();
       skipping = true;
       skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(partCount);
     }
@@ -887,7 +909,7 @@ struct Reader::Impl {
   Status finishBuilder(Builder& b, Mesh* out) {
     b.endSolid();
     if (!b.decodeColors()) return oom("the colour array");
-    b.table.release();
+    b.releaseWeld();
     if (out) *out = std::move(b.mesh);
     return Status{};
   }
@@ -910,10 +932,7 @@ Status Reader::feed(const uint8_t* data, size_t size) {
   m.total += size;
   if (!m.binaryDead()) {
     m.bin->feed(data, size);
-    if (m.bin->b.failed()) {  // keep its status, drop its arrays
-      m.bin->b.mesh = Mesh{};
-      m.bin->b.table.release();
-    }
+    if (m.bin->b.failed()) m.bin->b.dropArrays();  // keep its status
   }
   if (!m.asciiDead()) {
     m.ascii->feed(data, size);
