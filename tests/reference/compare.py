@@ -8,6 +8,15 @@
       compared by their code lists, errors by their codes. Prints one block per
       differing file; exit status 1 on any mismatch.
 
+  compare.py cli CLI.jsonl REF.jsonl RC.tsv
+      The same, and also checks the CLI's exit status per file (RC.tsv: lines
+      "status<TAB>file"): 0 when the file was read, 1 when it failed.
+
+  compare.py same A.jsonl B.jsonl
+      Checks that two runs of the CLI printed identical objects, file for file in
+      order, ignoring the "file" field (multi-file run vs one run per file, or
+      stdin "-" vs a path: streaming must not change the result).
+
   compare.py manifest REF.jsonl
       Cross-checks the reference itself against the numbers that
       shared/fixtures/MANIFEST.md states for each fixture. Those numbers were
@@ -307,6 +316,10 @@ def compare_obj(cli, ref):
             try:
                 ok = len(a) == len(b) and all(x['name'] == y['name'] and same_int(x['triangles'], y['triangles'])
                                               for x, y in zip(a, b))
+                if not ok and any(len(x['name']) > 60 for x in a + b):
+                    # long names: show their UTF-8 length and ending instead
+                    a = [['%d bytes ...%s' % (len(x['name'].encode()), x['name'][-12:]), x['triangles']] for x in a]
+                    b = [['%d bytes ...%s' % (len(x['name'].encode()), x['name'][-12:]), x['triangles']] for x in b]
             except (TypeError, KeyError):
                 ok = False
         elif k == 'genus':
@@ -328,9 +341,21 @@ def compare_obj(cli, ref):
     return d
 
 
-def cmd_cli(cli_path, ref_path):
+def load_rc(path):
+    rc = {}
+    with open(path, encoding='utf-8') as f:
+        for line in f:
+            line = line.rstrip('\n')
+            if line:
+                status, name = line.split('\t', 1)
+                rc[name] = int(status)
+    return rc
+
+
+def cmd_cli(cli_path, ref_path, rc_path=None):
     cli, cli_order = load(cli_path)
     ref, ref_order = load(ref_path)
+    rc = load_rc(rc_path) if rc_path else {}
     bad = 0
     for line in cli.get('__invalid__', []):
         print('CLI output: ' + line)
@@ -341,6 +366,10 @@ def cmd_cli(cli_path, ref_path):
             bad += 1
             continue
         diffs = compare_obj(cli[f], ref[f])
+        if f in rc:
+            want = 1 if 'error' in ref[f] else 0
+            if rc[f] != want:
+                diffs.append('exit status %d, expected %d' % (rc[f], want))
         if diffs:
             bad += 1
             print('== %s' % f)
@@ -423,9 +452,34 @@ def cmd_manifest(ref_path):
     return 1 if bad or missing else 0
 
 
+def cmd_same(a_path, b_path):
+    bad = 0
+    with open(a_path, encoding='utf-8') as fa, open(b_path, encoding='utf-8') as fb:
+        la = [x for x in fa.read().split('\n') if x.strip()]
+        lb = [x for x in fb.read().split('\n') if x.strip()]
+    if len(la) != len(lb):
+        print('%s has %d lines, %s has %d' % (a_path, len(la), b_path, len(lb)))
+        bad += 1
+    for x, y in zip(la, lb):
+        try:
+            ox, oy = json.loads(x), json.loads(y)
+        except ValueError:
+            print('invalid JSON line:\n  %s\n  %s' % (x[:200], y[:200]))
+            bad += 1
+            continue
+        fx, fy = ox.pop('file', None), oy.pop('file', None)
+        if ox != oy:
+            bad += 1
+            keys = sorted(k for k in set(ox) | set(oy) if ox.get(k) != oy.get(k))
+            print('== %s vs %s: differ in %s' % (fx, fy, ', '.join(keys)))
+    return 1 if bad else 0
+
+
 def main(argv):
-    if len(argv) == 3 and argv[0] == 'cli':
-        return cmd_cli(argv[1], argv[2])
+    if len(argv) in (3, 4) and argv[0] == 'cli':
+        return cmd_cli(*argv[1:])
+    if len(argv) == 3 and argv[0] == 'same':
+        return cmd_same(argv[1], argv[2])
     if len(argv) == 2 and argv[0] == 'manifest':
         return cmd_manifest(argv[1])
     sys.stderr.write(__doc__)

@@ -154,10 +154,15 @@ def _decode_name(b):
 
 
 def _cap_name(raw, b):
+    """Names longer than MAX_NAME_BYTES are cut (with a warning) at the last UTF-8
+    character boundary that keeps at most MAX_NAME_BYTES bytes."""
     if len(b) > MAX_NAME_BYTES:
+        cut = MAX_NAME_BYTES
+        while cut > 0 and (b[cut] & 0xC0) == 0x80:  # b[cut] would start a continuation
+            cut -= 1
         raw.warnings.append(['name-truncated',
-                             'solid name of %d bytes cut to %d bytes' % (len(b), MAX_NAME_BYTES)])
-        b = b[:MAX_NAME_BYTES]
+                             'solid name of %d bytes cut to %d bytes' % (len(b), cut)])
+        b = b[:cut]
     return _decode_name(b)
 
 
@@ -191,12 +196,15 @@ def read_binary(data):
                            offset=size)
         header = data[off:off + 80]
         n = struct.unpack_from('<I', data, off + 80)[0]
-        if tri + n > MAX_TRIANGLES:
-            raise StlError('too-large', 'triangle count %d exceeds the limit %d'
-                           % (tri + n, MAX_TRIANGLES), offset=off + 80)
         body = off + 84
         need = 50 * n
         have = size - body
+        # Policy (the issues leave the order open): a count the bytes cannot back is
+        # `truncated`; `too-large` is for data that really holds more triangles than
+        # the limit.
+        if tri + min(n, have // 50) > MAX_TRIANGLES:
+            raise StlError('too-large', 'more than %d triangles' % MAX_TRIANGLES,
+                           offset=body + 50 * (MAX_TRIANGLES - tri))
         if have < need:
             raise StlError('truncated',
                            'header promises %d triangles (%d bytes) but %d bytes are present; '
@@ -218,6 +226,7 @@ def read_binary(data):
 
 _TOKEN_RE = re.compile(rb'[^ \t\n\r\x0b\x0c]+')
 _LINE_RE = re.compile(rb'\r\n|\r|\n')
+_CONTROL_RE = re.compile(rb'[\x00-\x08\x0e-\x1f\x7f]')
 
 
 def _begins_with_solid(data):
@@ -230,6 +239,12 @@ def read_ascii(data):
     raw = Raw('ascii')
     if data.startswith(b'\xef\xbb\xbf'):
         data = data[3:]
+    m = _CONTROL_RE.search(data)
+    if m:
+        # NUL and other control bytes never occur in ASCII STL (but do in binary data)
+        line = data.count(b'\n', 0, m.start()) + 1
+        raise StlError('ascii-syntax', 'line %d: control byte 0x%02x in ASCII STL'
+                       % (line, m.group(0)[0]), line=line, offset=m.start())
     lines = _LINE_RE.split(data)
     # token stream: (token_lower_or_raw, line_no, line_bytes, end_pos_in_line)
     toks = []
@@ -278,17 +293,16 @@ def read_ascii(data):
             continue
         if kw != b'facet':
             syntax("expected 'facet' or 'endsolid', found %r" % tok[:40].decode('latin-1'), line)
-        t = need("'normal'")
-        if t[0].lower() != b'normal':
-            syntax("expected 'normal' after 'facet'", t[1])
-        nrm = []
-        for _ in range(3):
-            t = need('a number')
-            v = parse_number(t[0])
-            if v is None:
-                syntax('malformed number %r' % t[0][:40].decode('latin-1'), t[1])
-            nrm.append(v)
-        t = need("'outer'")
+        t = need("'normal' or 'outer'")
+        nrm = [0.0, 0.0, 0.0]  # `facet` without `normal` is accepted: normal (0,0,0)
+        if t[0].lower() == b'normal':
+            for k in range(3):
+                t = need('a number')
+                v = parse_number(t[0])
+                if v is None:
+                    syntax('malformed number %r' % t[0][:40].decode('latin-1'), t[1])
+                nrm[k] = v
+            t = need("'outer'")
         if t[0].lower() != b'outer':
             syntax("expected 'outer loop'", t[1])
         t = need("'loop'")
@@ -344,8 +358,12 @@ def read_stl(data):
             return read_ascii(data)
         except StlError as ascii_err:
             # A leading `solid` is never trusted: a binary file (e.g. with a few
-            # trailing bytes, or a concatenation) may start with it too.
+            # trailing bytes, or a concatenation) may start with it too. When the
+            # bytes are not text, the binary reading (or its error) is the answer;
+            # otherwise binary is used only when it reads cleanly.
             if size >= 84:
+                if _CONTROL_RE.search(data):
+                    return read_binary(data)
                 try:
                     return read_binary(data)
                 except StlError:
