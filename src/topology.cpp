@@ -115,163 +115,183 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     if (!out.vertexWeld.resize(nv)) return oom();
     for (uint32_t v = 0; v < nv; ++v) out.vertexWeld[v] = v;
   }
-  const uint32_t* W = out.vertexWeld.data();
-  auto corner = [&](uint32_t s) { return W[tri[s]]; };  // s = 3t + c
+  // The corner vertices as the topology sees them (remapped by the tolerance weld).
+  Array<uint32_t> remapped;
+  const uint32_t* C = tri;
+  if (options.tolerance > 0) {
+    if (!remapped.resize(size_t(nt) * 3)) return oom();
+    for (size_t i = 0; i < size_t(nt) * 3; ++i) remapped[i] = out.vertexWeld[tri[i]];
+    C = remapped.data();
+  }
 
   // Degenerate triangles.
   if (!out.triangleDegenerate.assign(nt, 0)) return oom();
+  uint8_t* degen = out.triangleDegenerate.data();
   for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = corner(3 * t), b = corner(3 * t + 1), c = corner(3 * t + 2);
+    uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
     if (a == b || b == c || a == c) {
-      out.triangleDegenerate[t] = 1;
+      degen[t] = 1;
       ++out.nDegenerate;
     }
   }
-  const uint8_t* degen = out.triangleDegenerate.data();
-  const uint32_t ns = 3 * nt;  // side s = 3t + c runs from corner c to corner (c+1)%3
+  // Side s = 3t + c runs from corner c to corner (c+1)%3.
+  const uint32_t ns = 3 * nt;
+  constexpr uint32_t kNone = 0x3FFFFFFFu;  // "no partner" in the 30-bit side field
+  if (ns >= kNone) return fail(Code::TooLarge, "too many triangles for the topology");
+  auto dstSide = [](uint32_t s) { return s % 3 == 2 ? s - 2 : s + 1; };
 
-  // Group sides by undirected edge: CSR over the smaller vertex.
-  Array<uint32_t> offsets, bucketSide, bucketOther;
+  // Group sides by undirected edge: a CSR over the smaller vertex whose entries are
+  // (larger vertex << 31 | side << 1 | runs-low-to-high), so sorting a bucket groups its
+  // edges with their sides in file order.
+  Array<uint32_t> offsets;
+  Array<uint64_t> keys;
   if (!offsets.assign(size_t(nv) + 1, 0)) return oom();
   uint32_t nLive = 0;
-  for (uint32_t s = 0; s < ns; ++s) {
-    if (degen[s / 3]) continue;
-    uint32_t a = corner(s), b = corner(s - s % 3 + (s % 3 + 1) % 3);
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (degen[t]) continue;
+    uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
     ++offsets[std::min(a, b) + 1];
-    ++nLive;
+    ++offsets[std::min(b, c) + 1];
+    ++offsets[std::min(c, a) + 1];
+    nLive += 3;
   }
   for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
-  if (!bucketSide.resize(nLive) || !bucketOther.resize(nLive)) return oom();
+  if (!keys.resize(nLive)) return oom();
   {
     Array<uint32_t> cursor;
     if (!cursor.resize(nv)) return oom();
     std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
-    for (uint32_t s = 0; s < ns; ++s) {
-      if (degen[s / 3]) continue;
-      uint32_t a = corner(s), b = corner(s - s % 3 + (s % 3 + 1) % 3);
-      uint32_t lo = std::min(a, b);
-      uint32_t i = cursor[lo]++;
-      bucketSide[i] = s;
-      bucketOther[i] = std::max(a, b);
+    uint64_t* K = keys.data();
+    auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
+      if (a < b) K[cursor[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
+      else K[cursor[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
+    };
+    for (uint32_t t = 0; t < nt; ++t) {
+      if (degen[t]) continue;
+      uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+      put(3 * t, a, b);
+      put(3 * t + 1, b, c);
+      put(3 * t + 2, c, a);
     }
   }
 
-  // Pair the sides of each undirected edge; classify; union triangles into shells.
-  Array<uint32_t> partner;   // per side: paired side, or kInvalid (boundary / cut)
-  Array<uint8_t> sideKind;   // per side: EdgeKind of its undirected edge
+  // Pair the sides of each undirected edge, classify the edge, and unite its triangles
+  // into shells. partner[s] = kind << 30 | paired side (kNone: boundary or cut).
+  Array<uint32_t> partner;
   UnionFind uf;
-  if (!partner.assign(ns, kInvalid) || !sideKind.assign(ns, 0) || !uf.init(nt)) return oom();
+  if (!partner.resize(ns) || !uf.init(nt)) return oom();
+  uint32_t nCouples = 0;
   {
-    std::vector<std::pair<uint32_t, uint32_t>> tmp;  // (other, side) for large buckets
     std::vector<uint32_t> queue[2];
+    uint32_t* P = partner.data();
     for (uint32_t v = 0; v < nv; ++v) {
-      uint32_t b0 = offsets[v], b1 = offsets[v + 1];
-      if (b0 == b1) continue;
-      uint32_t* sd = bucketSide.data() + b0;
-      uint32_t* ot = bucketOther.data() + b0;
-      uint32_t k = b1 - b0;
-      // Stable sort by other vertex (sides are already in file order).
+      uint64_t* k0 = keys.data() + offsets[v];
+      uint32_t k = offsets[v + 1] - offsets[v];
+      if (k == 0) continue;
       if (k <= 32) {
         for (uint32_t i = 1; i < k; ++i) {
-          uint32_t o = ot[i], s = sd[i], j = i;
-          while (j > 0 && ot[j - 1] > o) { ot[j] = ot[j - 1]; sd[j] = sd[j - 1]; --j; }
-          ot[j] = o; sd[j] = s;
+          uint64_t x = k0[i];
+          uint32_t j = i;
+          while (j > 0 && k0[j - 1] > x) { k0[j] = k0[j - 1]; --j; }
+          k0[j] = x;
         }
       } else {
-        tmp.resize(k);
-        for (uint32_t i = 0; i < k; ++i) tmp[i] = {ot[i], sd[i]};
-        std::sort(tmp.begin(), tmp.end());
-        for (uint32_t i = 0; i < k; ++i) { ot[i] = tmp[i].first; sd[i] = tmp[i].second; }
+        std::sort(k0, k0 + k);
       }
       for (uint32_t g0 = 0; g0 < k;) {
         uint32_t g1 = g0 + 1;
-        while (g1 < k && ot[g1] == ot[g0]) ++g1;
+        while (g1 < k && (k0[g1] >> 31) == (k0[g0] >> 31)) ++g1;
         uint32_t m = g1 - g0;
         ++out.nEdges;
-        for (uint32_t i = g0 + 1; i < g1; ++i) uf.unite(sd[g0] / 3, sd[i] / 3);
-        EdgeKind kind;
+        auto side = [&](uint32_t i) { return uint32_t(k0[i] >> 1) & kNone; };
+        auto dir = [&](uint32_t i) { return int(k0[i] & 1u); };
+        uint32_t s0 = side(g0);
+        for (uint32_t i = g0 + 1; i < g1; ++i) uf.unite(s0 / 3, side(i) / 3);
         if (m == 1) {
-          kind = EdgeKind::Boundary;
           ++out.nBoundaryEdges;
+          P[s0] = (uint32_t(EdgeKind::Boundary) << 30) | kNone;
         } else if (m == 2) {
-          uint32_t s0 = sd[g0], s1 = sd[g0 + 1];
-          bool d0 = corner(s0) == v, d1 = corner(s1) == v;  // true: runs lo -> hi
-          if (d0 != d1) {
-            kind = EdgeKind::Interior;
-            partner[s0] = s1;
-            partner[s1] = s0;
+          uint32_t s1 = side(g0 + 1);
+          if (dir(g0) != dir(g0 + 1)) {
+            P[s0] = s1;  // kind Interior = 0
+            P[s1] = s0;
+            ++nCouples;
           } else {
-            kind = EdgeKind::Inconsistent;
             ++out.nInconsistentEdges;
+            P[s0] = P[s1] = (uint32_t(EdgeKind::Inconsistent) << 30) | kNone;
           }
         } else {
-          kind = EdgeKind::NonManifold;
-          ++out.nNonManifoldEdges;
           // First unpaired with first unpaired, opposite directions, in file order.
+          ++out.nNonManifoldEdges;
+          constexpr uint32_t nm = uint32_t(EdgeKind::NonManifold) << 30;
           queue[0].clear();
           queue[1].clear();
           size_t head[2] = {0, 0};
           for (uint32_t i = g0; i < g1; ++i) {
-            uint32_t s = sd[i];
-            int d = corner(s) == v ? 1 : 0;
+            uint32_t s = side(i);
+            int d = dir(i);
+            P[s] = nm | kNone;
             if (head[1 - d] < queue[1 - d].size()) {
               uint32_t o = queue[1 - d][head[1 - d]++];
-              partner[s] = o;
-              partner[o] = s;
+              P[s] = nm | o;
+              P[o] = nm | s;
+              ++nCouples;
             } else {
               queue[d].push_back(s);
             }
           }
         }
-        for (uint32_t i = g0; i < g1; ++i) sideKind[sd[i]] = uint8_t(kind);
         g0 = g1;
       }
     }
   }
-  bucketSide.release();
-  bucketOther.release();
+  keys.release();
   offsets.release();
 
-  // Number the pairs in file order: a side either closes the pair of its earlier
-  // partner (odd id) or opens a new pair (even id). partner[] is overwritten in place
-  // by the side's half-edge id.
-  uint32_t nPairs = 0;
-  Array<uint8_t>& pairKind = out.pairKind;
-  if (!pairKind.reserve(nLive)) return oom();
-  for (uint32_t s = 0; s < ns; ++s) {
-    if (degen[s / 3]) continue;
-    uint32_t p = partner[s];
-    if (p != kInvalid && p < s) {
-      partner[s] = partner[p] ^ 1u;
-    } else {
-      partner[s] = 2 * nPairs++;
-      (void)pairKind.push_back(sideKind[s]);
-    }
-  }
-  const uint32_t* heOf = partner.data();
+  // Number the pairs in file order: a side either closes the pair of its earlier partner
+  // (odd id) or opens a new pair (even id). partner[] is overwritten in place by the
+  // side's half-edge id. The twin of an unpaired side starts a boundary loop half-edge.
+  const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
-  if (!out.next.assign(nh, kInvalid) || !out.prev.assign(nh, kInvalid) || !out.vert.resize(nh) ||
-      !out.face.assign(nh, kInvalid) || !out.triangleHalfedge.assign(nt, kInvalid))
+  if (!out.next.resize(nh) || !out.prev.resize(nh) || !out.vert.resize(nh) || !out.face.resize(nh) ||
+      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.assign(nt, kInvalid))
     return oom();
   uint32_t* next = out.next.data();
   uint32_t* prev = out.prev.data();
   uint32_t* vert = out.vert.data();
   uint32_t* face = out.face.data();
+  uint8_t* pairKind = out.pairKind.data();
+  {
+    uint32_t* P = partner.data();
+    uint32_t k = 0;
+    for (uint32_t s = 0; s < ns; ++s) {
+      if (degen[s / 3]) continue;
+      uint32_t x = P[s], p = x & kNone;
+      if (p != kNone && p < s) {
+        P[s] = P[p] ^ 1u;
+      } else {
+        uint32_t he = 2 * k;
+        pairKind[k++] = uint8_t(x >> 30);
+        if (p == kNone) {
+          vert[he + 1] = C[dstSide(s)];
+          face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
+        }
+        P[s] = he;
+      }
+    }
+  }
+  const uint32_t* heOf = partner.data();
   for (uint32_t t = 0; t < nt; ++t) {
     if (degen[t]) continue;
     uint32_t h0 = heOf[3 * t], h1 = heOf[3 * t + 1], h2 = heOf[3 * t + 2];
     out.triangleHalfedge[t] = h0;
-    uint32_t c0 = corner(3 * t), c1 = corner(3 * t + 1), c2 = corner(3 * t + 2);
-    vert[h0] = c0; vert[h1] = c1; vert[h2] = c2;
+    vert[h0] = C[3 * t]; vert[h1] = C[3 * t + 1]; vert[h2] = C[3 * t + 2];
     next[h0] = h1; next[h1] = h2; next[h2] = h0;
     prev[h0] = h2; prev[h1] = h0; prev[h2] = h1;
     face[h0] = face[h1] = face[h2] = t;
-    // The twin of a side starts where the side ends (for unpaired sides this is the
-    // boundary twin; for paired ones the partner writes the same value).
-    vert[h0 ^ 1u] = c1; vert[h1 ^ 1u] = c2; vert[h2 ^ 1u] = c0;
   }
   partner.release();
-  sideKind.release();
+  remapped.release();
 
   // Boundary next by the fan rule: for the twin b of side s = u->v, turn around u through
   // the triangles (lPrev, then across the paired edge) until the next unpaired side p;
@@ -334,14 +354,14 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   // is non-manifold.
   if (!out.vertexNonManifold.assign(nv, 0)) return oom();
   {
-    Array<uint8_t> seen;
-    if (!seen.assign(nh, 0)) return oom();
+    Array<uint64_t> seen;  // one bit per half-edge
+    if (!seen.assign(size_t(nh) / 64 + 1, 0)) return oom();
     uint8_t* nm = out.vertexNonManifold.data();
     for (uint32_t e = 0; e < nh; ++e) {
-      if (seen[e]) continue;
+      if (seen[e >> 6] >> (e & 63) & 1u) continue;
       uint32_t x = e, steps = 0;
       do {
-        seen[x] = 1;
+        seen[x >> 6] |= uint64_t(1) << (x & 63);
         x = next[x ^ 1u];
         if (++steps > nh) return fail(Code::Invalid, "internal error: vertex loop did not close");
       } while (x != e);
