@@ -160,7 +160,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   {
     Array<uint32_t> cursor;
     if (!cursor.resize(nv)) return oom();
-    std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
+    if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
     uint64_t* K = keys.data();
     auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
       if (a < b) K[cursor[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
