@@ -490,13 +490,13 @@ bool parseFloat(const char* s, size_t len, float& out) {
     int digits = 0, fracDigits = 0;
     bool overflow = false;
     while (i < len && unsigned(s[i] - '0') < 10) {
-      if (m < (1ull << 40)) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
+      if (m < 100000000000000000ull) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
       ++digits; ++i;
     }
     if (i < len && s[i] == '.') {
       ++i;
       while (i < len && unsigned(s[i] - '0') < 10) {
-        if (m < (1ull << 40)) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
+        if (m < 100000000000000000ull) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
         ++digits; ++fracDigits; ++i;
       }
     }
@@ -525,6 +525,19 @@ bool parseFloat(const char* s, size_t len, float& out) {
         f = ex < 0 ? f / kPow10[-ex] : f * kPow10[ex];
         out = neg ? -f : f;
         return true;
+      }
+      // Clinger's fast path in double: m and 10^|ex| are exact, so d is the correctly
+      // rounded double. Rounding d to float can only differ from rounding the exact value
+      // when d is exactly halfway between two floats; that case goes to strtof.
+      static const double kPow10d[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                       1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+      if (m < (1ull << 53) && ex >= -22 && ex <= 22) {
+        double d = ex < 0 ? double(m) / kPow10d[-ex] : double(m) * kPow10d[ex];
+        if ((std::bit_cast<uint64_t>(d) & 0x1FFFFFFFull) != 0x10000000ull) {
+          float f = float(d);
+          out = neg ? -f : f;
+          return true;
+        }
       }
     }
   }

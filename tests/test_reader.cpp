@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <cstdlib>
 #include <locale.h>
 
@@ -154,7 +155,8 @@ TEST(ReadStl, SeveralSolidsWithEmptyAndUtf8Names) {
 TEST(ReadStl, NumbersFollowStrtofInTheCLocale) {
   const char* nums[] = {"1", "-0", "+1.5", ".5", "1.", "1E+02", "-1.25e-3", "0x1p-2", "3.4028234e38",
                         "0.1000000000000000055511151231257827", "1.00000005960464477539062", "7e-46",
-                        "16777217", "123456789012345678901234567890", "1.17549435e-38", "0.3"};
+                        "16777217", "123456789012345678901234567890", "1.17549435e-38", "0.3", "3.99999976",
+                        "-123.456789012", "1.5e-20", "9.87654321e21", "33554435", "0.000000000000000000000000000001"};
   setlocale(LC_NUMERIC, "de_DE.UTF-8");  // the reader must not care (it may not exist; then a no-op)
   for (const char* n : nums) {
     std::string f = std::string("solid n\n") + facet((std::string(n) + " 0 0").c_str(), "1 1 0", "0 1 1") + "endsolid\n";
@@ -170,6 +172,42 @@ TEST(ReadStl, NumbersFollowStrtofInTheCLocale) {
     EXPECT_EQ(a, b) << n;
   }
   setlocale(LC_NUMERIC, "C");
+}
+
+TEST(ReadStl, RandomDecimalNumbersMatchStrtof) {
+  // Many digit counts and exponents, through the fast paths and the fallback alike.
+  std::mt19937_64 rng(42);
+  std::vector<std::string> nums;
+  std::string f = "solid r\n";
+  char buf[96];
+  for (int i = 0; i < 20000; ++i) {
+    int digits = 1 + int(rng() % 20);
+    std::string mant;
+    for (int d = 0; d < digits; ++d) mant += char('0' + rng() % 10);
+    size_t dot = rng() % (mant.size() + 1);
+    mant.insert(dot, ".");
+    if (mant == ".") mant = "0.5";
+    int ex = int(rng() % 49) - 30;  // stays below FLT_MAX (3.4e38)
+    std::snprintf(buf, sizeof buf, "%s%se%d", rng() % 2 ? "-" : "", mant.c_str(), ex);
+    nums.push_back(buf);
+    // Vertex i is (number, i, 0): distinct, so positions[3*(3i)] is the number.
+    std::snprintf(buf, sizeof buf, "%d", i);
+    f += facet((nums.back() + " " + buf + " 0").c_str(), (std::string("1 ") + buf + " 1").c_str(),
+               (std::string("2 ") + buf + " 2").c_str());
+  }
+  f += "endsolid\n";
+  Mesh m;
+  Status s = gen::read(f, m);
+  ASSERT_TRUE(s.ok()) << s.message;
+  locale_t c = newlocale(LC_ALL_MASK, "C", locale_t(0));
+  for (size_t i = 0; i < nums.size(); ++i) {
+    float expected = strtof_l(nums[i].c_str(), nullptr, c);
+    uint32_t a, b;
+    std::memcpy(&a, &m.positions[9 * i], 4);
+    std::memcpy(&b, &expected, 4);
+    ASSERT_EQ(a, b) << nums[i];
+  }
+  freelocale(c);
 }
 
 TEST(ReadStl, NegativeZeroWeldsWithPositiveZero) {
