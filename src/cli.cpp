@@ -14,7 +14,7 @@
 namespace {
 
 const char* kUsage =
-    "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] FILE...\n"
+    "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
@@ -23,6 +23,7 @@ struct Args {
   bool json = false, topology = true;
   double tolerance = 0;
   uint32_t maxTriangles = 1u << 28;
+  uint64_t maxBytes = 0;
   std::vector<std::string> files;
 };
 
@@ -113,6 +114,12 @@ int main(int argc, char** argv) {
       unsigned long long n = std::strtoull(v, &end, 10);
       if (*end || n == 0 || n > 0xFFFFFFFFull) { std::fprintf(stderr, "stltopo: bad --max-triangles '%s'\n", v); return 2; }
       a.maxTriangles = uint32_t(n);
+    } else if (!endOfOptions && s == "--max-bytes") {
+      const char* v = value("--max-bytes");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || n == 0) { std::fprintf(stderr, "stltopo: bad --max-bytes '%s'\n", v); return 2; }
+      a.maxBytes = n;
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
       return 2;
@@ -125,6 +132,7 @@ int main(int argc, char** argv) {
   int rc = 0;
   stltopo::ReadOptions ro;
   ro.maxTriangles = a.maxTriangles;
+  ro.maxBytes = a.maxBytes;
   stltopo::TopologyOptions to;
   to.tolerance = a.tolerance;
   for (const std::string& file : a.files) {
