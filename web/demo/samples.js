@@ -23,6 +23,10 @@ export const samples = [
     path: 'mikedh_trimesh/models/torus.STL', credit: 'mikedh/trimesh, MIT',
   },
   {
+    id: 'xyz-cube', group: 'Closed', label: '20 mm calibration cube — watertight, Magics colour', file: '20mm-xyz-cube.stl',
+    path: 'mikedh_trimesh/models/20mm-xyz-cube.stl', credit: 'mikedh/trimesh, MIT',
+  },
+  {
     id: 'shared', group: 'Broken', label: 'Two boxes sharing an edge — non-manifold', file: 'shared.STL',
     path: 'mikedh_trimesh/models/shared.STL', credit: 'mikedh/trimesh, MIT',
   },
@@ -31,8 +35,12 @@ export const samples = [
     path: 'wolph_numpy-stl/tests/stl_tests/triamid.stl', credit: 'wolph/numpy-stl, BSD-3-Clause',
   },
   {
-    id: 'busted', group: 'Broken', label: 'Busted part — holes, seams, non-manifold', file: 'busted.STL',
-    path: 'mikedh_trimesh/models/busted.STL', credit: 'mikedh/trimesh, MIT',
+    id: 'spider', group: 'Broken', label: 'Spider — flipped faces, seams, degenerate triangles', file: 'Spider_binary.stl',
+    path: 'assimp_assimp/test/models/STL/Spider_binary.stl', credit: 'assimp/assimp, BSD-3-Clause',
+  },
+  {
+    id: 'wrench', group: 'Broken', label: 'Wrench — non-manifold edges', file: 'wrench.stl',
+    path: 'amandaghassaei_stl-parser/test/stl/wrench.stl', credit: 'amandaghassaei/stl-parser, MIT',
   },
   {
     id: 'torus-1m', group: 'Large', label: '1M-triangle torus with 8 holes (generated, 50 MB)',

@@ -1,0 +1,378 @@
+// Browser test of the demo page (web/demo), run by scripts/test-browser.sh after `vite build`.
+// Real Chromium (Debian `chromium`) driven by playwright-core, against `vite preview` of the built
+// site on a free port, plus a CORS file server for ?url=. The reference for every statistic is the
+// native CLI: `build/stltopo info --json <file>`.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync, spawn } from 'node:child_process';
+import { existsSync, mkdirSync, readFileSync, copyFileSync } from 'node:fs';
+import http from 'node:http';
+import net from 'node:net';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { preview } from 'vite';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const fixtures = path.join(root, 'tests/fixtures');
+const artifacts = path.join(root, 'test-artifacts');
+const cli = path.join(root, 'build/stltopo');
+const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync', '--no-first-run'];
+
+const fixture = (rel) => path.join(fixtures, rel);
+const BUNNY = fixture('google_draco/testdata/STL/bunny.stl'); // 5 holes
+const SHARED = fixture('mikedh_trimesh/models/shared.STL'); // non-manifold edge
+const TRIAMID = fixture('wolph_numpy-stl/tests/stl_tests/triamid.stl'); // flipped faces
+const SPHERE = fixture('mikedh_trimesh/models/unit_sphere.STL'); // closed
+const SPHERE_HOLE = fixture('assimp_assimp/test/models/STL/sphereWithHole.stl'); // ASCII, 1 hole
+const SPIDER = fixture('assimp_assimp/test/models/STL/Spider_binary.stl'); // holes, seams, flipped, degenerate
+const WRENCH = fixture('amandaghassaei_stl-parser/test/stl/wrench.stl'); // non-manifold edges
+const XYZ_CUBE = fixture('mikedh_trimesh/models/20mm-xyz-cube.stl'); // Magics colours
+const TORUS = fixture('mikedh_trimesh/models/torus.STL'); // closed, genus 1
+
+let site; // vite preview server
+let siteUrl;
+let files; // CORS static server over tests/fixtures
+let filesUrl;
+let browser;
+const stalled = []; // responses of /stalled.stl, ended in after()
+
+async function freePort() {
+  return new Promise((resolve, reject) => {
+    const srv = net.createServer();
+    srv.once('error', reject);
+    srv.listen(0, '127.0.0.1', () => {
+      const { port } = srv.address();
+      srv.close(() => resolve(port));
+    });
+  });
+}
+
+function cliStats(file) {
+  return JSON.parse(execFileSync(cli, ['info', '--json', file], { encoding: 'utf8' }));
+}
+
+/** Parses a data-stat text back into a JSON value (strings stay strings). */
+function parseStat(text) {
+  try {
+    return JSON.parse(text);
+  } catch {
+    return text;
+  }
+}
+
+/** Deep equality where non-integer numbers may differ in the last bits (wasm vs native). */
+function assertClose(actual, expected, where) {
+  if (typeof expected === 'number' && typeof actual === 'number' && !Number.isInteger(expected)) {
+    const tol = 1e-9 * Math.max(1, Math.abs(expected));
+    assert.ok(Math.abs(actual - expected) <= tol, `${where}: ${actual} != ${expected}`);
+  } else if (expected && typeof expected === 'object') {
+    assert.equal(typeof actual, 'object', `${where}: ${JSON.stringify(actual)} is not an object`);
+    assert.deepEqual(Object.keys(actual ?? {}).sort(), Object.keys(expected).sort(), `${where}: keys`);
+    for (const k of Object.keys(expected)) assertClose(actual[k], expected[k], `${where}.${k}`);
+  } else {
+    assert.deepEqual(actual, expected, where);
+  }
+}
+
+async function newPage() {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
+  page.errors = [];
+  page.on('pageerror', (error) => page.errors.push(error));
+  return page;
+}
+
+async function closePage(page) {
+  const errors = page.errors.map((e) => e.stack || e.message);
+  await page.close();
+  assert.deepEqual(errors, [], 'uncaught page errors');
+}
+
+/** Waits for the load after `loadCount` to finish (ready or error); returns the state. */
+async function settle(page, loadCount, timeout = 60_000) {
+  await page.waitForFunction(
+    (n) => Number(document.body.dataset.loadCount) > n && document.body.dataset.state !== 'loading',
+    loadCount, { timeout });
+  return page.evaluate(() => document.body.dataset.state);
+}
+
+const loadCount = (page) => page.evaluate(() => Number(document.body.dataset.loadCount || 0));
+
+async function openDemo(page, query = '') {
+  await page.goto(`${siteUrl}${query}`);
+  return settle(page, 0);
+}
+
+async function pageStats(page) {
+  return page.evaluate(() => Object.fromEntries(
+    [...document.querySelectorAll('[data-stat]')].map((e) => [e.dataset.stat, e.textContent])));
+}
+
+/** The page shows every CLI statistic with the CLI's value, and one list entry per hole. */
+async function assertMatchesCli(page, file) {
+  const expected = cliStats(file);
+  const shown = await pageStats(page);
+  assert.equal(shown.file, path.basename(file), 'file name');
+  for (const [key, value] of Object.entries(expected)) {
+    if (key === 'file') continue;
+    assert.ok(key in shown, `no [data-stat="${key}"] on the page`);
+    assertClose(parseStat(shown[key]), value, `${path.basename(file)} ${key}`);
+  }
+  const holes = await page.evaluate(() => [...document.querySelectorAll('[data-hole]')].map((e) => ({
+    id: Number(e.dataset.hole), edges: Number(e.querySelector('[data-edges]').dataset.edges),
+  })));
+  assert.equal(holes.length, expected.holes, 'hole list length');
+  assert.deepEqual(holes.sort((a, b) => a.id - b.id).map((h) => h.edges), expected.holeSizes, 'hole list edge counts');
+  return expected;
+}
+
+async function loadThroughInput(page, file) {
+  const n = await loadCount(page);
+  await page.setInputFiles('#file-input', file);
+  return settle(page, n);
+}
+
+before(async () => {
+  assert.ok(existsSync(cli), `${cli} is missing: build the CLI first (cmake -S . -B build && cmake --build build)`);
+  assert.ok(existsSync(path.join(root, 'web/demo/dist/index.html')), 'web/demo/dist is missing: run npm run build:demo');
+  mkdirSync(artifacts, { recursive: true });
+
+  site = await preview({
+    configFile: path.join(root, 'web/demo/vite.config.js'),
+    preview: { port: await freePort(), strictPort: true, host: '127.0.0.1' },
+    logLevel: 'warn',
+  });
+  siteUrl = site.resolvedUrls.local[0];
+
+  files = http.createServer((req, res) => {
+    const rel = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    res.setHeader('Access-Control-Allow-Origin', '*');
+    if (rel === '/stalled.stl') {
+      // A binary STL that promises 1000 triangles, sends 10 and then stalls: the load stays in
+      // progress until it is cancelled.
+      const head = Buffer.alloc(84 + 10 * 50);
+      head.writeUInt32LE(1000, 80);
+      res.setHeader('Content-Length', 84 + 1000 * 50);
+      res.write(head);
+      stalled.push(res);
+      return;
+    }
+    const file = path.join(fixtures, rel);
+    if (!file.startsWith(fixtures + path.sep) || !existsSync(file)) {
+      res.statusCode = 404;
+      res.end('not found');
+      return;
+    }
+    const data = readFileSync(file);
+    res.setHeader('Content-Length', data.length);
+    res.end(data);
+  });
+  await new Promise((resolve) => files.listen(0, '127.0.0.1', resolve));
+  filesUrl = `http://127.0.0.1:${files.address().port}`;
+
+  browser = await chromium.launch({ executablePath: chromiumPath, args: chromiumArgs });
+});
+
+after(async () => {
+  await browser?.close();
+  await site?.close();
+  for (const res of stalled) res.destroy();
+  await new Promise((resolve) => (files ? files.close(resolve) : resolve()));
+});
+
+test('starts with the bunny sample, its 5 holes listed and drawn (screenshot)', async () => {
+  const page = await newPage();
+  assert.equal(await openDemo(page), 'ready');
+  const expected = await assertMatchesCli(page, BUNNY);
+  assert.equal(expected.holes, 5);
+  await page.waitForTimeout(300); // let the view settle on its framed camera
+  await page.screenshot({ path: path.join(artifacts, 'demo-holes.png') });
+
+  // Clicking a hole highlights its entry and moves the camera onto it.
+  const before = await page.screenshot();
+  await page.click('[data-hole="3"]');
+  assert.equal(await page.getAttribute('[data-hole="3"]', 'class'), 'active');
+  await page.waitForTimeout(700);
+  await page.screenshot({ path: path.join(artifacts, 'demo-hole-focus.png') });
+  assert.notDeepEqual(await page.screenshot(), before, 'the view did not change');
+  await closePage(page);
+});
+
+test('file input: closed, open and broken fixtures show the CLI statistics', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=shared');
+  for (const file of [SHARED, TRIAMID, SPHERE, SPHERE_HOLE, SPIDER, WRENCH, XYZ_CUBE, TORUS]) {
+    assert.equal(await loadThroughInput(page, file), 'ready', path.basename(file));
+    await assertMatchesCli(page, file);
+  }
+  // A broken mesh with its problem edges drawn, for a look.
+  await loadThroughInput(page, SPIDER);
+  await page.screenshot({ path: path.join(artifacts, 'demo-broken.png') });
+  await closePage(page);
+});
+
+test('drag and drop of a file onto the page', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=unit-sphere');
+  const n = await loadCount(page);
+  await page.evaluate(async ({ b64, name }) => {
+    const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+    const dataTransfer = new DataTransfer();
+    dataTransfer.items.add(new File([bytes], name, { type: 'model/stl' }));
+    const target = document.querySelector('#viewport canvas');
+    for (const type of ['dragenter', 'dragover', 'drop']) {
+      target.dispatchEvent(new DragEvent(type, { dataTransfer, bubbles: true, cancelable: true }));
+    }
+  }, { b64: readFileSync(SPHERE_HOLE).toString('base64'), name: path.basename(SPHERE_HOLE) });
+  assert.equal(await settle(page, n), 'ready');
+  await assertMatchesCli(page, SPHERE_HOLE);
+  assert.equal(await page.isHidden('#drop-overlay'), true, 'drop overlay stays up');
+  await closePage(page);
+});
+
+test('?url= loads a file from another origin', async () => {
+  const page = await newPage();
+  const url = `${filesUrl}/assimp_assimp/test/models/STL/Spider_binary.stl`;
+  assert.equal(await openDemo(page, `?url=${encodeURIComponent(url)}`), 'ready');
+  await assertMatchesCli(page, SPIDER);
+  await closePage(page);
+});
+
+test('a bad file shows its code and message, and the next file loads', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=triamid');
+
+  // A binary STL whose header promises 100 triangles but holds 2.
+  const truncated = Buffer.alloc(84 + 2 * 50);
+  truncated.write('binary, cut short', 0);
+  truncated.writeUInt32LE(100, 80);
+  const n = await loadCount(page);
+  await page.setInputFiles('#file-input', { name: 'cut.stl', mimeType: 'model/stl', buffer: truncated });
+  assert.equal(await settle(page, n), 'error');
+  assert.equal(await page.isVisible('#error'), true);
+  assert.equal(await page.textContent('[data-error-code]'), 'truncated');
+  assert.match(await page.textContent('#error'), /truncated/);
+  assert.match(await page.textContent('#error-message'), /100/);
+
+  // The reference error of the CLI for a real truncated fixture is shown the same way.
+  const broken = fixture('assimp_assimp/_history/a8a1ca98/test/models/STL/3DSMaxExport.STL');
+  assert.equal(await loadThroughInput(page, broken), 'error');
+  let cliError;
+  try {
+    execFileSync(cli, ['info', '--json', broken], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'ignore'] });
+  } catch (e) {
+    cliError = JSON.parse(e.stdout).error;
+  }
+  assert.equal(await page.textContent('[data-error-code]'), cliError.code);
+  assert.equal(await page.textContent('#error-message'), cliError.message);
+
+  // An empty file, then a missing URL.
+  assert.equal(await loadThroughInput(page, { name: 'empty.stl', mimeType: 'model/stl', buffer: Buffer.alloc(0) }), 'error');
+  assert.equal(await page.textContent('[data-error-code]'), 'empty');
+
+  // The page keeps working: a good file loads and the error goes away.
+  assert.equal(await loadThroughInput(page, SHARED), 'ready');
+  assert.equal(await page.isHidden('#error'), true);
+  await assertMatchesCli(page, SHARED);
+
+  // A sample from the menu loads after an error too.
+  await loadThroughInput(page, { name: 'empty.stl', mimeType: 'model/stl', buffer: Buffer.alloc(0) });
+  const m = await loadCount(page);
+  await page.selectOption('#sample-select', 'torus');
+  assert.equal(await settle(page, m), 'ready');
+  await assertMatchesCli(page, TORUS);
+  await closePage(page);
+});
+
+test('cancel stops a load in progress and keeps the model on screen', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=triamid');
+  const n = await loadCount(page);
+  await page.fill('#url-input', `${filesUrl}/stalled.stl`);
+  await page.click('#url-form button[type="submit"]');
+  await page.waitForFunction((c) => Number(document.body.dataset.loadCount) > c, n);
+  assert.equal(await page.evaluate(() => document.body.dataset.state), 'loading');
+  await page.waitForSelector('#progress:not([hidden])');
+  await page.click('#cancel-button');
+  assert.equal(await settle(page, n), 'ready');
+  assert.equal(await page.isHidden('#progress'), true);
+  assert.equal(await page.isHidden('#error'), true);
+  assert.equal((await pageStats(page)).file, 'triamid.stl');
+  // And the next load works.
+  assert.equal(await loadThroughInput(page, SHARED), 'ready');
+  await assertMatchesCli(page, SHARED);
+  await closePage(page);
+});
+
+test('a 1M-triangle file loads in the worker without freezing the page', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=triamid');
+  // Record main-thread long tasks, and when the page turns ready, while the generated
+  // 1M-triangle torus (50 MB binary STL) loads.
+  await page.evaluate(() => {
+    window.longTasks = [];
+    new PerformanceObserver((list) => window.longTasks.push(...list.getEntries()))
+      .observe({ type: 'longtask' });
+    new MutationObserver(() => {
+      if (document.body.dataset.state === 'ready') window.readyAt ??= performance.now();
+    }).observe(document.body, { attributes: true, attributeFilter: ['data-state'] });
+  });
+  const n = await loadCount(page);
+  const t0 = Date.now();
+  await page.selectOption('#sample-select', 'torus-1m');
+  assert.equal(await settle(page, n, 120_000), 'ready');
+  const wall = Date.now() - t0;
+  await page.waitForTimeout(1500); // the first draw, for the report below
+  const shown = await pageStats(page);
+  assert.equal(shown.triangles, '1007392');
+  assert.equal(shown.holes, '8');
+  assert.equal(shown.watertight, 'false');
+  const r = await page.evaluate(() => ({
+    beforeReady: Math.max(0, ...window.longTasks.filter((e) => e.startTime < window.readyAt).map((e) => e.duration)),
+    afterReady: Math.max(0, ...window.longTasks.filter((e) => e.startTime >= window.readyAt).map((e) => e.duration)),
+    loadTime: document.querySelector('#load-time').textContent,
+    detail: document.querySelector('#load-time').title,
+    memory: document.querySelector('#memory').textContent,
+  }));
+  console.log(`# 1M triangles: load time ${r.loadTime} (${r.detail}; wall ${wall} ms incl. generating the file in a worker), ` +
+    `arrays ${r.memory}; longest main-thread task while loading ${Math.round(r.beforeReady)} ms, ` +
+    `first draw ${Math.round(r.afterReady)} ms (software GL in headless Chromium)`);
+  // Generating the file and parsing it run in workers; the main thread only builds the view.
+  assert.ok(r.beforeReady < 1000, `the main thread was blocked for ${Math.round(r.beforeReady)} ms while loading`);
+  await closePage(page);
+});
+
+test('npm start (scripts/start.sh) serves the page with the sample loaded', async () => {
+  const port = await freePort();
+  const server = spawn('bash', ['scripts/start.sh'], {
+    cwd: root, env: { ...process.env, PORT: String(port) }, detached: true, stdio: ['ignore', 'pipe', 'pipe'],
+  });
+  let log = '';
+  server.stdout.on('data', (d) => (log += d));
+  server.stderr.on('data', (d) => (log += d));
+  try {
+    const url = `http://localhost:${port}/`;
+    const deadline = Date.now() + 60_000;
+    for (;;) {
+      const ok = await fetch(url).then((r) => r.ok, () => false);
+      if (ok) break;
+      assert.ok(Date.now() < deadline && server.exitCode === null, `start.sh did not serve ${url}:\n${log}`);
+      await new Promise((r) => setTimeout(r, 250));
+    }
+    const page = await newPage();
+    await page.goto(url);
+    assert.equal(await settle(page, 0), 'ready');
+    assert.equal((await pageStats(page)).holes, '5');
+    await closePage(page);
+  } finally {
+    process.kill(-server.pid, 'SIGTERM');
+  }
+});
+
+after(() => {
+  // A good screenshot for the README, when the holes one was taken.
+  const shot = path.join(artifacts, 'demo-holes.png');
+  if (process.env.STLTOPO_UPDATE_DOCS_SCREENSHOT && existsSync(shot)) copyFileSync(shot, path.join(root, 'docs/demo.png'));
+});

@@ -1,0 +1,456 @@
+// The three.js side of the demo: one conversion from the mesh arrays to a BufferGeometry, plus
+// overlays for holes, seams and problem edges. Owns every GPU object it creates and disposes of
+// them when the next mesh replaces the current one.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { LineSegments2 } from 'three/examples/jsm/lines/LineSegments2.js';
+import { LineSegmentsGeometry } from 'three/examples/jsm/lines/LineSegmentsGeometry.js';
+import { LineMaterial } from 'three/examples/jsm/lines/LineMaterial.js';
+
+export const colors = {
+  front: '#aab4c0',
+  back: '#b3123f',
+  seams: '#ff8a00',
+  nonManifold: '#ff1f1f',
+  inconsistent: '#ff2bd6',
+  nonManifoldVertex: '#ffffff',
+  wire: '#1b222b',
+};
+
+// Hole colours: bright, cool and yellow hues that stay clear of the fixed colours above.
+const holePalette = [
+  '#00e5ff', '#76ff03', '#ffee00', '#2f7bff', '#00d97e', '#b388ff',
+  '#ffc400', '#1de9b6', '#80d8ff', '#c6ff00', '#7c4dff', '#a7ffeb',
+];
+export const holeColor = (id) => holePalette[id % holePalette.length];
+
+const kPairBoundary = 1;
+const kPairInconsistent = 2;
+const kPairNonManifold = 3;
+
+/**
+ * Converts the mesh arrays into a BufferGeometry.
+ * Without colours the geometry is indexed and shares `mesh.positions` and `mesh.triangles` (no
+ * copy); flat shading comes from the material. With per-face colours (`mesh.colors`, RGB per
+ * triangle, `mesh.colorValid` 0/1) each triangle gets its own three corners so that the colour
+ * does not bleed across vertices; triangles without a valid colour get `fallback`.
+ */
+export function meshToGeometry(mesh, { useColors = true, fallback = colors.front } = {}) {
+  const geometry = new THREE.BufferGeometry();
+  const { positions, triangles } = mesh;
+  if (useColors && mesh.colors) {
+    const nT = mesh.nTriangles;
+    const corners = new Float32Array(nT * 9);
+    const rgb = new Float32Array(nT * 9);
+    const base = new THREE.Color(fallback); // linear
+    // STL colours are sRGB bytes; three.js works in linear space.
+    const c = new THREE.Color();
+    const linear = new Float32Array(256).map((_, i) => c.setRGB(i / 255, 0, 0, THREE.SRGBColorSpace).r);
+    for (let t = 0; t < nT; t++) {
+      const valid = !mesh.colorValid || mesh.colorValid[t];
+      const r = valid ? linear[mesh.colors[3 * t]] : base.r;
+      const g = valid ? linear[mesh.colors[3 * t + 1]] : base.g;
+      const b = valid ? linear[mesh.colors[3 * t + 2]] : base.b;
+      for (let c = 0; c < 3; c++) {
+        const v = triangles[3 * t + c];
+        const o = 9 * t + 3 * c;
+        corners[o] = positions[3 * v];
+        corners[o + 1] = positions[3 * v + 1];
+        corners[o + 2] = positions[3 * v + 2];
+        rgb[o] = r;
+        rgb[o + 1] = g;
+        rgb[o + 2] = b;
+      }
+    }
+    geometry.setAttribute('position', new THREE.BufferAttribute(corners, 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(rgb, 3));
+  } else {
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(triangles, 1));
+  }
+  geometry.computeBoundingSphere();
+  geometry.computeBoundingBox();
+  return geometry;
+}
+
+/** Segment list (6 floats per segment) along closed vertex loops, and a matching colour list. */
+function loopSegments(mesh, loops, colorOf) {
+  let nSegments = 0;
+  for (const loop of loops) nSegments += loop.vertices.length;
+  const xyz = new Float32Array(nSegments * 6);
+  const rgb = new Float32Array(nSegments * 6);
+  const p = mesh.positions;
+  const color = new THREE.Color();
+  let o = 0;
+  for (const loop of loops) {
+    color.set(colorOf(loop));
+    const vs = loop.vertices;
+    for (let j = 0; j < vs.length; j++) {
+      const a = vs[j], b = vs[(j + 1) % vs.length];
+      xyz.set([p[3 * a], p[3 * a + 1], p[3 * a + 2], p[3 * b], p[3 * b + 1], p[3 * b + 2]], o);
+      rgb.set([color.r, color.g, color.b, color.r, color.g, color.b], o);
+      o += 6;
+    }
+  }
+  return { xyz, rgb };
+}
+
+/** Segments of the undirected edges whose pair kind is `kind` (one segment per half-edge pair). */
+function pairSegments(mesh, kind) {
+  const pairKind = mesh.problems?.pairKind;
+  const vert = mesh.halfedges?.vert;
+  if (!pairKind || !vert) return new Float32Array(0);
+  let n = 0;
+  for (let k = 0; k < pairKind.length; k++) if (pairKind[k] === kind) n++;
+  const xyz = new Float32Array(n * 6);
+  const p = mesh.positions;
+  let o = 0;
+  for (let k = 0; k < pairKind.length; k++) {
+    if (pairKind[k] !== kind) continue;
+    const a = vert[2 * k], b = vert[2 * k + 1];
+    xyz.set([p[3 * a], p[3 * a + 1], p[3 * a + 2], p[3 * b], p[3 * b + 1], p[3 * b + 2]], o);
+    o += 6;
+  }
+  return xyz;
+}
+
+/** Loop centre, radius and (Newell) normal of a vertex loop. */
+export function loopFrame(mesh, vertices) {
+  const p = mesh.positions;
+  const centre = new THREE.Vector3();
+  for (const v of vertices) centre.add(new THREE.Vector3(p[3 * v], p[3 * v + 1], p[3 * v + 2]));
+  centre.divideScalar(Math.max(1, vertices.length));
+  let radius = 0;
+  const normal = new THREE.Vector3();
+  for (let j = 0; j < vertices.length; j++) {
+    const a = vertices[j], b = vertices[(j + 1) % vertices.length];
+    const ax = p[3 * a] - centre.x, ay = p[3 * a + 1] - centre.y, az = p[3 * a + 2] - centre.z;
+    const bx = p[3 * b] - centre.x, by = p[3 * b + 1] - centre.y, bz = p[3 * b + 2] - centre.z;
+    normal.x += (ay - by) * (az + bz);
+    normal.y += (az - bz) * (ax + bx);
+    normal.z += (ax - bx) * (ay + by);
+    radius = Math.max(radius, Math.hypot(ax, ay, az));
+  }
+  return { centre, radius, normal };
+}
+
+function circleSprite() {
+  const size = 64;
+  const canvas = document.createElement('canvas');
+  canvas.width = canvas.height = size;
+  const g = canvas.getContext('2d');
+  g.lineWidth = 9;
+  g.strokeStyle = '#000';
+  g.beginPath();
+  g.arc(size / 2, size / 2, size / 2 - 8, 0, 2 * Math.PI);
+  g.stroke();
+  g.lineWidth = 5;
+  g.strokeStyle = '#fff';
+  g.stroke();
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.colorSpace = THREE.SRGBColorSpace;
+  return texture;
+}
+
+export class Viewer {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, alpha: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    // Checking shader logs is a synchronous round trip to the GPU process; with a big mesh still
+    // being drawn (software GL) it would stall the page. Keep it for development only.
+    this.renderer.debug.checkShaderErrors = import.meta.env?.DEV ?? false;
+    container.appendChild(this.renderer.domElement);
+
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
+    this.camera.up.set(0, 0, 1); // STL files are usually Z-up (3D printing, CAD)
+    this.scene.add(this.camera);
+    this.scene.add(new THREE.HemisphereLight('#ffffff', '#3a4250', 1.6));
+    const headlight = new THREE.DirectionalLight('#ffffff', 1.8);
+    headlight.position.set(0.4, 0.8, 1);
+    this.camera.add(headlight); // light follows the view, so every side reads well
+
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = true;
+    this.controls.addEventListener('change', () => this.requestRender());
+
+    this.model = new THREE.Group();
+    this.scene.add(this.model);
+    this.layers = {}; // name → Object3D, toggled by setLayerVisible
+    this.visible = { wireframe: false, backFaces: true, holes: true, seams: true, nonManifold: true, inconsistent: true, nonManifoldVertices: true };
+    this.sprite = circleSprite();
+    this.backUniforms = { color: { value: new THREE.Color(colors.back) }, mix: { value: 1 } };
+    this.animation = null;
+
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+    this.renderer.setAnimationLoop(() => this.frame());
+  }
+
+  resize() {
+    const { clientWidth: w, clientHeight: h } = this.container;
+    if (!w || !h) return;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    this.dirty = true;
+  }
+
+  frame() {
+    if (this.animation) {
+      const a = this.animation;
+      const s = Math.min(1, (performance.now() - a.start) / a.duration);
+      const e = s * s * (3 - 2 * s);
+      this.camera.position.lerpVectors(a.fromPos, a.toPos, e);
+      this.controls.target.lerpVectors(a.fromTarget, a.toTarget, e);
+      if (s >= 1) this.animation = null;
+      this.dirty = true;
+    }
+    this.controls.update();
+    if (!this.dirty) return;
+    this.dirty = false;
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  /** Drops the current mesh and frees its GPU buffers (and wasm memory for borrowed views). */
+  clear() {
+    this.model.traverse((o) => {
+      o.geometry?.dispose();
+      if (o.material) for (const m of [].concat(o.material)) m.dispose();
+    });
+    this.model.clear();
+    this.layers = {};
+    this.mesh?.dispose?.();
+    this.mesh = null;
+    this.highlight = null;
+    this.requestRender();
+  }
+
+  /** Shows a mesh from loadStl(); returns the number of milliseconds spent building the scene. */
+  setMesh(mesh) {
+    const t0 = performance.now();
+    this.clear();
+    this.mesh = mesh;
+    const geometry = meshToGeometry(mesh);
+    this.geometry = geometry;
+    // Front and back faces are two draws of the same geometry. The back faces get their own
+    // colour (flipped faces, and the inside seen through a hole stand out) and a larger polygon
+    // offset, so that where both meet at a silhouette the front face wins the depth tie.
+    // Both are offset behind the lines, which lie exactly on mesh edges.
+    const vertexColors = !!geometry.getAttribute('color');
+    const surface = (side, offset) => {
+      const material = new THREE.MeshStandardMaterial({
+        flatShading: true, roughness: 0.75, metalness: 0.05, side, vertexColors,
+        color: vertexColors ? '#ffffff' : colors.front,
+        polygonOffset: true, polygonOffsetFactor: offset, polygonOffsetUnits: offset,
+      });
+      if (side === THREE.BackSide) {
+        material.onBeforeCompile = (shader) => {
+          shader.uniforms.backColor = this.backUniforms.color;
+          shader.uniforms.backMix = this.backUniforms.mix;
+          shader.fragmentShader = 'uniform vec3 backColor;\nuniform float backMix;\n' + shader.fragmentShader.replace(
+            '#include <color_fragment>',
+            '#include <color_fragment>\n\tdiffuseColor.rgb = mix( diffuseColor.rgb, backColor, backMix );');
+        };
+        material.customProgramCacheKey = () => 'stltopo-back-faces';
+      }
+      return new THREE.Mesh(geometry, material);
+    };
+    this.model.add(surface(THREE.FrontSide, 1), surface(THREE.BackSide, 4));
+
+    const diag = geometry.boundingSphere.radius * 2 || 1;
+    this.diag = diag;
+    const holes = mesh.holes ?? [];
+    const seams = mesh.seams ?? [];
+
+    // Holes: a bold pass that the surface can hide, over a faint pass that shows through it,
+    // so a hole on the far side is still seen, and rings on small holes.
+    if (holes.length) {
+      const { xyz, rgb } = loopSegments(mesh, holes, (h) => holeColor(h.id));
+      const group = new THREE.Group();
+      group.add(this.lines(xyz, rgb, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
+      group.add(this.lines(xyz, rgb, { width: 5, order: 11 }));
+      const small = holes.map((h) => loopFrame(mesh, h.vertices)).map((f, i) => ({ ...f, id: holes[i].id }))
+        .filter((f) => f.radius < diag * 0.04);
+      if (small.length) {
+        group.add(this.rings(small.flatMap((f) => f.centre.toArray()), small.map((f) => holeColor(f.id))));
+      }
+      this.model.add(group);
+      this.layers.holes = group;
+    }
+    if (seams.length) {
+      const { xyz, rgb } = loopSegments(mesh, seams, () => colors.seams);
+      this.layers.seams = this.lines(xyz, rgb, { width: 3, order: 13, depthTest: false, opacity: 0.9 });
+      this.model.add(this.layers.seams);
+    }
+    for (const [name, kind, width] of [['inconsistent', kPairInconsistent, 4], ['nonManifold', kPairNonManifold, 4.5]]) {
+      const xyz = pairSegments(mesh, kind);
+      if (!xyz.length) continue;
+      const c = new THREE.Color(colors[name]);
+      const rgb = new Float32Array(xyz.length);
+      for (let i = 0; i < rgb.length; i += 3) rgb.set([c.r, c.g, c.b], i);
+      this.layers[name] = this.lines(xyz, rgb, { width, order: 14, depthTest: false });
+      // Problem edges are often tiny next to the model: ring each one (when there are few).
+      if (xyz.length / 6 <= 500) {
+        const mids = [];
+        for (let i = 0; i < xyz.length; i += 6) {
+          mids.push((xyz[i] + xyz[i + 3]) / 2, (xyz[i + 1] + xyz[i + 4]) / 2, (xyz[i + 2] + xyz[i + 5]) / 2);
+        }
+        const group = new THREE.Group();
+        group.add(this.layers[name], this.rings(mids, colors[name]));
+        this.layers[name] = group;
+      }
+      this.model.add(this.layers[name]);
+    }
+    const vnm = mesh.problems?.vertexNonManifold;
+    if (vnm) {
+      const pts = [];
+      for (let v = 0; v < vnm.length; v++) {
+        if (vnm[v]) pts.push(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+      }
+      if (pts.length) {
+        const g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.Float32BufferAttribute(pts, 3));
+        const points = new THREE.Points(g, new THREE.PointsMaterial({
+          size: 11, sizeAttenuation: false, color: colors.nonManifoldVertex, depthTest: false,
+        }));
+        points.renderOrder = 15;
+        this.layers.nonManifoldVertices = points;
+        this.model.add(points);
+      }
+    }
+    this.applyVisibility();
+    this.frameAll(false);
+    return performance.now() - t0;
+  }
+
+  /** Screen-sized rings (always on top) at `xyz` (3 floats each), one colour or one per ring. */
+  rings(xyz, color) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(xyz, 3));
+    const rgb = [];
+    const c = new THREE.Color();
+    for (let i = 0; i < xyz.length / 3; i++) rgb.push(...c.set(Array.isArray(color) ? color[i] : color).toArray());
+    g.setAttribute('color', new THREE.Float32BufferAttribute(rgb, 3));
+    const points = new THREE.Points(g, new THREE.PointsMaterial({
+      size: 26, sizeAttenuation: false, map: this.sprite, vertexColors: true,
+      transparent: true, depthTest: false, depthWrite: false, alphaTest: 0.2,
+    }));
+    points.renderOrder = 12;
+    return points;
+  }
+
+  lines(xyz, rgb, { width, opacity = 1, depthTest = true, order = 10 }) {
+    const g = new LineSegmentsGeometry();
+    g.setPositions(xyz);
+    g.setColors(rgb);
+    const m = new LineMaterial({
+      linewidth: width, vertexColors: true, depthTest, depthWrite: false,
+      transparent: opacity < 1, opacity, worldUnits: false,
+    });
+    const lines = new LineSegments2(g, m);
+    lines.renderOrder = order;
+    lines.frustumCulled = false;
+    return lines;
+  }
+
+  setVisible(name, on) {
+    this.visible[name] = on;
+    this.applyVisibility();
+  }
+
+  applyVisibility() {
+    const v = this.visible;
+    for (const name of ['holes', 'seams', 'nonManifold', 'inconsistent', 'nonManifoldVertices']) {
+      if (this.layers[name]) this.layers[name].visible = v[name];
+    }
+    this.backUniforms.mix.value = v.backFaces ? 1 : 0;
+    if (v.wireframe && !this.layers.wireframe && this.geometry) {
+      const wire = new THREE.Mesh(this.geometry, new THREE.MeshBasicMaterial({
+        color: colors.wire, wireframe: true, transparent: true, opacity: 0.35, depthWrite: false,
+      }));
+      wire.renderOrder = 5;
+      this.layers.wireframe = wire;
+      this.model.add(wire);
+    }
+    if (this.layers.wireframe) this.layers.wireframe.visible = v.wireframe;
+    this.requestRender();
+  }
+
+  /** Moves the camera to look at `centre` from direction `dir` at a distance showing `radius`. */
+  lookAt(centre, radius, dir, animate = true) {
+    const fov = THREE.MathUtils.degToRad(this.camera.fov);
+    const fit = radius / Math.sin(Math.min(fov, fov * this.camera.aspect) / 2);
+    const toPos = centre.clone().add(dir.clone().normalize().multiplyScalar(fit * 1.08));
+    const sceneRadius = this.geometry?.boundingSphere.radius || radius;
+    this.camera.near = Math.max(sceneRadius, radius) / 2000;
+    this.camera.far = (fit + sceneRadius * 4) * 4;
+    this.camera.updateProjectionMatrix();
+    if (animate) {
+      this.animation = {
+        start: performance.now(), duration: 450,
+        fromPos: this.camera.position.clone(), toPos,
+        fromTarget: this.controls.target.clone(), toTarget: centre.clone(),
+      };
+    } else {
+      this.animation = null;
+      this.camera.position.copy(toPos);
+      this.controls.target.copy(centre);
+    }
+    this.requestRender();
+  }
+
+  /** Frames the whole model from a three-quarter view. */
+  frameAll(animate = true) {
+    if (!this.geometry) return;
+    this.setHighlight(null);
+    const s = this.geometry.boundingSphere;
+    // A three-quarter view, turned towards the side where most holes open (one vote per hole:
+    // the unit normal of its loop), so that holes under or behind the model face the camera.
+    // Votes, not areas: the outer rim of an open sheet is a hole whose normal points backwards.
+    const dir = new THREE.Vector3(0.9, -1.5, 0.9).normalize();
+    const towardsHoles = new THREE.Vector3();
+    for (const h of this.mesh?.holes ?? []) {
+      const n = loopFrame(this.mesh, h.vertices).normal;
+      if (n.lengthSq() > 0) towardsHoles.add(n.normalize());
+    }
+    if (towardsHoles.lengthSq() > 0) dir.add(towardsHoles.normalize().multiplyScalar(1.1)).normalize();
+    this.lookAt(s.center, s.radius || 1, dir, animate);
+  }
+
+  /** Frames a hole (or seam) loop, looking into it from outside, and highlights it. */
+  focusLoop(loop, color) {
+    const f = loopFrame(this.mesh, loop.vertices);
+    let dir = f.normal.clone();
+    if (dir.lengthSq() < 1e-20) dir = this.camera.position.clone().sub(this.controls.target);
+    // Look slightly off the loop's axis, so that the loop and its surroundings read in 3D.
+    const side = new THREE.Vector3().crossVectors(dir, this.camera.up);
+    if (side.lengthSq() < 1e-12) side.set(1, 0, 0);
+    dir.normalize().add(side.normalize().multiplyScalar(0.35)).add(this.camera.up.clone().multiplyScalar(0.2));
+    const radius = Math.max(f.radius * 1.6, this.diag * 0.02);
+    this.lookAt(f.centre, radius, dir);
+    this.setHighlight(loop, color);
+  }
+
+  setHighlight(loop, color) {
+    if (this.highlight) {
+      this.model.remove(this.highlight);
+      this.highlight.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
+      this.highlight = null;
+    }
+    if (!loop || !this.mesh) return;
+    const group = new THREE.Group();
+    const halo = loopSegments(this.mesh, [loop], () => '#ffffff');
+    const core = loopSegments(this.mesh, [loop], () => color);
+    group.add(this.lines(halo.xyz, halo.rgb, { width: 11, depthTest: false, order: 20 }));
+    group.add(this.lines(core.xyz, core.rgb, { width: 6, depthTest: false, order: 21 }));
+    this.highlight = group;
+    this.model.add(group);
+    this.requestRender();
+  }
+}

@@ -1,0 +1,95 @@
+// Vite config for the demo (root: web/demo). Two small plugins:
+// - stltopo-package: `import 'stltopo'`, 'stltopo/worker', 'stltopo/three' resolve through the
+//   "exports" of the package's own package.json to the built dist/, so the page runs exactly what
+//   npm users get. STLTOPO_PACKAGE_DIR points it at another copy (e.g. an unpacked `npm pack`).
+// - stltopo-samples: serves the sample fixtures from tests/fixtures at /samples/<file> in dev and
+//   copies them into the static build, so the repository keeps one copy of each.
+import { defineConfig } from 'vite';
+import { existsSync, readFileSync } from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { samples } from './samples.js';
+
+const demoDir = path.dirname(fileURLToPath(import.meta.url));
+const repoRoot = path.resolve(demoDir, '../..');
+const packageDir = path.resolve(process.env.STLTOPO_PACKAGE_DIR || repoRoot);
+const fixturesDir = path.join(repoRoot, 'tests/fixtures');
+
+/** Picks the browser ESM target of one "exports" entry (string or condition object). */
+function pickTarget(entry) {
+  if (typeof entry === 'string' || entry == null) return entry;
+  if (Array.isArray(entry)) return entry.map(pickTarget).find(Boolean);
+  for (const condition of ['browser', 'import', 'module', 'default']) {
+    if (condition in entry) {
+      const target = pickTarget(entry[condition]);
+      if (target) return target;
+    }
+  }
+  return null;
+}
+
+function stltopoPackage() {
+  return {
+    name: 'stltopo-package',
+    enforce: 'pre',
+    resolveId(id) {
+      if (id !== 'stltopo' && !id.startsWith('stltopo/')) return null;
+      const pkg = JSON.parse(readFileSync(path.join(packageDir, 'package.json'), 'utf8'));
+      const subpath = id === 'stltopo' ? '.' : `./${id.slice('stltopo/'.length)}`;
+      // Without "exports" (yet), fall back to the dist/ layout: dist/index.js, dist/<subpath>.js.
+      const target = pkg.exports
+        ? pickTarget(pkg.exports[subpath])
+        : `./dist/${subpath === '.' ? 'index' : subpath.slice(2)}.js`;
+      if (!target) this.error(`stltopo: package.json in ${packageDir} does not export "${subpath}"`);
+      const file = path.resolve(packageDir, target);
+      if (!existsSync(file)) {
+        this.error(`stltopo: ${path.relative(repoRoot, file)} is missing; build the package first (npm run build)`);
+      }
+      return file;
+    },
+  };
+}
+
+function stltopoSamples() {
+  const files = new Map(samples.filter((s) => s.path).map((s) => [s.file, path.join(fixturesDir, s.path)]));
+  return {
+    name: 'stltopo-samples',
+    configureServer(server) {
+      server.middlewares.use((req, res, next) => {
+        const match = /\/samples\/([^/?#]+)/.exec(req.url ?? '');
+        const file = match && files.get(decodeURIComponent(match[1]));
+        if (!file) return next();
+        const data = readFileSync(file);
+        res.setHeader('Content-Type', 'model/stl');
+        res.setHeader('Content-Length', data.length);
+        res.end(data);
+      });
+    },
+    generateBundle() {
+      for (const [name, file] of files) {
+        this.emitFile({ type: 'asset', fileName: `samples/${name}`, source: readFileSync(file) });
+      }
+    },
+  };
+}
+
+export default defineConfig({
+  root: demoDir,
+  base: './', // relative URLs: the built site works from any folder of any static host
+  plugins: [stltopoPackage(), stltopoSamples()],
+  server: {
+    fs: { allow: [repoRoot, packageDir] },
+  },
+  worker: { format: 'es' },
+  build: {
+    outDir: 'dist',
+    emptyOutDir: true,
+    target: 'es2022',
+    chunkSizeWarningLimit: 2000,
+  },
+  optimizeDeps: {
+    entries: ['index.html'],
+    exclude: ['stltopo'],
+  },
+  preview: { host: '127.0.0.1' },
+});
