@@ -27,29 +27,6 @@ struct Args {
   std::vector<std::string> files;
 };
 
-void printText(const std::string& file, const stltopo::Mesh& m, const stltopo::Topology* t) {
-  std::printf("%s: %s STL, %zu solid%s, %u triangles, %u vertices\n", file.c_str(), stltopo::formatName(m.format),
-              m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
-  for (const auto& s : m.solids) std::printf("  solid \"%s\": %u triangles\n", s.name.c_str(), s.triangleCount);
-  if (m.nVertices() > 0)
-    std::printf("  bbox [%g, %g, %g] .. [%g, %g, %g]\n", m.bboxMin[0], m.bboxMin[1], m.bboxMin[2], m.bboxMax[0],
-                m.bboxMax[1], m.bboxMax[2]);
-  std::printf("  area %.9g, volume %.9g, colours %s, normals against winding %u\n", m.area, m.volume,
-              stltopo::colorConventionName(m.colorConvention), m.normalMismatches);
-  if (t) {
-    uint32_t faces = m.nTriangles() - t->nDegenerate;
-    long long chi = (long long)t->nUsedVertices - t->nEdges + faces;
-    bool watertight = faces > 0 && !t->nBoundaryEdges && !t->nNonManifoldEdges && !t->nInconsistentEdges;
-    std::printf("  edges %u: boundary %u, non-manifold %u, inconsistent %u\n", t->nEdges, t->nBoundaryEdges,
-                t->nNonManifoldEdges, t->nInconsistentEdges);
-    std::printf("  holes %u, seams %u, non-manifold vertices %u, degenerate triangles %u\n", t->nHoles, t->nSeams,
-                t->nNonManifoldVertices, t->nDegenerate);
-    std::printf("  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells, chi,
-                watertight ? "yes" : "no", (!t->nNonManifoldEdges && !t->nNonManifoldVertices) ? "yes" : "no");
-  }
-  for (const auto& w : m.warnings) std::printf("  warning %s\n", w.message.c_str());
-}
-
 // Reads one file (or stdin) through the streaming reader, 1 MiB at a time.
 stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& base, stltopo::Mesh& mesh) {
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
@@ -148,7 +125,7 @@ int main(int argc, char** argv) {
     }
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
     if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t).c_str());
-    else printText(file, mesh, t);
+    else std::fputs(stltopo::infoText(file, mesh, t).c_str(), stdout);
   }
   return rc;
 }

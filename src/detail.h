@@ -1,4 +1,14 @@
 // Internal helpers shared by the core's translation units. Not installed.
 #pragma once
-#include <cstdarg>
-#include <string>
+
+namespace stltopo::detail {
+
+// std::bit_cast without <bit>: Emscripten 3.1.6's libc++ lacks it; the builtin is in
+// both GCC and Clang.
+template <class To, class From>
+constexpr To bitCast(const From& from) noexcept {
+  static_assert(sizeof(To) == sizeof(From));
+  return __builtin_bit_cast(To, from);
+}
+
+}  // namespace stltopo::detail

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <cstdarg>
 #include <clocale>
 #include <cmath>
 #include <cstdio>
@@ -41,7 +42,7 @@ Status makeStatus(Code c, std::string msg, uint64_t offset = kNoOffset, uint64_t
 
 Status oom(const char* what) { return makeStatus(Code::OutOfMemory, std::string("could not allocate ") + what); }
 
-inline uint32_t bitsOf(float f) { return std::bit_cast<uint32_t>(f); }
+inline uint32_t bitsOf(float f) { return detail::bitCast<uint32_t>(f); }
 inline bool finiteBits(uint32_t b) { return (b & 0x7f800000u) != 0x7f800000u; }
 
 inline uint32_t hash3(uint32_t x, uint32_t y, uint32_t z) {
@@ -359,7 +360,7 @@ struct BinaryParser {
     uint16_t attr;
     std::memcpy(&attr, r + 48, 2);
     if constexpr (std::endian::native == std::endian::big) {
-      for (float& x : f) x = std::bit_cast<float>(__builtin_bswap32(std::bit_cast<uint32_t>(x)));
+      for (float& x : f) x = detail::bitCast<float>(__builtin_bswap32(detail::bitCast<uint32_t>(x)));
       attr = __builtin_bswap16(attr);
     }
     if (!b.add(f, f + 3, attr, recOffset, 0)) {
@@ -480,6 +481,7 @@ locale_t cLocale() {
 
 // Parses a whole token as a float exactly as strtof does in the C locale.
 bool parseFloat(const char* s, size_t len, float& out) {
+  if (len > kMaxNumberChars) return false;  // also for the fast path: any chunking agrees
   // Fast path: [sign] digits [. digits] [e [sign] digits], mantissa < 2^24, |exp| <= 10:
   // one correctly rounded float operation gives strtof's result.
   {
@@ -533,7 +535,7 @@ bool parseFloat(const char* s, size_t len, float& out) {
                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
       if (m < (1ull << 53) && ex >= -22 && ex <= 22) {
         double d = ex < 0 ? double(m) / kPow10d[-ex] : double(m) * kPow10d[ex];
-        if ((std::bit_cast<uint64_t>(d) & 0x1FFFFFFFull) != 0x10000000ull) {
+        if ((detail::bitCast<uint64_t>(d) & 0x1FFFFFFFull) != 0x10000000ull) {
           float f = float(d);
           out = neg ? -f : f;
           return true;
@@ -572,7 +574,10 @@ struct AsciiParser {
   uint64_t tokenOffset = 0, tokenLine = 1;
   std::string carry;         // a token split across chunks
   bool inToken = false;
-  bool carryOverlong = false;
+  // A token split across chunks is kept up to kMaxCarry bytes: more than any number
+  // (kMaxNumberChars) and than 'solid' + a name (kMaxNameBytes + 1), so a cut token reads
+  // exactly like the whole one.
+  static constexpr size_t kMaxCarry = (kMaxNameBytes + 5 > kMaxNumberChars ? kMaxNameBytes + 5 : kMaxNumberChars) + 1;
   std::string name;
   bool nameCut = false;
   uint64_t nameLine = 1;
@@ -619,7 +624,7 @@ struct AsciiParser {
       case ExpectSolid:
         if (iprefix(t, n, "solid")) {
           if (!decided) { decided = true; isSolid = true; }
-          name.assign(t + 5, n - 5);
+          name.assign(t + 5, std::min(n - 5, kMaxNameBytes + 1));
           nameCut = false;
           nameLine = tokenLine;
           state = SolidName;
@@ -703,6 +708,10 @@ struct AsciiParser {
   }
 
   bool number(const char* t, size_t n, float& out) {
+    if (n > kMaxNumberChars) {
+      fail(Code::AsciiSyntax, fmt("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      return false;
+    }
     if (parseFloat(t, n, out)) return true;
     fail(Code::AsciiSyntax, fmt("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
     return false;
@@ -768,8 +777,7 @@ struct AsciiParser {
         if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
         if (j == n) {  // token may continue in the next chunk
           inToken = true;
-          carry.assign(reinterpret_cast<const char*>(p + i), std::min(j - i, kMaxNumberChars + 1));
-          carryOverlong = j - i > kMaxNumberChars;
+          carry.assign(reinterpret_cast<const char*>(p + i), std::min(j - i, kMaxCarry));
           offset += j - i;
           i = j;
           break;
@@ -783,8 +791,7 @@ struct AsciiParser {
       size_t j = i;
       while (j < n && !isSpace(p[j]) && p[j] >= 0x20 && p[j] != 0x7f) ++j;
       if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
-      size_t room = kMaxNumberChars + 1 > carry.size() ? kMaxNumberChars + 1 - carry.size() : 0;
-      if (j - i > room) carryOverlong = true;
+      size_t room = kMaxCarry > carry.size() ? kMaxCarry - carry.size() : 0;
       carry.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
       offset += j - i;
       i = j;
@@ -794,10 +801,6 @@ struct AsciiParser {
 
   void endCarry() {
     inToken = false;
-    if (carryOverlong && state != ExpectSolid) {
-      fail(Code::AsciiSyntax, fmt("token longer than %zu bytes at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
-      return;
-    }
     token(carry.data(), carry.size());
     carry.clear();
   }
@@ -886,6 +889,8 @@ struct Reader::Impl {
       if (atEnd) be = bin->end(bs);
       else bs = bin->b.error;
     }
+    // The first token may still be pending at the end ("solid" and nothing else).
+    if (atEnd && ascii && !ascii->decided && ascii->inToken && !ascii->dead()) ascii->endCarry();
     bool solidFile = ascii && ascii->decided && ascii->isSolid;
     auto takeBinary = [&](bool trailing) -> Status {
       if (trailing) {

@@ -2,6 +2,7 @@
 // so both print byte-identical JSON.
 #include <clocale>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <locale.h>
@@ -238,22 +239,63 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
     }
     j.close(']');
     j.key("shells"); j.u(t.nShells);
-    uint32_t nonDegenerate = nt - t.nDegenerate;
-    int64_t chi = int64_t(t.nUsedVertices) - int64_t(t.nEdges) + int64_t(nonDegenerate);
+    int64_t chi = t.eulerCharacteristic();
     j.key("eulerCharacteristic"); j.i(chi);
-    bool watertight = nonDegenerate > 0 && t.nBoundaryEdges == 0 && t.nNonManifoldEdges == 0 && t.nInconsistentEdges == 0;
     j.key("genus");
-    if (watertight) {
+    if (t.watertight()) {
       int64_t twice = 2 * int64_t(t.nShells) - chi;  // genus = (2 shells - chi) / 2
       j.s += shortest(double(twice) / 2, false);
     } else {
       j.s += "null";
     }
-    j.key("watertight"); j.b(watertight);
-    j.key("manifold"); j.b(t.nNonManifoldEdges == 0 && t.nNonManifoldVertices == 0);
+    j.key("watertight"); j.b(t.watertight());
+    j.key("manifold"); j.b(t.manifold());
   }
   j.close('}');
   return j.s;
+}
+
+namespace {
+void appendf(std::string& out, const char* f, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string& out, const char* f, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, f);
+  int n = std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  if (n < 0) return;
+  if (size_t(n) < sizeof buf) {
+    out.append(buf, size_t(n));
+    return;
+  }
+  std::string big(size_t(n) + 1, '\0');
+  va_start(ap, f);
+  std::vsnprintf(big.data(), big.size(), f, ap);
+  va_end(ap);
+  out.append(big.data(), size_t(n));
+}
+}  // namespace
+
+std::string infoText(const std::string& file, const Mesh& m, const Topology* t) {
+  std::string o;
+  appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices\n", file.c_str(), formatName(m.format),
+          m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
+  for (const auto& s : m.solids) appendf(o, "  solid \"%s\": %u triangles\n", s.name.c_str(), s.triangleCount);
+  if (m.nVertices() > 0)
+    appendf(o, "  bbox [%g, %g, %g] .. [%g, %g, %g]\n", m.bboxMin[0], m.bboxMin[1], m.bboxMin[2], m.bboxMax[0],
+            m.bboxMax[1], m.bboxMax[2]);
+  appendf(o, "  area %.9g, volume %.9g, colours %s, normals against winding %u\n", m.area, m.volume,
+          colorConventionName(m.colorConvention), m.normalMismatches);
+  if (t) {
+    appendf(o, "  edges %u: boundary %u, non-manifold %u, inconsistent %u\n", t->nEdges, t->nBoundaryEdges,
+            t->nNonManifoldEdges, t->nInconsistentEdges);
+    appendf(o, "  holes %u, seams %u, non-manifold vertices %u, degenerate triangles %u\n", t->nHoles, t->nSeams,
+            t->nNonManifoldVertices, t->nDegenerate);
+    appendf(o, "  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells,
+            (long long)t->eulerCharacteristic(), t->watertight() ? "yes" : "no", t->manifold() ? "yes" : "no");
+  }
+  for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());
+  return o;
 }
 
 std::string errorJson(const std::string& file, const Status& error) {

@@ -250,6 +250,15 @@ struct Topology {
 
   uint32_t nHalfedges() const { return uint32_t(next.size()); }
   uint32_t nLoops() const { return uint32_t(loopHalfedge.size()); }
+  // V - E + F over the non-degenerate triangles and the vertices they use.
+  int64_t eulerCharacteristic() const {
+    return int64_t(nUsedVertices) - int64_t(nEdges) + int64_t(nTriangles - nDegenerate);
+  }
+  // At least one non-degenerate triangle and no boundary, non-manifold or inconsistent edge.
+  bool watertight() const {
+    return nTriangles > nDegenerate && nBoundaryEdges == 0 && nNonManifoldEdges == 0 && nInconsistentEdges == 0;
+  }
+  bool manifold() const { return nNonManifoldEdges == 0 && nNonManifoldVertices == 0; }
   uint32_t nFaces() const { return nTriangles + nLoops(); }
   bool isLoopFace(uint32_t f) const { return f >= nTriangles; }
 };
@@ -292,11 +301,10 @@ void forEachOutgoing(const Topology& t, uint32_t e0, F&& f) {
 // ---------------------------------------------------------------------------
 // The report: what `stltopo info --json` prints.
 
-struct InfoOptions {
-  bool topology = true;
-};
 // JSON object (one line, no trailing newline) for a successfully read file.
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo);
+// The CLI's human-readable report (several lines, each ending in a newline).
+std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo);
 // JSON object for a failed file: {"file":..,"error":{code,message,location}}.
 std::string errorJson(const std::string& file, const Status& error);
 // Escapes a string as a JSON string literal (with quotes); invalid UTF-8 becomes U+FFFD.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "detail.h"
 #include "stltopo.h"
 
 namespace stltopo {
@@ -47,9 +48,13 @@ bool toleranceWeld(const Mesh& mesh, double tol, Array<uint32_t>& rep) {
   if (!rep.resize(nv)) return false;
   auto cellOf = [&](double x) -> int64_t {
     double c = std::floor(x / tol);
-    if (c > 4e18) c = 4e18;
-    if (c < -4e18) c = -4e18;
-    return int64_t(c);
+    if (std::fabs(c) <= 0x1p40) return int64_t(c);
+    // Far from the origin in units of tol (or tol tiny): the float spacing at x exceeds
+    // tol, so only vertices with exactly this coordinate can be within tol. Key by the
+    // value, outside the range of the regular cells, instead of clamping: a clamped cell
+    // would collect every such vertex and make the search quadratic.
+    int64_t k = (int64_t(1) << 42) + int64_t(detail::bitCast<uint32_t>(std::fabs(float(x))));
+    return x < 0 ? -k : k;
   };
   struct Key {
     int64_t x, y, z;

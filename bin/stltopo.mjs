@@ -1,0 +1,178 @@
+#!/usr/bin/env node
+// npm CLI: `npx stltopo info [--json] FILE...` on the wasm build.
+// Mirrors the native CLI (src/cli.cpp): the same usage text, options, exit codes
+// (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
+// byte-identical JSON (both come from stltopo::infoJson / errorJson).
+import { _internal, fileSource } from '../dist/node.js';
+
+const USAGE =
+  "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
+  "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
+  "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
+  "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
+
+// strerror(3) texts (glibc) for the errors fopen/fread report most often.
+const STRERROR = {
+  ENOENT: 'No such file or directory',
+  EACCES: 'Permission denied',
+  EISDIR: 'Is a directory',
+  ENOTDIR: 'Not a directory',
+  ELOOP: 'Too many levels of symbolic links',
+  ENAMETOOLONG: 'File name too long',
+  EMFILE: 'Too many open files',
+  ENFILE: 'Too many open files in system',
+  EIO: 'Input/output error',
+  EPERM: 'Operation not permitted',
+  ENXIO: 'No such device or address',
+  ENODEV: 'No such device',
+  EINVAL: 'Invalid argument',
+  EROFS: 'Read-only file system',
+  EBUSY: 'Device or resource busy',
+  ETXTBSY: 'Text file busy',
+  EOVERFLOW: 'Value too large for defined data type',
+  ENOMEM: 'Cannot allocate memory',
+};
+const strerror = (e) => STRERROR[e && e.code] || (e && e.message) || String(e);
+
+function write(stream, text) {
+  return new Promise((resolve) => {
+    if (stream.write(text)) resolve();
+    else stream.once('drain', resolve);
+  });
+}
+
+function usageError(message) {
+  process.stderr.write(message);
+  process.exitCode = 2;
+}
+
+function stdinSource() {
+  const it = process.stdin[Symbol.asyncIterator]();
+  return {
+    total: 0,
+    async next() {
+      const { done, value } = await it.next();
+      return done ? null : value;
+    },
+    cancel() {},
+  };
+}
+
+async function main(argv) {
+  if (argv.length < 1) return usageError(USAGE);
+  const cmd = argv[0];
+  if (cmd === '--help' || cmd === '-h' || cmd === 'help') return write(process.stdout, USAGE);
+  if (cmd === '--version') return write(process.stdout, 'stltopo 0.1.0\n');
+  if (cmd !== 'info') return usageError(`stltopo: unknown command '${cmd}'\n${USAGE}`);
+
+  const a = { json: false, topology: true, tolerance: 0, maxTriangles: 2 ** 28, maxBytes: 0, files: [] };
+  let endOfOptions = false;
+  for (let i = 1; i < argv.length; ++i) {
+    const s = argv[i];
+    const value = (name) => {
+      if (i + 1 >= argv.length) {
+        usageError(`stltopo: ${name} needs a value\n`);
+        return null;
+      }
+      return argv[++i];
+    };
+    if (!endOfOptions && s === '--') endOfOptions = true;
+    else if (!endOfOptions && s === '--json') a.json = true;
+    else if (!endOfOptions && s === '--no-topology') a.topology = false;
+    else if (!endOfOptions && s === '--tolerance') {
+      const v = value('--tolerance');
+      if (v === null) return;
+      const t = parseCDouble(v);
+      if (t === null || !(t >= 0)) return usageError(`stltopo: bad --tolerance '${v}'\n`);
+      a.tolerance = t;
+    } else if (!endOfOptions && s === '--max-triangles') {
+      const v = value('--max-triangles');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (n === null || n === 0n || n > 0xffffffffn) return usageError(`stltopo: bad --max-triangles '${v}'\n`);
+      a.maxTriangles = Number(n);
+    } else if (!endOfOptions && s === '--max-bytes') {
+      const v = value('--max-bytes');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (n === null || n === 0n) return usageError(`stltopo: bad --max-bytes '${v}'\n`);
+      a.maxBytes = Number(n);
+    } else if (!endOfOptions && s.length > 1 && s[0] === '-') {
+      return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
+    } else {
+      a.files.push(s);
+    }
+  }
+  if (a.files.length === 0) return usageError(`stltopo: no input files\n${USAGE}`);
+
+  let rc = 0;
+  for (const file of a.files) {
+    const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles, maxBytes: a.maxBytes };
+    let r;
+    if (file === '-') {
+      r = await _internal.report(stdinSource(), opts);
+    } else {
+      let source = null;
+      try {
+        source = await fileSource(file);
+      } catch (e) {
+        r = await failed(file, a.json, `invalid-argument: cannot open ${file}: ${strerror(e)}`);
+      }
+      if (source) {
+        try {
+          r = await _internal.report(source, opts);
+        } catch (e) {
+          if (!e || !e.code || !String(e.code).startsWith('E')) throw e;
+          r = await failed(file, a.json, `invalid-argument: read error on ${file}: ${strerror(e)}`);
+        }
+      }
+    }
+    if (r.ok) {
+      await write(process.stdout, r.text);
+    } else {
+      rc = 1;
+      await write(a.json ? process.stdout : process.stderr, r.text);
+    }
+  }
+  process.exitCode = rc;
+}
+
+async function failed(file, json, message) {
+  const err = { code: 'invalid-argument', message };
+  return { ok: false, text: json ? `${await _internal.errorJson(file, err)}\n` : `${file}: ${message}\n` };
+}
+
+// strtoull(3) base 10 on the whole string: leading space, a sign (a minus
+// negates modulo 2^64), digits; out of range gives ULLONG_MAX. null when
+// characters are left over (or there are no digits and the string is not empty).
+function parseCUnsigned(v) {
+  const m = /^[ \t\n\v\f\r]*([+-]?)([0-9]+)$/.exec(v);
+  if (!m) return v === '' ? 0n : null;
+  const max = (1n << 64n) - 1n;
+  let n = BigInt(m[2]);
+  if (n > max) return max;
+  if (m[1] === '-') n = (-n) & max;
+  return n;
+}
+
+// strtod(3) in the C locale, whole string: decimal and hex floats, inf, nan.
+function parseCDouble(v) {
+  const s = v.replace(/^[ \t\n\v\f\r]+/, '');
+  if (/^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(s)) return Number(s);
+  if (/^[+-]?(inf|infinity)$/i.test(s)) return s[0] === '-' ? -Infinity : Infinity;
+  if (/^[+-]?nan(\([0-9A-Za-z_]*\))?$/i.test(s)) return NaN;
+  const hex = /^([+-]?)0[xX]([0-9a-fA-F]*)\.?([0-9a-fA-F]*)(?:[pP]([+-]?\d+))?$/.exec(s);
+  if (hex && (hex[2] || hex[3])) {
+    const digits = hex[2] + hex[3];
+    let x = 0;
+    for (const d of digits) x = x * 16 + parseInt(d, 16);
+    x *= 2 ** (Number(hex[4] || 0) - 4 * hex[3].length);
+    return hex[1] === '-' ? -x : x;
+  }
+  return null;
+}
+
+main(process.argv.slice(2)).catch((e) => {
+  process.stderr.write(`stltopo: ${e && e.stack ? e.stack : e}\n`);
+  process.exitCode = 1;
+});

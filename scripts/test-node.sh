@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The Node half of `npm test` (scripts/test.sh builds build/stltopo first).
+#   1. builds dist/ (scripts/build-wasm.sh) when it is missing or older than its sources
+#   2. installs the npm devDependencies when they are missing, and chromium (deps.sh browser)
+#   3. type-checks tests/js/types/api-usage.ts against the package's .d.ts (tsc --noEmit)
+#   4. runs the Node tests in tests/js (node:test), including the npm pack smoke test
+#   5. runs the GoogleTest suite compiled to wasm under Node (STLTOPO_WASM_GTEST=0 skips)
+# Env: STLTOPO_NATIVE_CLI (default build/stltopo), STLTOPO_WASM_BUILD_DIR (default build-wasm),
+#      STLTOPO_WASM_GTEST=0 (skip step 5), STLTOPO_WASM_GTEST_FILTER (gtest filter for step 5).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export NODE_PATH="${NODE_PATH:-/usr/share/nodejs}"
+BUILD_DIR="${STLTOPO_WASM_BUILD_DIR:-build-wasm}"
+export STLTOPO_NATIVE_CLI="${STLTOPO_NATIVE_CLI:-$PWD/build/stltopo}"
+if [ ! -x "$STLTOPO_NATIVE_CLI" ]; then
+  echo "test-node: $STLTOPO_NATIVE_CLI is missing (scripts/test.sh builds it first)" >&2
+  exit 1
+fi
+
+# 1. dist/: rebuilt when missing or stale.
+stale=0
+for f in stltopo-wasm.js stltopo-wasm.wasm index.js node.js index.d.ts; do
+  [ -f "dist/$f" ] || stale=1
+done
+[ -f "$BUILD_DIR/dist.stamp" ] || stale=1
+if [ "$stale" = 0 ] && [ -n "$(find src bindings web/src CMakeLists.txt scripts/build-wasm.sh -newer "$BUILD_DIR/dist.stamp" -type f 2>/dev/null | head -1)" ]; then
+  stale=1
+fi
+if [ "$stale" = 1 ]; then
+  bash scripts/build-wasm.sh
+else
+  echo "test-node: dist/ is up to date"
+fi
+
+# 2. npm devDependencies (typescript, three, @types/three).
+if [ ! -x node_modules/.bin/tsc ] || [ ! -f node_modules/three/package.json ] || [ ! -f node_modules/@types/three/package.json ]; then
+  npm install --no-audit --no-fund
+fi
+# Chromium for tests/js/browser.test.mjs (the package in a real browser; skipped without it).
+bash scripts/deps.sh browser
+
+# 3. Types.
+echo "test-node: tsc --noEmit (tests/js/types)"
+node_modules/.bin/tsc -p tests/js/types/tsconfig.json
+
+# 4. Node tests, one file at a time (some measure how fast an abort lands).
+# --expose-gc lets the FinalizationRegistry test run.
+echo "test-node: node --test tests/js"
+node --expose-gc --test --test-concurrency=1 tests/js/*.test.mjs
+
+# 5. The GoogleTest suite, compiled with Emscripten and run under Node.
+if [ "${STLTOPO_WASM_GTEST:-1}" != 0 ] && [ ! -f /usr/src/googletest/googletest/src/gtest-all.cc ]; then
+  echo "test-node: skipping the wasm GoogleTest run (no /usr/src/googletest; apt-get install libgtest-dev)"
+elif [ "${STLTOPO_WASM_GTEST:-1}" != 0 ]; then
+  emcmake cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_WASM_TESTS=ON >/dev/null
+  cmake --build "$BUILD_DIR" --target stltopo_tests_wasm -j"${JOBS:-2}"
+  # Tests that start the native CLI as a subprocess cannot run in wasm.
+  filter="${STLTOPO_WASM_GTEST_FILTER:--Regress.PeerChokers}"
+  echo "test-node: GoogleTest suite under Node (wasm), filter $filter"
+  node "$BUILD_DIR/bindings/stltopo_tests_wasm.js" --gtest_filter="$filter"
+fi

@@ -1,0 +1,182 @@
+// The package in a real browser (Debian chromium via playwright-core), with no
+// bundler: dist/ is served as plain ES modules behind an import map. Checks the
+// browser entry (the .wasm fetched by URL), Blob/Response/stream inputs, views,
+// errors, the Web Worker (progress, abort, transfer) and stltopo/three, under a
+// Content-Security-Policy without 'unsafe-eval'.
+// Skipped when chromium is not installed (scripts/deps.sh browser).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync, createReadStream, statSync } from 'node:fs';
+import http from 'node:http';
+import path from 'node:path';
+import { execFileSync } from 'node:child_process';
+import { root, fixture, nativeCli, haveNativeCli } from './helpers.mjs';
+
+const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const skip = !existsSync(chromiumPath) && `no chromium at ${chromiumPath}`;
+
+const TYPES = { '.js': 'text/javascript', '.mjs': 'text/javascript', '.wasm': 'application/wasm', '.html': 'text/html', '.stl': 'application/octet-stream' };
+const PAGE = `<!doctype html><meta charset="utf-8"><title>stltopo package test</title>
+<script type="importmap">{ "imports": {
+  "stltopo": "/dist/index.js", "stltopo/worker": "/dist/worker.js", "stltopo/three": "/dist/three.js",
+  "three": "/node_modules/three/build/three.module.js" } }</script>
+<script type="module">
+  import * as stltopo from 'stltopo';
+  import * as worker from 'stltopo/worker';
+  import * as three from 'stltopo/three';
+  window.pkg = { stltopo, worker, three };
+  window.ready = true;
+</script>`;
+
+let server;
+let base;
+let browser;
+let page;
+
+before(async () => {
+  if (skip) return;
+  server = http.createServer((req, res) => {
+    const url = new URL(req.url, 'http://x');
+    if (url.pathname === '/') {
+      // No 'unsafe-eval': the glue must not use eval/new Function (-sDYNAMIC_EXECUTION=0).
+      const csp = "script-src 'self' 'unsafe-inline' 'wasm-unsafe-eval'; worker-src 'self'";
+      res.writeHead(200, { 'content-type': 'text/html', 'content-security-policy': csp });
+      res.end(PAGE);
+      return;
+    }
+    const p = path.join(root, decodeURIComponent(url.pathname));
+    const allowed = ['dist/', 'tests/fixtures/', 'node_modules/three/'].some((d) => p.startsWith(path.join(root, d)));
+    if (!allowed || !existsSync(p) || !statSync(p).isFile()) {
+      res.writeHead(404);
+      res.end();
+      return;
+    }
+    res.writeHead(200, { 'content-type': TYPES[path.extname(p).toLowerCase()] || 'application/octet-stream', 'content-length': statSync(p).size });
+    createReadStream(p).pipe(res);
+  });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  base = `http://127.0.0.1:${server.address().port}`;
+  const { chromium } = await import('playwright-core');
+  browser = await chromium.launch({ executablePath: chromiumPath, args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run'] });
+  page = await browser.newPage();
+  page.on('pageerror', (e) => console.error('pageerror', e));
+  await page.goto(`${base}/`);
+  await page.waitForFunction(() => window.ready === true, null, { timeout: 30_000 });
+});
+
+after(async () => {
+  if (browser) await browser.close();
+  if (server) server.close();
+});
+
+const rel = (name) => `/${path.relative(root, fixture(name)).split(path.sep).join('/')}`;
+
+test('browser: fetch → loadStl (Response, Blob, stream, view) matches the native JSON', { skip }, async () => {
+  const url = rel('bunny.stl');
+  const r = await page.evaluate(async (url) => {
+    const { loadStl } = window.pkg.stltopo;
+    const a = await loadStl(await fetch(url));
+    const b = await loadStl(await (await fetch(url)).blob());
+    const c = await loadStl((await fetch(url)).body);
+    const v = await loadStl(await (await fetch(url)).arrayBuffer(), { view: true });
+    const same = (x, y) => x.length === y.length && x.every((e, i) => e === y[i]);
+    const out = {
+      stats: a.stats, valid: a.validate(), vValid: v.validate(), view: v.view,
+      sameBlob: same(a.positions, b.positions) && same(a.halfedges.next, b.halfedges.next),
+      sameStream: same(a.triangles, c.triangles) && same(a.halfedges.face, c.halfedges.face),
+      sameView: same(a.positions, v.positions) && same(a.halfedges.vert, v.halfedges.vert),
+      holes: a.holes.map((h) => h.edgeCount),
+    };
+    v.dispose();
+    return out;
+  }, url);
+  assert.deepEqual(r.valid, { ok: true });
+  assert.deepEqual(r.vValid, { ok: true });
+  assert.equal(r.view, true);
+  assert.ok(r.sameBlob && r.sameStream && r.sameView);
+  assert.deepEqual(r.holes, r.stats.holeSizes);
+  if (haveNativeCli) {
+    const want = JSON.parse(execFileSync(nativeCli, ['info', '--json', fixture('bunny.stl')]).toString());
+    delete want.file;
+    assert.deepEqual(r.stats, want);
+  }
+});
+
+test('browser: errors are StlErrors and the module keeps working', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { loadStl, StlError } = window.pkg.stltopo;
+    const codes = [];
+    for (const bad of [new Uint8Array(0), new TextEncoder().encode('solid x\nfacet normal 0 0 1\n'), new TextEncoder().encode('garbage')]) {
+      try { await loadStl(bad); } catch (e) { codes.push(e instanceof StlError ? e.code : String(e)); }
+    }
+    try { await loadStl(new Uint8Array(100), { signal: AbortSignal.abort() }); } catch (e) { codes.push(e.code); }
+    const ok = await loadStl(await fetch('/tests/fixtures/mikedh_trimesh/models/unit_cube.STL'));
+    return { codes, n: ok.nTriangles };
+  });
+  assert.deepEqual(r.codes, ['empty', 'unexpected-end', 'not-stl', 'aborted']);
+  assert.equal(r.n, 12);
+});
+
+test('browser: Web Worker (stltopo/worker and { worker: true }): same result, progress, transfer, abort', { skip }, async () => {
+  const r = await page.evaluate(async (url) => {
+    const { loadStl } = window.pkg.stltopo;
+    const w = window.pkg.worker;
+    const inline = await loadStl(await fetch(url));
+    const progress = [];
+    const a = await w.loadStl(await (await fetch(url)).blob(), { onProgress: (f, n) => progress.push([f, n]) });
+    const b = await loadStl(await fetch(url), { worker: true });
+    const same = (x, y) => x.length === y.length && x.every((e, i) => e === y[i]);
+    // A large generated file, cancelled right away.
+    const n = 600;
+    const big = new Uint8Array(84 + 50 * 2 * n * n);
+    const dv = new DataView(big.buffer);
+    dv.setUint32(80, 2 * n * n, true);
+    let o = 84;
+    const put = (x, y) => { dv.setFloat32(o, x, true); dv.setFloat32(o + 4, y, true); o += 12; };
+    for (let i = 0; i < n; ++i) for (let j = 0; j < n; ++j) {
+      o += 12; put(i, j); put(i + 1, j); put(i + 1, j + 1); o += 2;
+      o += 12; put(i, j); put(i + 1, j + 1); put(i, j + 1); o += 2;
+    }
+    const ac = new AbortController();
+    const t0 = performance.now();
+    setTimeout(() => ac.abort(), 10);
+    let code = null;
+    try { await w.loadStl(big, { signal: ac.signal }); } catch (e) { code = e.code; }
+    const abortMs = performance.now() - t0;
+    const full = await w.loadStl(big);
+    return {
+      same: same(inline.positions, a.positions) && same(inline.halfedges.next, b.halfedges.next),
+      statsSame: JSON.stringify(inline.stats) === JSON.stringify(a.stats),
+      last: progress.at(-1), valid: a.validate(), ownBuffer: a.positions.buffer.byteLength === a.positions.byteLength,
+      code, abortMs, bigTriangles: full.nTriangles, bigHoles: full.holes.length,
+    };
+  }, rel('bunny.stl'));
+  assert.ok(r.same && r.statsSame);
+  assert.equal(r.last[0], 1);
+  assert.deepEqual(r.valid, { ok: true });
+  assert.ok(r.ownBuffer);
+  assert.equal(r.code, 'aborted');
+  assert.ok(r.abortMs < 300, `abort took ${r.abortMs} ms`);
+  assert.equal(r.bigTriangles, 720000);
+  assert.equal(r.bigHoles, 1);
+});
+
+test('browser: stltopo/three', { skip }, async () => {
+  const r = await page.evaluate(async (url) => {
+    const { loadStl } = window.pkg.stltopo;
+    const { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments } = window.pkg.three;
+    const m = await loadStl(await fetch(url));
+    const g = toBufferGeometry(m);
+    return {
+      index: g.getIndex().count, tri: m.triangles.length,
+      holes: holesToLineSegments(m).geometry.getAttribute('position').count,
+      holeEdges: m.stats.holeSizes.reduce((x, y) => x + y, 0),
+      problems: problemEdgesToLineSegments(m).userData.halfedges.length,
+      expected: m.stats.nonManifoldEdges + m.stats.inconsistentEdges,
+    };
+  }, rel('wrench.stl'));
+  assert.equal(r.index, r.tri);
+  assert.equal(r.holes, 2 * r.holeEdges);
+  assert.equal(r.problems, r.expected);
+  assert.ok(r.problems > 0);
+});

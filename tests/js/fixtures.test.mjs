@@ -1,0 +1,133 @@
+// Every fixture loads (or fails with the native CLI's error), stats equal the
+// native JSON, validate() passes, and the navigation identities hold.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import path from 'node:path';
+import { loadStl, loadStlFile, StlError, kInvalid } from 'stltopo';
+import { fixtures, fixture, nativeCli, haveNativeCli, root } from './helpers.mjs';
+
+const files = fixtures();
+
+function nativeJson() {
+  const rel = files.map((f) => path.relative(root, f));
+  let out;
+  try {
+    out = execFileSync(nativeCli, ['info', '--json', ...rel], { cwd: root, maxBuffer: 1 << 28 });
+  } catch (e) {
+    out = e.stdout; // exit 1: some fixtures are broken on purpose
+  }
+  const lines = out.toString('utf8').trimEnd().split('\n');
+  assert.equal(lines.length, files.length);
+  return new Map(rel.map((r, i) => [files[i], JSON.parse(lines[i])]));
+}
+
+test('there are fixtures', () => {
+  assert.ok(files.length >= 20, `only ${files.length} fixtures`);
+});
+
+test('every fixture: mesh.stats equals the native JSON (minus "file"), or the same error', { skip: !haveNativeCli && 'no native CLI' }, async () => {
+  const expected = nativeJson();
+  let ok = 0;
+  let failed = 0;
+  for (const f of files) {
+    const want = expected.get(f);
+    delete want.file;
+    try {
+      const m = await loadStlFile(f);
+      assert.ok(!want.error, `${f}: native failed with ${JSON.stringify(want.error)}`);
+      assert.deepEqual(m.stats, want, f);
+      ++ok;
+    } catch (e) {
+      if (!(e instanceof StlError)) throw e;
+      assert.ok(want.error, `${f}: ${e.message}`);
+      assert.equal(e.code, want.error.code, f);
+      assert.equal(e.message, want.error.message, f);
+      assert.equal(e.offset, want.error.offset, f);
+      assert.equal(e.line, want.error.line, f);
+      assert.equal(e.triangle, want.error.triangle, f);
+      ++failed;
+    }
+  }
+  assert.ok(ok > failed);
+});
+
+test('every fixture: validate() passes and the navigation identities hold', async () => {
+  for (const f of files) {
+    let m;
+    try {
+      m = await loadStl(readFileSync(f));
+    } catch (e) {
+      assert.ok(e instanceof StlError, `${f}: ${e}`);
+      continue;
+    }
+    assert.deepEqual(m.validate(), { ok: true }, f);
+    assert.equal(m.positions.length, 3 * m.nVertices);
+    assert.equal(m.triangles.length, 3 * m.nTriangles);
+    assert.equal(m.attributes.length, m.nTriangles);
+    assert.equal(m.nHalfedges, m.halfedges.next.length);
+    for (const k of ['next', 'prev', 'vert', 'face']) assert.equal(m.halfedges[k].length, m.nHalfedges);
+    assert.equal(m.problems.pairKind.length, m.nHalfedges / 2);
+    assert.equal(m.holes.length, m.stats.holes);
+    assert.equal(m.seams.length, m.stats.seams);
+    assert.deepEqual(m.holes.map((h) => h.edgeCount), m.stats.holeSizes);
+    const step = Math.max(1, Math.floor(m.nHalfedges / 2000));
+    for (let e = 0; e < m.nHalfedges; e += step) {
+      assert.equal(m.sym(m.sym(e)), e);
+      assert.equal(m.org(m.oNext(e)), m.org(e));
+      assert.equal(m.lFace(m.lNext(e)), m.lFace(e));
+      assert.equal(m.dst(m.dNext(e)), m.dst(e));
+      assert.equal(m.rFace(m.rNext(e)), m.rFace(e));
+      assert.equal(m.lPrev(m.lNext(e)), e);
+      assert.equal(m.oPrev(m.oNext(e)), e);
+      assert.equal(m.dPrev(m.dNext(e)), e);
+      assert.equal(m.rPrev(m.rNext(e)), e);
+      assert.equal(m.dst(e), m.org(m.lNext(e)));
+    }
+    for (const h of [...m.holes, ...m.seams]) {
+      assert.deepEqual([...m.faceHalfedges(h.halfedges[0])], [...h.halfedges]);
+      assert.equal(m.lFace(h.halfedges[0]), h.face);
+      assert.equal(h.face, m.nTriangles + h.id);
+      for (let i = 0; i < h.halfedges.length; ++i) assert.equal(h.vertices[i], m.org(h.halfedges[i]));
+      assert.ok(h.perimeter > 0);
+    }
+    for (let v = 0; v < m.nVertices; v += Math.max(1, Math.floor(m.nVertices / 200))) {
+      const e0 = m.vertexHalfedge[v];
+      if (e0 === kInvalid) continue;
+      for (const e of m.outgoingHalfedges(e0)) assert.equal(m.org(e), v);
+    }
+    for (let t = 0; t < m.nTriangles; t += Math.max(1, Math.floor(m.nTriangles / 200))) {
+      const e0 = m.triangleHalfedge[t];
+      if (e0 === kInvalid) continue;
+      const loop = [...m.faceHalfedges(e0)];
+      assert.equal(loop.length, 3);
+      for (const e of loop) assert.equal(m.lFace(e), t);
+    }
+  }
+});
+
+test('facts from the source projects: numpy-stl and trimesh', async () => {
+  // The MANIFEST quotes these from the projects' own tests.
+  const bwb = await loadStlFile(fixture('bwb.stl'));
+  assert.equal(bwb.stats.normalMismatches, 155);
+  const half = await loadStlFile(fixture('HalfDonut.stl').replace('stl_ascii', 'stl_binary'));
+  assert.deepEqual(half.warnings.map((w) => w.code), ['trailing-bytes']);
+  const two = await loadStlFile(fixture('triangle_with_two_solids.stl'));
+  assert.equal(two.solids.length, 2);
+  assert.equal(two.solids[1].firstTriangle, two.solids[0].triangleCount);
+});
+
+test('options: topology false, normals, tolerance weld', async () => {
+  const f = fixture('bwb.stl');
+  const bare = await loadStlFile(f, { topology: false, normals: true });
+  assert.equal(bare.halfedges, null);
+  assert.equal(bare.problems, null);
+  assert.deepEqual(bare.holes, []);
+  assert.equal(bare.normals.length, 3 * bare.nTriangles);
+  assert.equal(bare.stats.edges, undefined);
+  assert.deepEqual(bare.validate().ok, false);
+  const welded = await loadStlFile(f, { weld: { tolerance: 1e-3 } });
+  assert.deepEqual(welded.validate(), { ok: true });
+  assert.equal(welded.positions.length, bare.positions.length); // coordinates never move
+});

@@ -1,0 +1,93 @@
+// Shared helpers for the Node tests (node:test). The package is imported by
+// its own name ('stltopo' resolves to dist/ through package.json "exports").
+import { readdirSync, statSync, existsSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import path from 'node:path';
+
+export const root = fileURLToPath(new URL('../../', import.meta.url));
+export const fixturesDir = path.join(root, 'tests/fixtures');
+
+/** Every fixture file (all regular files under tests/fixtures except docs). */
+export function fixtures() {
+  const out = [];
+  const walk = (d) => {
+    for (const name of readdirSync(d).sort()) {
+      const p = path.join(d, name);
+      const st = statSync(p);
+      if (st.isDirectory()) walk(p);
+      else if (st.isFile() && !/\.(md|txt|json|py)$/i.test(name)) out.push(p);
+    }
+  };
+  walk(fixturesDir);
+  return out;
+}
+
+/** A fixture by (case-insensitive) file name. */
+export function fixture(name) {
+  const f = fixtures().find((p) => path.basename(p).toLowerCase() === name.toLowerCase());
+  if (!f) throw new Error(`fixture ${name} not found`);
+  return f;
+}
+
+/** The native CLI (scripts/test.sh builds it); STLTOPO_NATIVE_CLI overrides. */
+export const nativeCli = process.env.STLTOPO_NATIVE_CLI || path.join(root, 'build/stltopo');
+export const haveNativeCli = existsSync(nativeCli);
+
+/** A ReadableStream that delivers `bytes` in chunks of `size` bytes. */
+export function chunkedStream(bytes, size) {
+  let off = 0;
+  return new ReadableStream({
+    pull(controller) {
+      if (off >= bytes.length) {
+        controller.close();
+        return;
+      }
+      controller.enqueue(bytes.slice(off, off + size));
+      off += size;
+    },
+  });
+}
+
+/** A binary STL: an n x n grid of quads (2n^2 triangles), optionally closed into a torus. */
+export function gridStl(n, { header = 'grid' } = {}) {
+  const nt = 2 * n * n;
+  const buf = new ArrayBuffer(84 + 50 * nt);
+  const u8 = new Uint8Array(buf);
+  u8.set(new TextEncoder().encode(header).subarray(0, 80));
+  const dv = new DataView(buf);
+  dv.setUint32(80, nt, true);
+  let o = 84;
+  const put = (x, y) => {
+    dv.setFloat32(o, x, true);
+    dv.setFloat32(o + 4, y, true);
+    dv.setFloat32(o + 8, 0, true);
+    o += 12;
+  };
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < n; ++j) {
+      o += 12; // normal 0
+      put(i, j); put(i + 1, j); put(i + 1, j + 1);
+      o += 2;
+      o += 12;
+      put(i, j); put(i + 1, j + 1); put(i, j + 1);
+      o += 2;
+    }
+  }
+  return u8;
+}
+
+/** The arrays of a mesh as plain arrays keyed by name, for deep comparisons. */
+export function meshArrays(m) {
+  const out = {
+    positions: m.positions, triangles: m.triangles, attributes: m.attributes,
+    colors: m.colors, colorValid: m.colorValid, normals: m.normals,
+  };
+  if (m.halfedges) {
+    Object.assign(out, m.halfedges, m.problems, {
+      triangleHalfedge: m.triangleHalfedge, vertexHalfedge: m.vertexHalfedge,
+      loopHalfedge: m.loopHalfedge, vertexWeld: m.vertexWeld,
+      loopOffsets: m.loops.offsets, loopHalfedges: m.loops.halfedges,
+    });
+  }
+  return out;
+}

@@ -1,0 +1,63 @@
+// npm pack smoke test (as manifold's): pack, install the tarball into an empty
+// folder, import it from a plain .mjs file, parse a file, run the CLI there.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync, spawnSync } from 'node:child_process';
+import { mkdtempSync, rmSync, writeFileSync, readdirSync, copyFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fixture, root, nativeCli, haveNativeCli } from './helpers.mjs';
+
+const npm = process.platform === 'win32' ? 'npm.cmd' : 'npm';
+
+test('npm pack → install in a fresh folder → import, parse, worker, CLI', { timeout: 600_000 }, () => {
+  const dir = mkdtempSync(path.join(tmpdir(), 'stltopo-pack-'));
+  try {
+    const packOut = execFileSync(npm, ['pack', '--json', '--pack-destination', dir], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+    // prepack (scripts/build-wasm.sh) prints to stdout too; npm's JSON starts at a line '['.
+    const text = packOut.toString();
+    const [info] = JSON.parse(text.slice(text.search(/^\[$/m)));
+    const names = info.files.map((f) => f.path).sort();
+    for (const must of ['package.json', 'bin/stltopo.mjs', 'dist/index.js', 'dist/node.js', 'dist/index.d.ts', 'dist/worker.js',
+      'dist/worker.node.js', 'dist/worker.d.ts', 'dist/three.js', 'dist/three.d.ts', 'dist/stltopo-wasm.js', 'dist/stltopo-wasm.wasm']) {
+      assert.ok(names.includes(must), `${must} missing from the package: ${names.join(', ')}`);
+    }
+    for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/stltopo\.mjs|dist\/.*)$/.test(n), `unexpected ${n}`);
+
+    const app = path.join(dir, 'app');
+    execFileSync('mkdir', ['-p', app]);
+    writeFileSync(path.join(app, 'package.json'), '{ "name": "app", "private": true }\n');
+    execFileSync(npm, ['install', '--no-audit', '--no-fund', '--no-package-lock', path.join(dir, info.filename)], { cwd: app, stdio: 'inherit' });
+    const stl = path.join(app, 'bunny.stl');
+    copyFileSync(fixture('bunny.stl'), stl);
+    writeFileSync(path.join(app, 'smoke.mjs'), `
+import { loadStl, loadStlFile, StlError } from 'stltopo';
+import { loadStl as loadInWorker } from 'stltopo/worker';
+import { readFile } from 'node:fs/promises';
+const m = await loadStl(await readFile('bunny.stl'));
+const f = await loadStlFile('bunny.stl');
+const w = await loadInWorker(await readFile('bunny.stl'));
+let code = null;
+try { await loadStl(new Uint8Array(0)); } catch (e) { code = e instanceof StlError && e.code; }
+console.log(JSON.stringify({ n: m.nTriangles, f: f.nTriangles, w: w.nTriangles, valid: m.validate().ok, code, watertight: m.stats.watertight }));
+`);
+    const out = JSON.parse(execFileSync(process.execPath, ['smoke.mjs'], { cwd: app }).toString());
+    assert.ok(out.n > 60000);
+    assert.equal(out.f, out.n);
+    assert.equal(out.w, out.n);
+    assert.equal(out.valid, true);
+    assert.equal(out.code, 'empty');
+
+    const cli = spawnSync(npm, ['exec', '--offline', '--', 'stltopo', 'info', '--json', 'bunny.stl'], { cwd: app });
+    assert.equal(cli.status, 0, cli.stderr.toString());
+    const line = JSON.parse(cli.stdout.toString());
+    assert.equal(line.triangles, out.n);
+    if (haveNativeCli) {
+      const want = execFileSync(nativeCli, ['info', '--json', 'bunny.stl'], { cwd: app });
+      assert.ok(cli.stdout.equals(want), 'the installed CLI prints the native JSON');
+    }
+    assert.ok(readdirSync(path.join(app, 'node_modules/.bin')).includes('stltopo'));
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
+});

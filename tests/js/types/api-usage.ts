@@ -1,0 +1,106 @@
+// Type-checked by scripts/test-node.sh (tsc --noEmit): uses the whole public API
+// of 'stltopo', 'stltopo/worker' and 'stltopo/three' through the package's
+// "exports" (self-reference), so the .d.ts files must match the package.
+import {
+  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind,
+  type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
+} from 'stltopo';
+import * as worker from 'stltopo/worker';
+import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments } from 'stltopo/three';
+import type { BufferGeometry, LineSegments } from 'three';
+
+export async function useEverything(input: StlInput, blob: Blob, response: Response, stream: ReadableStream<Uint8Array>): Promise<number> {
+  const controller = new AbortController();
+  const options: LoadOptions = {
+    topology: true,
+    weld: { tolerance: 1e-4 },
+    maxTriangles: 1 << 20,
+    maxBytes: 0,
+    normals: true,
+    signal: controller.signal,
+    onProgress: (fraction: number, bytesRead: number) => void [fraction, bytesRead],
+    view: false,
+    worker: false,
+  };
+  const inputs: StlInput[] = [new ArrayBuffer(84), new Uint8Array(84), new DataView(new ArrayBuffer(84)), blob, response, stream, input];
+  let total = inputs.length;
+
+  const mesh: Mesh = await loadStl(new Uint8Array(84), options);
+  const exact = await loadStl(blob, { weld: 'exact', view: true });
+  exact.dispose();
+  const fromDisk: Mesh = await loadStlFile('model.stl');
+  const fromUrl: Mesh = await loadStlFile(new URL('file:///model.stl'));
+  const inWorker: Mesh = await worker.loadStl(stream, { onProgress: (f) => void f, signal: controller.signal });
+  const workerFile: Mesh = await worker.loadStlFile('model.stl');
+  total += fromDisk.nTriangles + fromUrl.nVertices + inWorker.nHalfedges + workerFile.nTriangles;
+
+  const format: 'binary' | 'ascii' = mesh.format;
+  const positions: Float32Array = mesh.positions;
+  const triangles: Uint32Array = mesh.triangles;
+  const attributes: Uint16Array = mesh.attributes;
+  const colors: Uint8Array | null = mesh.colors;
+  const colorValid: Uint8Array | null = mesh.colorValid;
+  const convention: 'none' | 'viscam' | 'magics' = mesh.colorConvention;
+  const normals: Float32Array | null = mesh.normals;
+  const solids: Solid[] = mesh.solids;
+  const warnings: Warning[] = mesh.warnings;
+  total += format.length + positions.length + triangles.length + attributes.length + (colors?.length ?? 0) + (colorValid?.length ?? 0);
+  total += convention.length + (normals?.length ?? 0) + solids.reduce((n, s) => n + s.firstTriangle + s.triangleCount + s.name.length, 0);
+  total += warnings.reduce((n, w) => n + w.code.length + w.message.length + (w.offset ?? 0) + (w.line ?? 0) + (w.triangle ?? 0), 0);
+
+  if (mesh.halfedges && mesh.problems && mesh.loops && mesh.triangleHalfedge && mesh.vertexHalfedge && mesh.loopHalfedge && mesh.vertexWeld) {
+    const { next, prev, vert, face } = mesh.halfedges;
+    total += next[0] + prev[0] + vert[0] + face[0];
+    total += mesh.triangleHalfedge[0] + mesh.vertexHalfedge[0] + mesh.loopHalfedge[0] + mesh.vertexWeld[0];
+    total += mesh.loops.offsets[0] + mesh.loops.halfedges[0] + mesh.loops.isSeam[0] + mesh.loops.perimeter[0];
+    const kinds: Uint8Array = mesh.problems.pairKind;
+    total += kinds[0] === EdgeKind.NonManifold ? 1 : 0;
+    total += mesh.problems.triangleDegenerate[0] + mesh.problems.vertexNonManifold[0];
+  }
+  const loops: BoundaryLoop[] = [...mesh.holes, ...mesh.seams];
+  for (const h of loops) total += h.id + h.face + h.halfedges[0] + h.vertices[0] + h.edgeCount + h.perimeter;
+
+  const e = mesh.triangleHalfedge ? mesh.triangleHalfedge[0] : kInvalid;
+  if (e !== kInvalid) {
+    total += mesh.sym(e) + mesh.twin(e) + mesh.org(e) + mesh.dst(e) + mesh.lFace(e) + mesh.rFace(e) + mesh.lNext(e) + mesh.lPrev(e);
+    total += mesh.vnext(e) + mesh.oNext(e) + mesh.oPrev(e) + mesh.dNext(e) + mesh.dPrev(e) + mesh.rNext(e) + mesh.rPrev(e);
+    for (const h of mesh.faceHalfedges(e)) total += h;
+    for (const h of mesh.outgoingHalfedges(e)) total += h;
+  }
+
+  const stats: Stats = mesh.stats;
+  total += stats.triangles + stats.vertices + stats.area + stats.volume + (stats.edges ?? 0) + (stats.genus ?? 0);
+  if (stats.bbox) total += stats.bbox.min[0] + stats.bbox.max[2];
+
+  const v: ValidateResult = mesh.validate();
+  if (!v.ok) total += v.message.length + (v.element ?? 0);
+  mesh.dispose();
+  total += mesh.view ? 1 : 0;
+
+  try {
+    await loadStl(new ArrayBuffer(0));
+  } catch (err) {
+    if (err instanceof StlError) {
+      const code: ErrorCode = err.code;
+      total += code.length + (err.offset ?? 0) + (err.line ?? 0) + (err.triangle ?? 0) + err.message.length;
+      const name: 'StlError' = err.name;
+      total += name.length;
+    }
+  }
+  const made = new StlError('aborted', 'aborted: by hand', { offset: 1 });
+  total += made instanceof Error ? 1 : 0;
+  const w = new worker.StlError('empty', 'empty: x');
+  total += w.code.length;
+
+  const geometry: BufferGeometry = toBufferGeometry(mesh, { colors: true, normals: true, defaultColor: [1, 2, 3] });
+  const holes: LineSegments = holesToLineSegments(mesh, { color: 0xff0000, seams: true, seamColor: 0x00ff00 });
+  const problems = problemEdgesToLineSegments(mesh, { nonManifoldColor: 0xff00ff, inconsistentColor: 0xffa000 });
+  total += geometry.attributes.position.count + holes.userData.halfedges.length + holes.userData.loops.length;
+  total += problems.userData.kinds.length + problems.userData.halfedges.length;
+  return total;
+}
+
+// @ts-expect-error: the format is a closed union
+export const badFormat: Mesh['format'] = 'obj';
+// @ts-expect-error: weld takes 'exact' or { tolerance }
+export const badWeld: LoadOptions = { weld: 'loose' };

@@ -1,0 +1,191 @@
+// Types for 'stltopo' (browser and Node entries). See docs/JS-API.md.
+
+/** ~0u: "none" in every index array. */
+export declare const kInvalid: 4294967295;
+
+/** Edge classes per half-edge pair k = e >> 1 (problems.pairKind). */
+export declare const EdgeKind: Readonly<{ Interior: 0; Boundary: 1; Inconsistent: 2; NonManifold: 3 }>;
+
+export type ErrorCode =
+  | 'empty' | 'not-stl' | 'truncated' | 'unexpected-end' | 'ascii-syntax' | 'non-finite' | 'too-large'
+  | 'out-of-memory' | 'invalid-argument' | 'aborted';
+export type WarningCode = 'trailing-bytes' | 'missing-endsolid' | 'name-truncated';
+
+/** Every failure of loadStl: the same codes and messages as the C++ core. */
+export declare class StlError extends Error {
+  constructor(code: ErrorCode, message: string, location?: { offset?: number; line?: number; triangle?: number });
+  readonly name: 'StlError';
+  /** Stable code, e.g. 'truncated'. */
+  code: ErrorCode;
+  /** Byte offset in the input, when it applies. */
+  offset?: number;
+  /** 1-based ASCII line, when it applies. */
+  line?: number;
+  /** Triangle index, when it applies. */
+  triangle?: number;
+}
+
+export type StlInput = ArrayBuffer | ArrayBufferView | Blob | Response | ReadableStream<Uint8Array>;
+
+export interface LoadOptions {
+  /** Build the half-edge topology (default true). */
+  topology?: boolean;
+  /** 'exact' (default) or a tolerance weld for the topology only (positions are never moved). */
+  weld?: 'exact' | { tolerance: number };
+  /** More triangles give 'too-large' (default 2^28). */
+  maxTriangles?: number;
+  /** More input bytes give 'too-large' (default 0 = unlimited). */
+  maxBytes?: number;
+  /** Keep the stored facet normals in mesh.normals (default false). */
+  normals?: boolean;
+  /** Cancels the load; it rejects with StlError code 'aborted'. */
+  signal?: AbortSignal;
+  /**
+   * Called while bytes arrive (at most every ~50 ms) and once at the end with
+   * fraction 1. fraction is NaN while the total size is unknown (plain streams).
+   */
+  onProgress?: (fraction: number, bytesRead: number) => void;
+  /** Zero-copy: arrays are borrowed views into wasm memory; call mesh.dispose(). */
+  view?: boolean;
+  /** Parse in a Web Worker (worker_threads in Node); arrays are transferred. */
+  worker?: boolean;
+}
+
+export interface Solid {
+  name: string;
+  firstTriangle: number;
+  triangleCount: number;
+}
+
+export interface Warning {
+  code: WarningCode;
+  message: string;
+  offset?: number;
+  line?: number;
+  triangle?: number;
+}
+
+/** A boundary loop (face id nTriangles + id): a hole, or a seam when it holds cut sides. */
+export interface BoundaryLoop {
+  /** Boundary-loop index h (holes and seams share the numbering). */
+  id: number;
+  /** Its face id, nTriangles + id. */
+  face: number;
+  /** Its half-edges in next order, starting at loopHalfedge[id]. */
+  halfedges: Uint32Array;
+  /** vertices[i] = org(halfedges[i]). */
+  vertices: Uint32Array;
+  edgeCount: number;
+  perimeter: number;
+}
+
+/** Exactly the keys and values of `stltopo info --json`, minus "file". */
+export interface Stats {
+  format: 'binary' | 'ascii';
+  solids: { name: string; triangles: number }[];
+  triangles: number;
+  vertices: number;
+  degenerateTriangles: number;
+  colors: 'none' | 'viscam' | 'magics';
+  normalMismatches: number;
+  bbox: { min: [number, number, number]; max: [number, number, number] } | null;
+  area: number;
+  volume: number;
+  warnings: Warning[];
+  // Present when loaded with topology (the default):
+  edges?: number;
+  boundaryEdges?: number;
+  nonManifoldEdges?: number;
+  inconsistentEdges?: number;
+  nonManifoldVertices?: number;
+  holes?: number;
+  seams?: number;
+  holeSizes?: number[];
+  shells?: number;
+  eulerCharacteristic?: number;
+  genus?: number | null;
+  watertight?: boolean;
+  manifold?: boolean;
+}
+
+export type ValidateResult = { ok: true } | { ok: false; code: string; message: string; element?: number };
+
+export declare class Mesh {
+  private constructor();
+  /** true for { view: true } meshes (borrowed wasm views; dispose() them). */
+  readonly view: boolean;
+  format: 'binary' | 'ascii';
+  nVertices: number;
+  nTriangles: number;
+  /** Half-edge count (2 per pair); 0 without topology. */
+  nHalfedges: number;
+  /** x,y,z of vertex v at 3v..3v+2. */
+  positions: Float32Array;
+  /** Vertex ids of corner c of triangle t at 3t+c. */
+  triangles: Uint32Array;
+  /** Binary attribute word per triangle (0 for ASCII). */
+  attributes: Uint16Array;
+  /** RGB per triangle when colorConvention !== 'none', else null. */
+  colors: Uint8Array | null;
+  /** 1 per triangle that has a colour; null without colours. */
+  colorValid: Uint8Array | null;
+  colorConvention: 'none' | 'viscam' | 'magics';
+  /** Stored facet normals (3 per triangle) with { normals: true }, else null. */
+  normals: Float32Array | null;
+  solids: Solid[];
+  warnings: Warning[];
+  /** Half-edge arrays, length nHalfedges; twin(e) = e ^ 1. null with topology: false. */
+  halfedges: { next: Uint32Array; prev: Uint32Array; vert: Uint32Array; face: Uint32Array } | null;
+  /** Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate. */
+  triangleHalfedge: Uint32Array | null;
+  /** Per vertex: an outgoing half-edge, kInvalid if unused. */
+  vertexHalfedge: Uint32Array | null;
+  /** Per boundary loop: its lowest-id half-edge. */
+  loopHalfedge: Uint32Array | null;
+  /** Per vertex: the representative vertex the topology uses (identity for exact weld). */
+  vertexWeld: Uint32Array | null;
+  /** All boundary loops, flat: loop h is halfedges[offsets[h]..offsets[h+1]). */
+  loops: { offsets: Uint32Array; halfedges: Uint32Array; isSeam: Uint8Array; perimeter: Float64Array } | null;
+  /** Boundary loops made only of boundary-edge sides. */
+  holes: BoundaryLoop[];
+  /** Boundary loops that contain cut (inconsistent or non-manifold) sides. */
+  seams: BoundaryLoop[];
+  /** Per-element problems; null with topology: false. */
+  problems: {
+    /** Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold. */
+    pairKind: Uint8Array;
+    triangleDegenerate: Uint8Array;
+    vertexNonManifold: Uint8Array;
+  } | null;
+  stats: Stats;
+
+  sym(e: number): number;
+  twin(e: number): number;
+  org(e: number): number;
+  dst(e: number): number;
+  lFace(e: number): number;
+  rFace(e: number): number;
+  lNext(e: number): number;
+  lPrev(e: number): number;
+  vnext(e: number): number;
+  oNext(e: number): number;
+  oPrev(e: number): number;
+  dNext(e: number): number;
+  dPrev(e: number): number;
+  rNext(e: number): number;
+  rPrev(e: number): number;
+  /** The half-edges of the face left of e (triangle or boundary loop), in next order. */
+  faceHalfedges(e: number): IterableIterator<number>;
+  /** The outgoing half-edges of org(e), following vnext. */
+  outgoingHalfedges(e: number): IterableIterator<number>;
+  /** Checks every topology invariant. */
+  validate(): ValidateResult;
+  /** Frees the wasm memory of a { view: true } mesh; a no-op otherwise. */
+  dispose(): void;
+}
+
+/** Reads an STL input into a welded mesh and its half-edge topology. Rejects with StlError. */
+export declare function loadStl(input: StlInput, options?: LoadOptions): Promise<Mesh>;
+
+/** Node only: streams a file from disk (rejects in browsers). */
+export declare function loadStlFile(path: string | URL, options?: LoadOptions): Promise<Mesh>;

@@ -1,0 +1,139 @@
+// Main-thread side of stltopo/worker: runs loadStl in a worker (one per load
+// in flight, idle ones reused), reports progress, cancels by terminating the
+// worker, and receives the result arrays as transferred ArrayBuffers.
+import { Mesh, StlError, normalizeOptions, toSource, errorToMessage, errorFromMessage } from './core.js';
+
+const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
+const MAX_IDLE = 2;
+
+function abortError() {
+  return new StlError('aborted', 'aborted: the load was cancelled (AbortSignal)');
+}
+
+// What the worker thread gets: plain, cloneable options.
+function workerOptions(o) {
+  return {
+    topology: o.topology,
+    weld: o.tolerance > 0 ? { tolerance: o.tolerance } : 'exact',
+    maxTriangles: o.maxTriangles,
+    maxBytes: o.maxBytes,
+    normals: o.normals,
+  };
+}
+
+export function createWorkerLoader(spawn) {
+  const idle = [];
+
+  function acquire() {
+    let w;
+    while ((w = idle.pop()) && !w.alive());
+    if (!w) w = spawn();
+    w.ref();
+    return w;
+  }
+  function release(w) {
+    w.unref();
+    if (idle.length < MAX_IDLE) idle.push(w);
+    else w.terminate();
+  }
+
+  function run(request, transfer, o, pumpSource) {
+    return new Promise((resolve, reject) => {
+      const w = acquire();
+      const signal = o.signal;
+      let settled = false;
+      const settle = (fn, value, reuse) => {
+        if (settled) return;
+        settled = true;
+        if (signal) signal.removeEventListener('abort', onAbort);
+        w.listen(null, null);
+        if (reuse) release(w);
+        else w.terminate();
+        if (pumpSource) pumpSource.cancel(); // a no-op once the stream was read to its end
+        fn(value);
+      };
+      const onAbort = () => settle(reject, abortError(), false);
+      const pump = async () => {
+        const chunks = [];
+        const transferChunks = [];
+        let bytes = 0;
+        let done = false;
+        try {
+          while (bytes < PUMP_BYTES) {
+            const c = await pumpSource.next();
+            if (c === null) {
+              done = true;
+              break;
+            }
+            const copy = c.slice(); // the producer may reuse its buffer
+            chunks.push(copy);
+            transferChunks.push(copy.buffer);
+            bytes += copy.length;
+          }
+        } catch (e) {
+          if (!settled) w.post({ type: 'chunks', chunks: [], done: true, error: errorToMessage(e) });
+          return;
+        }
+        if (!settled) w.post({ type: 'chunks', chunks, done }, transferChunks);
+      };
+      w.listen(
+        (msg) => {
+          if (settled) return;
+          switch (msg.type) {
+            case 'progress':
+              if (o.onProgress) {
+                try {
+                  o.onProgress(msg.fraction, msg.bytesRead);
+                } catch (e) {
+                  settle(reject, e, false);
+                }
+              }
+              break;
+            case 'pull':
+              pump();
+              break;
+            case 'result':
+              settle(resolve, new Mesh(msg.raw), true);
+              break;
+            case 'error':
+              settle(reject, errorFromMessage(msg.error), true);
+              break;
+            default:
+              break;
+          }
+        },
+        (err) => settle(reject, err instanceof Error ? err : new Error(String(err)), false),
+      );
+      if (signal) signal.addEventListener('abort', onAbort, { once: true });
+      w.post(request, transfer);
+    });
+  }
+
+  async function loadStl(input, options) {
+    const o = normalizeOptions(options);
+    if (o.signal && o.signal.aborted) throw abortError();
+    const opts = workerOptions(o);
+    if (input instanceof ArrayBuffer || ArrayBuffer.isView(input) ||
+        (typeof SharedArrayBuffer !== 'undefined' && input instanceof SharedArrayBuffer)) {
+      const src = input instanceof ArrayBuffer || input instanceof (globalThis.SharedArrayBuffer || ArrayBuffer)
+        ? new Uint8Array(input)
+        : new Uint8Array(input.buffer, input.byteOffset, input.byteLength);
+      const bytes = src.slice(); // the caller keeps its buffer; the copy is transferred
+      return run({ type: 'load', input: { kind: 'bytes', bytes }, options: opts }, [bytes.buffer], o, null);
+    }
+    if (input && typeof input.stream === 'function' && typeof input.size === 'number' && typeof input.getReader !== 'function') {
+      return run({ type: 'load', input: { kind: 'blob', blob: input }, options: opts }, [], o, null);
+    }
+    const source = toSource(input); // streams, Responses, async iterables: pumped from this thread
+    return run({ type: 'load', input: { kind: 'stream', total: source.total }, options: opts }, [], o, source);
+  }
+
+  async function loadStlFile(path, options) {
+    const o = normalizeOptions(options);
+    if (o.signal && o.signal.aborted) throw abortError();
+    const p = path instanceof URL ? decodeURIComponent(path.pathname) : String(path);
+    return run({ type: 'load', input: { kind: 'path', path: p }, options: workerOptions(o) }, [], o, null);
+  }
+
+  return { loadStl, loadStlFile };
+}

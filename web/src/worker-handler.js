@@ -1,0 +1,58 @@
+// Worker-thread side of stltopo/worker (shared by the browser and Node threads).
+import { bufferSource, streamSource, normalizeOptions, transferList, errorToMessage, errorFromMessage } from './core.js';
+
+// Chunks pulled from the main thread one batch at a time (flow control).
+function pulledSource(port, total) {
+  let queue = [];
+  let done = false;
+  let waiting = null;
+  const source = {
+    total,
+    async next() {
+      for (;;) {
+        if (queue.length) return queue.shift();
+        if (done) return null;
+        port.post({ type: 'pull' });
+        const msg = await new Promise((r) => { waiting = r; });
+        if (msg.error) throw errorFromMessage(msg.error);
+        queue = msg.chunks;
+        done = msg.done;
+      }
+    },
+    cancel() {},
+    deliver(msg) {
+      const w = waiting;
+      waiting = null;
+      if (w) w(msg);
+    },
+  };
+  return source;
+}
+
+export function serve(port, internal, { fileSource = null } = {}) {
+  let pulled = null;
+  port.onMessage(async (msg) => {
+    if (msg.type === 'chunks') {
+      if (pulled) pulled.deliver(msg);
+      return;
+    }
+    if (msg.type !== 'load') return;
+    try {
+      const input = msg.input;
+      let source;
+      if (input.kind === 'bytes') source = bufferSource(input.bytes);
+      else if (input.kind === 'blob') source = streamSource(input.blob.stream(), input.blob.size);
+      else if (input.kind === 'stream') source = pulled = pulledSource(port, input.total);
+      else if (input.kind === 'path' && fileSource) source = await fileSource(input.path);
+      else throw new Error(`stltopo worker: unknown input kind ${input.kind}`);
+      const o = normalizeOptions(msg.options);
+      o.onProgress = (fraction, bytesRead) => port.post({ type: 'progress', fraction, bytesRead });
+      const raw = await internal.loadRaw(source, o, { validate: true });
+      port.post({ type: 'result', raw }, transferList(raw));
+    } catch (e) {
+      port.post({ type: 'error', error: errorToMessage(e) });
+    } finally {
+      pulled = null;
+    }
+  });
+}

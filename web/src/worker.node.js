@@ -1,0 +1,36 @@
+// stltopo/worker (Node): the same API on worker_threads, plus loadStlFile(path)
+// which reads the file inside the worker.
+import { Worker } from 'node:worker_threads';
+import { createWorkerLoader } from './worker-client.js';
+
+const loader = createWorkerLoader(() => {
+  const w = new Worker(new URL('./worker-thread.node.js', import.meta.url));
+  let onMessage = null;
+  let onError = null;
+  let alive = true;
+  w.on('message', (m) => onMessage && onMessage(m));
+  w.on('error', (e) => onError && onError(e));
+  w.on('exit', (code) => {
+    alive = false;
+    if (onError) onError(new Error(`stltopo worker exited (${code})`));
+  });
+  return {
+    post: (msg, transfer) => w.postMessage(msg, transfer || []),
+    listen(m, e) {
+      onMessage = m;
+      onError = e;
+    },
+    terminate: () => {
+      onMessage = onError = null;
+      alive = false;
+      w.terminate();
+    },
+    alive: () => alive,
+    ref: () => w.ref(),
+    unref: () => w.unref(),
+  };
+});
+
+export const loadStl = loader.loadStl;
+export const loadStlFile = loader.loadStlFile;
+export { StlError, Mesh, kInvalid, EdgeKind } from './core.js';
