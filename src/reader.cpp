@@ -137,7 +137,8 @@ struct Builder {
     return true;
   }
 
-  // Returns the welded vertex id, or kInvalid on allocation failure.
+  // Returns the welded vertex id; kInvalid on allocation failure, kNonFinite for NaN/Inf.
+  static constexpr uint32_t kNonFinite = kInvalid - 1;
   inline uint32_t weld(float x, float y, float z) {
     // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
     Slot k{bitsOf(x + 0.0f), bitsOf(y + 0.0f), bitsOf(z + 0.0f), 0};
@@ -154,6 +155,9 @@ struct Builder {
       }
       i = (i + 1) & mask;
     }
+    // A new vertex. Only here can a coordinate be NaN or Inf (such a key never matches a
+    // stored vertex), and only here can the bounding box grow.
+    if (!finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z)) return kNonFinite;
     uint32_t id = mesh.nVertices();
     size_t n = mesh.positions.size();
     if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
@@ -161,6 +165,14 @@ struct Builder {
     (void)mesh.positions.resize(n + 3);  // capacity checked above
     float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
     q[0] = x; q[1] = y; q[2] = z;
+    if (id == 0) {
+      for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        if (q[c] < mesh.bboxMin[c]) mesh.bboxMin[c] = q[c];
+        if (q[c] > mesh.bboxMax[c]) mesh.bboxMax[c] = q[c];
+      }
+    }
     k.id = id;
     table[i] = k;
     r = k;
@@ -186,14 +198,6 @@ struct Builder {
   // v: 9 floats (3 corners). n: 3 floats. Returns false on error (sticky).
   inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line) {
     uint32_t t = mesh.nTriangles();
-    for (int k = 0; k < 9; ++k) {
-      if (!finiteBits(bitsOf(v[k]))) {
-        error = makeStatus(Code::NonFinite,
-                           fmt("triangle %u has a non-finite coordinate (corner %d: %g)", t, k / 3, double(v[k])),
-                           offset, line, t);
-        return false;
-      }
-    }
     if (t >= opt.maxTriangles) {
       error = makeStatus(Code::TooLarge, fmt("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
       return false;
@@ -213,8 +217,16 @@ struct Builder {
     uint32_t ids[3];
     for (int c = 0; c < 3; ++c) {
       ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
-      if (ids[c] == kInvalid) {
-        error = oom("the vertex array");
+      if (ids[c] >= kNonFinite) {
+        if (ids[c] == kInvalid) {
+          error = oom("the vertex array");
+          return false;
+        }
+        int k = 3 * c;
+        while (finiteBits(bitsOf(v[k]))) ++k;
+        error = makeStatus(Code::NonFinite,
+                           fmt("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
+                           offset, line, t);
         return false;
       }
     }
@@ -227,18 +239,7 @@ struct Builder {
       (void)mesh.normals.resize(nn + 3);
       std::memcpy(mesh.normals.data() + nn, n, 3 * sizeof(float));
     }
-    // Figures: bbox, area, volume, normal mismatch.
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) {
-        float x = v[3 * c + k];
-        if (t == 0 && c == 0) {
-          mesh.bboxMin[k] = mesh.bboxMax[k] = x;
-        } else {
-          if (x < mesh.bboxMin[k]) mesh.bboxMin[k] = x;
-          if (x > mesh.bboxMax[k]) mesh.bboxMax[k] = x;
-        }
-      }
-    }
+    // Figures: area, volume, normal mismatch (the bounding box grows in weld()).
     double ax = v[0], ay = v[1], az = v[2], bx = v[3], by = v[4], bz = v[5], cx = v[6], cy = v[7], cz = v[8];
     double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
     double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
