@@ -59,6 +59,12 @@ struct Status {
   bool ok() const { return code == Code::Ok; }
 };
 
+namespace detail {
+// Asks the OS to back a large array with huge pages (Linux, native builds; a no-op
+// elsewhere): fewer page faults and TLB misses on the big, randomly accessed arrays.
+void adviseHugePages(void* p, size_t bytes);
+}  // namespace detail
+
 // ---------------------------------------------------------------------------
 // A minimal owning array of trivially copyable T (malloc-backed so that an
 // allocation failure is a return value, not an exception or a wasm abort).
@@ -96,6 +102,7 @@ class Array {
     if (!q) return false;
     p_ = static_cast<T*>(q);
     cap_ = n;
+    if (n * sizeof(T) >= (size_t(4) << 20)) detail::adviseHugePages(p_, n * sizeof(T));
     return true;
   }
   [[nodiscard]] bool resize(size_t n) {
