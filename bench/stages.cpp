@@ -1,10 +1,19 @@
-// In-process stage timings through the C++ API (median of repetitions).
+// In-process stage timings through the C++ API.
 //   stltopo_stages FILE [REPS] [--json]
-// Stages: read (parse + exact weld), topology (pairing + boundary loops + vertex loops),
-// report (infoJson). The file is read into memory first, so no disk I/O is timed.
+// Stages: read (readStl: parse + exact weld), topology (buildTopology: pairing, boundary
+// loops, vertex loops, shells), report (infoJson: the stats). The file is read into memory
+// first, so no disk I/O is timed. Repetition 1 is the "first" call (fresh allocations, page
+// faults); "warm" is the median of repetitions 2..REPS; the plain fields are the median of
+// all repetitions. cpuMs: process CPU time of read + topology + report (unaffected by
+// waiting for a busy core). rssKiB: peak RSS before the first call and after it (getrusage).
+#include <sys/resource.h>
+
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -17,7 +26,44 @@ using Clock = std::chrono::steady_clock;
 
 static double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
+  if (v.empty()) return 0;
+  size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+static double cpuMs() {  // CPU time of the process: immune to waiting for a busy core
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static long maxRssKiB() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss;
+}
+
+struct Times {
+  std::vector<double> read, topo, report, total, cpu;
+  void add(double a, double b, double c, double cpuMs) {
+    cpu.push_back(cpuMs);
+    read.push_back(a);
+    topo.push_back(b);
+    report.push_back(c);
+    total.push_back(a + b + c);
+  }
+};
+
+// Medians over repetitions [from, to).
+static std::string jsonStages(const Times& t, size_t from, size_t to, uint32_t nt) {
+  auto slice = [&](const std::vector<double>& v) { return std::vector<double>(v.begin() + long(from), v.begin() + long(to)); };
+  double total = median(slice(t.total));
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "{\"readMs\":%.3f,\"topologyMs\":%.3f,\"reportMs\":%.3f,\"totalMs\":%.3f,\"cpuMs\":%.3f,\"trianglesPerSecond\":%.0f}",
+                median(slice(t.read)), median(slice(t.topo)), median(slice(t.report)), total, median(slice(t.cpu)),
+                total > 0 ? nt / (total / 1000) : 0.0);
+  return buf;
 }
 
 int main(int argc, char** argv) {
@@ -28,10 +74,13 @@ int main(int argc, char** argv) {
   int reps = argc > 2 && argv[2][0] != '-' ? std::max(1, std::atoi(argv[2])) : 5;
   bool json = argc > 2 && !std::strcmp(argv[argc - 1], "--json");
   std::ifstream f(argv[1], std::ios::binary);
+  if (!f) { std::fprintf(stderr, "cannot open %s\n", argv[1]); return 1; }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  std::vector<double> tRead, tTopo, tReport, tTotal;
-  uint32_t nt = 0;
+  Times t;
+  uint32_t nt = 0, nv = 0, holes = 0, edges = 0, boundaryEdges = 0, shells = 0;
+  long rssBefore = maxRssKiB(), rssAfterFirst = 0;
   for (int r = 0; r < reps; ++r) {
+    double c0 = cpuMs();
     auto t0 = Clock::now();
     stltopo::Mesh mesh;
     stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
@@ -43,20 +92,30 @@ int main(int argc, char** argv) {
     if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
     std::string j = stltopo::infoJson(argv[1], mesh, &topo);
     auto t3 = Clock::now();
+    double c1 = cpuMs();
+    if (r == 0) rssAfterFirst = maxRssKiB();
     nt = mesh.nTriangles();
+    nv = mesh.nVertices();
+    holes = topo.nHoles;
+    edges = topo.nEdges;
+    boundaryEdges = topo.nBoundaryEdges;
+    shells = topo.nShells;
     auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-    tRead.push_back(ms(t0, t1));
-    tTopo.push_back(ms(t1, t2));
-    tReport.push_back(ms(t2, t3));
-    tTotal.push_back(ms(t0, t3));
+    t.add(ms(t0, t1), ms(t1, t2), ms(t2, t3), c1 - c0);
   }
-  double total = median(tTotal);
   if (json) {
-    std::printf("{\"triangles\":%u,\"readMs\":%.3f,\"topologyMs\":%.3f,\"reportMs\":%.3f,\"totalMs\":%.3f,\"trianglesPerSecond\":%.0f}\n",
-                nt, median(tRead), median(tTopo), median(tReport), total, nt / (total / 1000));
+    size_t n = t.total.size();
+    std::string all = jsonStages(t, 0, n, nt);
+    all.pop_back();  // merge the all-repetitions medians into the top-level object
+    std::printf("%s,\"triangles\":%u,\"vertices\":%u,\"edges\":%u,\"boundaryEdges\":%u,\"holes\":%u,\"shells\":%u,"
+                "\"reps\":%d,\"first\":%s,\"warm\":%s,\"rssKiB\":{\"beforeFirst\":%ld,\"afterFirst\":%ld},"
+                "\"inputBytes\":%zu}\n",
+                all.c_str(), nt, nv, edges, boundaryEdges, holes, shells, reps, jsonStages(t, 0, 1, nt).c_str(),
+                reps > 1 ? jsonStages(t, 1, n, nt).c_str() : "null", rssBefore, rssAfterFirst, bytes.size());
   } else {
+    double total = median(t.total);
     std::printf("%s: %u triangles; read %.1f ms, topology %.1f ms, report %.2f ms, total %.1f ms (%.1f M tri/s)\n",
-                argv[1], nt, median(tRead), median(tTopo), median(tReport), total, nt / total / 1000);
+                argv[1], nt, median(t.read), median(t.topo), median(t.report), total, nt / total / 1000);
   }
   return 0;
 }

@@ -1,0 +1,125 @@
+// One benchmark measurement in a fresh Node process (spawned by bench/run.mjs).
+//   node --expose-gc bench/child.mjs MODE FILE WARM BUDGET_MS
+// MODE: wasm-read | wasm-full | wasm-view | three | three-halfedge
+// (wasm-view: loadStl(bytes, { view: true }), arrays left in wasm memory, then dispose())
+// Prints one JSON line: first-call time, warm times (up to WARM more calls while the
+// total stays under BUDGET_MS), peak RSS above this process before the file was read
+// (process.resourceUsage().maxRSS, KiB), the wasm linear-memory size, and check counts.
+import { readFileSync } from 'node:fs';
+import { performance } from 'node:perf_hooks';
+
+const [mode, file, warmArg = '2', budgetArg = '10000'] = process.argv.slice(2);
+const warmMax = Number(warmArg);
+const budgetMs = Number(budgetArg);
+const gc = globalThis.gc || (() => {});
+const maxRss = () => process.resourceUsage().maxRSS; // KiB
+const out = { mode };
+
+// [wall ms or { ms, stages }, result, process CPU ms (all threads: includes GC helpers
+// and background compilation)]
+async function timed(fn) {
+  gc();
+  const c0 = process.cpuUsage();
+  const t0 = performance.now();
+  const r = await fn();
+  const t = performance.now() - t0;
+  const c = process.cpuUsage(c0);
+  return [t, r, (c.user + c.system) / 1000];
+}
+
+async function run(setup, call, check, release = () => {}) {
+  const t0 = performance.now();
+  await setup();
+  out.initMs = performance.now() - t0;
+  gc();
+  out.rssIdleKiB = maxRss();
+  const bytes = readFileSync(file); // a Node Buffer (Uint8Array), read outside the timing
+  out.inputBytes = bytes.length;
+  const [first, r, firstCpu] = await timed(() => call(bytes));
+  out.firstCpuMs = firstCpu;
+  out.rssPeakKiB = maxRss();
+  out.firstMs = first.ms ?? first;
+  if (first.stages) out.firstStages = first.stages;
+  Object.assign(out, check(r));
+  release(r);
+  const warm = [];
+  const warmCpu = [];
+  const warmStages = [];
+  const tw = performance.now();
+  let last = out.firstMs;
+  while (warm.length < warmMax && performance.now() - tw + last < budgetMs) {
+    const [t, r2, cpu] = await timed(() => call(bytes));
+    last = t.ms ?? t;
+    warm.push(last);
+    warmCpu.push(cpu);
+    if (t.stages) warmStages.push(t.stages);
+    release(r2);
+  }
+  out.warmMs = warm;
+  out.warmCpuMs = warmCpu;
+  if (warmStages.length) out.warmStages = warmStages;
+}
+
+if (mode === 'wasm-read' || mode === 'wasm-full' || mode === 'wasm-view') {
+  const topology = mode !== 'wasm-read';
+  const view = mode === 'wasm-view';
+  const { loadStl, _internal } = await import('stltopo');
+  await run(
+    async () => {
+      await _internal.getModule();
+      out.heapIdleBytes = (await _internal.heap()).size;
+    },
+    (bytes) => loadStl(bytes, { topology, view }),
+    (mesh) => ({ triangles: mesh.nTriangles, vertices: mesh.nVertices, holes: mesh.holes.length, edges: mesh.stats.edges }),
+    (mesh) => mesh.dispose(),
+  );
+  // The wasm linear memory never shrinks: its size after the first call is the high-water
+  // mark of the heap (WebAssembly.Memory buffer byteLength, via emscripten_get_heap_size).
+  out.heapBytes = (await _internal.heap()).size;
+} else if (mode === 'three' || mode === 'three-halfedge') {
+  let STLLoader, mergeVertices, HalfedgeDS;
+  const halfedge = mode === 'three-halfedge';
+  await run(
+    async () => {
+      ({ STLLoader } = await import('three/examples/jsm/loaders/STLLoader.js'));
+      ({ mergeVertices } = await import('three/examples/jsm/utils/BufferGeometryUtils.js'));
+      if (halfedge) ({ HalfedgeDS } = await import('three-mesh-halfedge/build/index.esm.js'));
+    },
+    (bytes) => {
+      // STLLoader.parse wants an ArrayBuffer (or a string); the Buffer's bytes are a view
+      // into Node's pool, so hand it exactly the file's range.
+      const ab = bytes.byteOffset === 0 && bytes.byteLength === bytes.buffer.byteLength
+        ? bytes.buffer
+        : bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+      const t0 = performance.now();
+      const geometry = new STLLoader().parse(ab);
+      const t1 = performance.now();
+      geometry.deleteAttribute('normal');
+      const merged = mergeVertices(geometry);
+      const t2 = performance.now();
+      const stages = { parseMs: t1 - t0, mergeMs: t2 - t1 };
+      let struct = null;
+      if (halfedge) {
+        struct = new HalfedgeDS();
+        struct.setFromGeometry(merged);
+        stages.halfedgeMs = performance.now() - t2;
+      }
+      return { ms: performance.now() - t0, stages, merged, struct };
+    },
+    (r) => {
+      const res = {
+        triangles: r.merged.index.count / 3,
+        vertices: r.merged.attributes.position.count,
+      };
+      if (r.struct) {
+        res.halfedges = r.struct.halfedges.length;
+        res.boundaryHalfedges = r.struct.halfedges.reduce((n, h) => n + (h.face ? 0 : 1), 0);
+      }
+      return res;
+    },
+  );
+} else {
+  console.error(`child.mjs: unknown mode ${mode}`);
+  process.exit(2);
+}
+process.stdout.write(`${JSON.stringify(out)}\n`);

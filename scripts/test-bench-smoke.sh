@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Part of `npm test`: proves that the benchmark still runs, on tiny meshes only
+# (bench/run.mjs --tiny: 3k triangles, one repetition, every contender). No timing
+# assertion: it fails only when a contender fails, disagrees with stltopo about the mesh
+# (vertex, hole and boundary-edge counts), or the JSON results lack a figure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+start=$SECONDS
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+if ! bash scripts/bench.sh --tiny --out "$tmp/smoke.json" >"$tmp/table.md" 2>"$tmp/log"; then
+  cat "$tmp/log" "$tmp/table.md" >&2
+  echo "bench smoke: FAILED" >&2
+  exit 1
+fi
+node -e '
+  const r = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  const want = ["native", "native-cli", "wasm-read", "wasm-full", "wasm-view", "three", "three-halfedge", "admesh"];
+  const bad = [];
+  for (const c of r.cases) for (const k of want) {
+    if (k === "three-halfedge" && c.format !== "binary") continue;
+    const x = c.contenders[k];
+    if (!x || !(x.timeMs > 0)) bad.push(`${c.id} ${k}`);
+  }
+  if (r.cases.length !== 5 || r.targets.length !== 8 || bad.length) {
+    console.error("bench smoke: missing figures:", bad.join(", ") || `${r.cases.length} cases, ${r.targets.length} targets`);
+    process.exit(1);
+  }
+' "$tmp/smoke.json"
+echo "bench smoke: ok, 5 cases x 8 contenders ($((SECONDS - start)) s)"
