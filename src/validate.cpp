@@ -41,9 +41,11 @@ Status validate(const Mesh& mesh, const Topology& t) {
     if (t.vert[n] != t.vert[e ^ 1u]) return bad("vert[next[e]] != vert[twin(e)]", e);
     if (t.vert[e] == t.vert[e ^ 1u]) return bad("half-edge is a self-loop", e);
     if (((e ^ 1u) ^ 1u) != e || (e ^ 1u) >= nh) return bad("twin is not an involution", e);
-    // vnext stays at the vertex, so its cycles partition each vertex's outgoing half-edges.
-    if (t.vert[t.next[e ^ 1u]] != t.vert[e]) return bad("vnext leaves the vertex", e);
   }
+  // vnext stays at the vertex, so its cycles partition each vertex's outgoing half-edges.
+  // (A second pass: next[e ^ 1] is known to be in range only now.)
+  for (uint32_t e = 0; e < nh; ++e)
+    if (t.vert[t.next[e ^ 1u]] != t.vert[e]) return bad("vnext leaves the vertex", e);
   // Every triangle has its 3 half-edges; next cycles are exactly the faces.
   Array<uint32_t> perFace;
   if (!perFace.assign(nf, 0)) {
@@ -65,15 +67,21 @@ Status validate(const Mesh& mesh, const Topology& t) {
       if (t.vert[e] != t.vertexWeld[mesh.triangles[3 * size_t(f) + c]]) return bad("triangle half-edge vertex differs from its corner", f);
     }
   }
+  // The loop offsets span the listing in order (so every index below is in range).
+  if (t.loopOffsets[0] != 0 || t.loopOffsets[nl] != t.loopHalfedges.size())
+    return bad("loop offsets do not span the loop listing", nl);
+  for (uint32_t l = 0; l < nl; ++l)
+    if (t.loopOffsets[l + 1] < t.loopOffsets[l]) return bad("loop offsets decrease", nt + l);
   uint64_t loopTotal = 0;
   for (uint32_t l = 0; l < nl; ++l) {
     uint32_t h = t.loopHalfedge[l], len = t.loopOffsets[l + 1] - t.loopOffsets[l];
     if (h >= nh || t.face[h] != nt + l) return bad("loop half-edge does not belong to the loop", nt + l);
     uint32_t x = h, steps = 0;
     do {
+      if (steps >= len) return bad("loop is longer than listed", nt + l);
       if (t.loopHalfedges[t.loopOffsets[l] + steps] != x) return bad("loop listing differs from next order", nt + l);
       x = t.next[x];
-      if (++steps > len) return bad("loop is longer than listed", nt + l);
+      ++steps;
     } while (x != h);
     if (steps != len || perFace[nt + l] != len) return bad("loop cycle differs from the loop's half-edges", nt + l);
     if (len < 2) return bad("loop shorter than 2 half-edges", nt + l);

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Sanitizers and fuzz smoke (part of `npm test`):
+#  1. the native tests (GoogleTest, CLI included) built with ASan+UBSan in build-asan;
+#  2. each libFuzzer target (clang, -fsanitize=fuzzer,address,undefined) for
+#     FUZZ_SMOKE_SECONDS (default 20) on its seed corpus tests/fuzz/seeds/<target>.
+# Installs clang and compiler-rt when missing. About 2-3 minutes on 2 cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/deps.sh native fuzz
+
+asan=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+# 1. Native tests under ASan+UBSan (clang when present, else gcc).
+if command -v clang++ >/dev/null; then cxx=clang++; cc=clang; else cxx=g++; cc=gcc; fi
+t0=$SECONDS
+CC=$cc CXX=$cxx cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTLTOPO_SANITIZE=ON \
+  -DSTLTOPO_BUILD_TESTS=ON -DSTLTOPO_BUILD_CLI=ON >/dev/null
+cmake --build build-asan -j2
+(cd build-asan && ASAN_OPTIONS=$asan ctest --output-on-failure -j2)
+echo "sanitizer build ($cxx, ASan+UBSan): tests passed ($((SECONDS - t0)) s)"
+
+# 2. Fuzz smoke: every target on its seeds.
+t0=$SECONDS
+FUZZ_SMOKE_SECONDS=${FUZZ_SMOKE_SECONDS:-20} bash scripts/fuzz.sh
+echo "fuzz smoke: ok ($((SECONDS - t0)) s)"

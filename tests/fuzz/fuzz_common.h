@@ -1,0 +1,133 @@
+// Shared checks for the libFuzzer targets. A broken invariant calls __builtin_trap(),
+// which libFuzzer reports as a crash (with the input saved as crash-<sha1>).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "stltopo.h"
+
+namespace fuzz {
+
+using namespace stltopo;
+
+[[noreturn]] inline void fail(const char* what, int line) {
+  std::fprintf(stderr, "fuzz check failed (line %d): %s\n", line, what);
+  __builtin_trap();
+}
+#define FUZZ_CHECK(cond) \
+  do {                   \
+    if (!(cond)) ::fuzz::fail(#cond, __LINE__); \
+  } while (0)
+
+inline bool isErrorCode(Code c) { return c >= Code::Empty && c <= Code::Invalid; }
+inline bool isWarningCode(Code c) { return c >= Code::TrailingBytes && c <= Code::NameTruncated; }
+
+inline bool startsWith(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
+
+// A read error: a known error code, a message "<code>: ..." and a JSON rendering.
+inline void checkError(const Status& s) {
+  FUZZ_CHECK(isErrorCode(s.code));
+  FUZZ_CHECK(s.code != Code::Invalid && s.code != Code::Aborted);  // the reader never returns these
+  FUZZ_CHECK(s.message.size() > std::strlen(codeName(s.code)) + 2);
+  FUZZ_CHECK(startsWith(s.message, std::string(codeName(s.code)) + ": "));
+  std::string j = errorJson("f", s);
+  FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
+}
+
+// A successfully read mesh is well formed.
+inline void checkMesh(const Mesh& m, const ReadOptions& o) {
+  FUZZ_CHECK(m.format == Format::Binary || m.format == Format::Ascii);
+  FUZZ_CHECK(m.positions.size() % 3 == 0 && m.triangles.size() % 3 == 0);
+  const uint32_t nv = m.nVertices(), nt = m.nTriangles();
+  FUZZ_CHECK(nt <= o.maxTriangles);
+  for (size_t i = 0; i < m.triangles.size(); ++i) FUZZ_CHECK(m.triangles[i] < nv);
+  for (size_t i = 0; i < m.positions.size(); ++i) FUZZ_CHECK(std::isfinite(m.positions[i]));
+  // Vertex ids follow first appearance in corner order.
+  uint32_t seen = 0;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    FUZZ_CHECK(m.triangles[i] <= seen);
+    if (m.triangles[i] == seen) ++seen;
+  }
+  FUZZ_CHECK(seen == nv);
+  FUZZ_CHECK(m.attributes.size() == nt);
+  FUZZ_CHECK(m.normals.size() == (o.keepNormals ? size_t(nt) * 3 : 0));
+  if (m.colorConvention == ColorConvention::None) {
+    FUZZ_CHECK(m.colors.empty() && m.colorValid.empty());
+  } else {
+    FUZZ_CHECK(m.colors.size() == size_t(nt) * 3 && m.colorValid.size() == nt);
+  }
+  uint32_t next = 0;
+  for (const Solid& s : m.solids) {
+    FUZZ_CHECK(s.firstTriangle == next);
+    FUZZ_CHECK(s.name.size() <= kMaxNameBytes);
+    next += s.triangleCount;
+  }
+  FUZZ_CHECK(next == nt);
+  FUZZ_CHECK(!m.solids.empty() || nt == 0);
+  for (const Status& w : m.warnings) {
+    FUZZ_CHECK(isWarningCode(w.code));
+    FUZZ_CHECK(startsWith(w.message, std::string(codeName(w.code)) + ": "));
+  }
+  FUZZ_CHECK(std::isfinite(m.area) && m.area >= 0 && std::isfinite(m.volume));
+  if (nv > 0)
+    for (int k = 0; k < 3; ++k) FUZZ_CHECK(m.bboxMin[k] <= m.bboxMax[k]);
+}
+
+// Topology + validate + report on a successfully read mesh.
+inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t) {
+  Status s = buildTopology(m, t, to);
+  if (!s.ok()) {
+    std::fprintf(stderr, "buildTopology: %s\n", s.message.c_str());
+    FUZZ_CHECK(s.ok());
+  }
+  s = validate(m, t);
+  if (!s.ok()) {
+    std::fprintf(stderr, "validate: %s\n", s.message.c_str());
+    FUZZ_CHECK(s.ok());
+  }
+  FUZZ_CHECK(t.nBoundaryEdges + t.nNonManifoldEdges + t.nInconsistentEdges <= t.nEdges);
+  FUZZ_CHECK(t.nDegenerate <= t.nTriangles);
+  std::string j = infoJson("f", m, &t);
+  FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
+}
+
+template <class T>
+inline bool sameArray(const Array<T>& a, const Array<T>& b) {
+  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+inline bool sameStatus(const Status& a, const Status& b) {
+  return a.code == b.code && a.message == b.message && a.offset == b.offset && a.line == b.line &&
+         a.triangle == b.triangle && a.element == b.element;
+}
+
+// Bit-for-bit equality of two read results.
+inline void checkSameMesh(const Mesh& a, const Mesh& b) {
+  FUZZ_CHECK(a.format == b.format);
+  FUZZ_CHECK(sameArray(a.positions, b.positions));
+  FUZZ_CHECK(sameArray(a.triangles, b.triangles));
+  FUZZ_CHECK(sameArray(a.attributes, b.attributes));
+  FUZZ_CHECK(sameArray(a.normals, b.normals));
+  FUZZ_CHECK(sameArray(a.colors, b.colors));
+  FUZZ_CHECK(sameArray(a.colorValid, b.colorValid));
+  FUZZ_CHECK(a.colorConvention == b.colorConvention);
+  FUZZ_CHECK(a.solids.size() == b.solids.size());
+  for (size_t i = 0; i < a.solids.size(); ++i) {
+    FUZZ_CHECK(a.solids[i].name == b.solids[i].name);
+    FUZZ_CHECK(a.solids[i].firstTriangle == b.solids[i].firstTriangle);
+    FUZZ_CHECK(a.solids[i].triangleCount == b.solids[i].triangleCount);
+  }
+  FUZZ_CHECK(a.warnings.size() == b.warnings.size());
+  for (size_t i = 0; i < a.warnings.size(); ++i) FUZZ_CHECK(sameStatus(a.warnings[i], b.warnings[i]));
+  FUZZ_CHECK(a.normalMismatches == b.normalMismatches);
+  FUZZ_CHECK(std::memcmp(&a.area, &b.area, sizeof a.area) == 0);
+  FUZZ_CHECK(std::memcmp(&a.volume, &b.volume, sizeof a.volume) == 0);
+  FUZZ_CHECK(std::memcmp(a.bboxMin, b.bboxMin, sizeof a.bboxMin) == 0);
+  FUZZ_CHECK(std::memcmp(a.bboxMax, b.bboxMax, sizeof a.bboxMax) == 0);
+}
+
+}  // namespace fuzz
