@@ -18,27 +18,9 @@ namespace {
 constexpr uint64_t kHeaderBytes = 84;
 constexpr uint64_t kRecordBytes = 50;
 
-std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* f, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, f);
-  int n = std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  if (n < 0) return std::string();
-  return std::string(buf, size_t(n) < sizeof buf ? size_t(n) : sizeof buf - 1);
-}
-
-Status makeStatus(Code c, std::string msg, uint64_t offset = kNoOffset, uint64_t line = 0,
-                  uint32_t tri = kInvalid) {
-  Status s;
-  s.code = c;
-  s.message = std::string(codeName(c)) + ": " + std::move(msg);
-  s.offset = offset;
-  s.line = line;
-  s.triangle = tri;
-  return s;
-}
+using detail::cLocale;
+using detail::makeStatus;
+using detail::format;
 
 Status oom(const char* what) { return makeStatus(Code::OutOfMemory, std::string("could not allocate ") + what); }
 
@@ -212,7 +194,7 @@ struct Builder {
   inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line) {
     uint32_t t = mesh.nTriangles();
     if (t >= opt.maxTriangles) {
-      error = makeStatus(Code::TooLarge, fmt("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
+      error = makeStatus(Code::TooLarge, format("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
       return false;
     }
     if (mesh.triangles.size() + 3 > mesh.triangles.capacity()) {
@@ -238,7 +220,7 @@ struct Builder {
         int k = 3 * c;
         while (finiteBits(bitsOf(v[k]))) ++k;
         error = makeStatus(Code::NonFinite,
-                           fmt("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
+                           format("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
                            offset, line, t);
         return false;
       }
@@ -462,7 +444,7 @@ struct BinaryParser {
         st = contentError;
       } else {
         st = makeStatus(Code::TooLarge,
-                        fmt("the header promises %u triangles, more than maxTriangles (%u)", partCount, b.opt.maxTriangles),
+                        format("the header promises %u triangles, more than maxTriangles (%u)", partCount, b.opt.maxTriangles),
                         partStart + 80);
       }
       return End::Error;
@@ -479,9 +461,9 @@ struct BinaryParser {
     // The first incomplete triangle: triangles before this part plus the complete records.
     uint64_t body = offset - partStart > kHeaderBytes ? offset - partStart - kHeaderBytes : 0;
     uint32_t tri = uint32_t(std::min<uint64_t>(partFirst + body / kRecordBytes, kInvalid - 1));
-    std::string part = partIndex > 1 ? fmt("part %u (header at offset %llu): ", partIndex, (unsigned long long)partStart) : std::string();
+    std::string part = partIndex > 1 ? format("part %u (header at offset %llu): ", partIndex, (unsigned long long)partStart) : std::string();
     return makeStatus(Code::Truncated,
-                      fmt("%sthe header promises %u triangles (%llu bytes) but the file has %llu bytes; "
+                      format("%sthe header promises %u triangles (%llu bytes) but the file has %llu bytes; "
                           "data stops at offset %llu, inside triangle %u",
                           part.c_str(), partCount, (unsigned long long)needBytes, (unsigned long long)offset,
                           (unsigned long long)offset, tri),
@@ -490,12 +472,6 @@ struct BinaryParser {
 };
 
 // ---------------------------------------------------------------------------
-// Locale-independent strtof.
-locale_t cLocale() {
-  static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
-  return loc;
-}
-
 // Parses a whole token as a float exactly as strtof does in the C locale.
 bool parseFloat(const char* s, size_t len, float& out) {
   if (len > kMaxNumberChars) return false;  // also for the fast path: any chunking agrees
@@ -648,7 +624,7 @@ struct AsciiParser {
           return;
         }
         if (!decided) { decided = true; isSolid = false; return; }
-        fail(Code::AsciiSyntax, fmt("expected 'solid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'solid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case ExpectFacetOrEnd:
         if (ieq(t, n, "facet")) {
@@ -665,12 +641,12 @@ struct AsciiParser {
           afterSkip = ExpectSolid;
           return;
         }
-        fail(Code::AsciiSyntax, fmt("expected 'facet' or 'endsolid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'facet' or 'endsolid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case AfterFacet:
         if (ieq(t, n, "normal")) { state = NormalNums; numIndex = 0; return; }
         if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
-        fail(Code::AsciiSyntax, fmt("expected 'normal' or 'outer' after 'facet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'normal' or 'outer' after 'facet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case NormalNums:
         if (!number(t, n, normal[numIndex])) return;
@@ -678,16 +654,16 @@ struct AsciiParser {
         return;
       case ExpectOuter:
         if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
-        fail(Code::AsciiSyntax, fmt("expected 'outer' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'outer' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case ExpectLoop:
         if (ieq(t, n, "loop")) { state = ExpectVertexOrEndloop; return; }
-        fail(Code::AsciiSyntax, fmt("expected 'loop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'loop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case ExpectVertexOrEndloop:
         if (ieq(t, n, "vertex")) {
           if (vertexCount == 3) {
-            fail(Code::AsciiSyntax, fmt("facet at line %llu has more than 3 vertices (line %llu)", (unsigned long long)facetLine, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+            fail(Code::AsciiSyntax, format("facet at line %llu has more than 3 vertices (line %llu)", (unsigned long long)facetLine, (unsigned long long)tokenLine), tokenLine, tokenOffset);
             return;
           }
           state = VertexNums;
@@ -696,14 +672,14 @@ struct AsciiParser {
         }
         if (ieq(t, n, "endloop")) {
           if (vertexCount != 3) {
-            fail(Code::AsciiSyntax, fmt("facet at line %llu has %d vertices, expected 3 (line %llu)", (unsigned long long)facetLine, vertexCount, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+            fail(Code::AsciiSyntax, format("facet at line %llu has %d vertices, expected 3 (line %llu)", (unsigned long long)facetLine, vertexCount, (unsigned long long)tokenLine), tokenLine, tokenOffset);
             return;
           }
           state = SkipLine;
           afterSkip = ExpectEndfacet;
           return;
         }
-        fail(Code::AsciiSyntax, fmt("expected 'vertex' or 'endloop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'vertex' or 'endloop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case VertexNums:
         if (!number(t, n, verts[vertexCount * 3 + numIndex])) return;
@@ -716,7 +692,7 @@ struct AsciiParser {
           afterSkip = ExpectFacetOrEnd;
           return;
         }
-        fail(Code::AsciiSyntax, fmt("expected 'endfacet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+        fail(Code::AsciiSyntax, format("expected 'endfacet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case SolidName:
       case SkipLine:
@@ -726,11 +702,11 @@ struct AsciiParser {
 
   bool number(const char* t, size_t n, float& out) {
     if (n > kMaxNumberChars) {
-      fail(Code::AsciiSyntax, fmt("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      fail(Code::AsciiSyntax, format("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
       return false;
     }
     if (parseFloat(t, n, out)) return true;
-    fail(Code::AsciiSyntax, fmt("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+    fail(Code::AsciiSyntax, format("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
     return false;
   }
 
@@ -825,7 +801,7 @@ struct AsciiParser {
   void badByte(uint8_t c, uint64_t at) {
     if (!decided) { decided = true; isSolid = false; return; }
     binaryLooking = true;
-    fail(Code::AsciiSyntax, fmt("unexpected byte 0x%02X at offset %llu (line %llu): not ASCII STL text", c, (unsigned long long)at, (unsigned long long)line), line, at);
+    fail(Code::AsciiSyntax, format("unexpected byte 0x%02X at offset %llu (line %llu): not ASCII STL text", c, (unsigned long long)at, (unsigned long long)line), line, at);
   }
 
   void openSolid() {
@@ -834,7 +810,7 @@ struct AsciiParser {
       // Cut at a UTF-8 character boundary.
       while (!nm.empty() && (static_cast<unsigned char>(nm.back()) & 0xC0) == 0x80) nm.pop_back();
       if (!nm.empty() && static_cast<unsigned char>(nm.back()) >= 0xC0) nm.pop_back();
-      b.addWarning(Code::NameTruncated, fmt("solid name at line %llu is longer than %zu bytes and was cut", (unsigned long long)nameLine, kMaxNameBytes), kNoOffset, nameLine);
+      b.addWarning(Code::NameTruncated, format("solid name at line %llu is longer than %zu bytes and was cut", (unsigned long long)nameLine, kMaxNameBytes), kNoOffset, nameLine);
     }
     b.beginSolid(std::move(nm), nullptr);
     name.clear();
@@ -857,11 +833,11 @@ struct AsciiParser {
       case ExpectFacetOrEnd:
         b.endSolid();
         b.addWarning(Code::MissingEndsolid,
-                     fmt("the file ends after line %llu without 'endsolid'", (unsigned long long)tokenLine), offset, tokenLine);
+                     format("the file ends after line %llu without 'endsolid'", (unsigned long long)tokenLine), offset, tokenLine);
         return Status{};
       default:
         return makeStatus(Code::UnexpectedEnd,
-                          fmt("the file ends after line %llu inside the facet that starts at line %llu",
+                          format("the file ends after line %llu inside the facet that starts at line %llu",
                               (unsigned long long)tokenLine, (unsigned long long)facetLine),
                           offset, tokenLine);
     }
@@ -913,7 +889,7 @@ struct Reader::Impl {
       if (trailing) {
         uint64_t extra = bin->offset - bin->partStart;
         bin->b.addWarning(Code::TrailingBytes,
-                          fmt("%llu extra byte%s after the last triangle at offset %llu were ignored",
+                          format("%llu extra byte%s after the last triangle at offset %llu were ignored",
                               (unsigned long long)extra, extra == 1 ? "" : "s", (unsigned long long)bin->partStart),
                           bin->partStart);
       }
@@ -934,7 +910,7 @@ struct Reader::Impl {
     if (atEnd && total == 0) return makeStatus(Code::Empty, "the file is empty (0 bytes)", 0);
     if (atEnd && be == BinaryParser::End::TooShort)
       return makeStatus(Code::NotStl,
-                        fmt("the file has %llu bytes: too short for a binary STL (84-byte minimum) and it does not start with 'solid'",
+                        format("the file has %llu bytes: too short for a binary STL (84-byte minimum) and it does not start with 'solid'",
                             (unsigned long long)total),
                         0);
     if (atEnd && be == BinaryParser::End::Trailing) return takeBinary(true);
@@ -960,7 +936,7 @@ Status Reader::feed(const uint8_t* data, size_t size) {
   if (m.finished) return makeStatus(Code::InvalidArgument, "feed() after finish(); call reset() first");
   if (!m.sticky.ok()) return m.sticky;
   if (m.opt.maxBytes && m.total + size > m.opt.maxBytes) {
-    m.sticky = makeStatus(Code::TooLarge, fmt("the input is larger than maxBytes (%llu)", (unsigned long long)m.opt.maxBytes), m.opt.maxBytes);
+    m.sticky = makeStatus(Code::TooLarge, format("the input is larger than maxBytes (%llu)", (unsigned long long)m.opt.maxBytes), m.opt.maxBytes);
     m.clear();
     return m.sticky;
   }

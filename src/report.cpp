@@ -7,15 +7,13 @@
 #include <cstdlib>
 #include <locale.h>
 
+#include "detail.h"
 #include "stltopo.h"
 
 namespace stltopo {
 namespace {
 
-locale_t cLocale() {
-  static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
-  return loc;
-}
+using detail::cLocale;
 
 // Shortest decimal that reads back as the same value (float32 or double), rendered
 // like JavaScript's Number#toString: fixed notation for exponents in [-7, 21).
@@ -255,26 +253,7 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
   return j.s;
 }
 
-namespace {
-void appendf(std::string& out, const char* f, ...) __attribute__((format(printf, 2, 3)));
-void appendf(std::string& out, const char* f, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, f);
-  int n = std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  if (n < 0) return;
-  if (size_t(n) < sizeof buf) {
-    out.append(buf, size_t(n));
-    return;
-  }
-  std::string big(size_t(n) + 1, '\0');
-  va_start(ap, f);
-  std::vsnprintf(big.data(), big.size(), f, ap);
-  va_end(ap);
-  out.append(big.data(), size_t(n));
-}
-}  // namespace
+using detail::appendf;
 
 std::string infoText(const std::string& file, const Mesh& m, const Topology* t) {
   std::string o;

@@ -1,3 +1,6 @@
+#include <cstdio>
+
+#include "detail.h"
 #include "stltopo.h"
 
 #if defined(__linux__) && !defined(__EMSCRIPTEN__)
@@ -6,6 +9,52 @@
 #endif
 
 namespace stltopo {
+
+locale_t detail::cLocale() {
+  static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
+  return loc;
+}
+
+static void vappendf(std::string& out, const char* f, va_list ap) {
+  char buf[512];
+  va_list again;
+  va_copy(again, ap);
+  int n = std::vsnprintf(buf, sizeof buf, f, ap);
+  if (n >= 0 && size_t(n) < sizeof buf) {
+    out.append(buf, size_t(n));
+  } else if (n >= 0) {
+    std::string big(size_t(n) + 1, '\0');
+    std::vsnprintf(big.data(), big.size(), f, again);
+    out.append(big.data(), size_t(n));
+  }
+  va_end(again);
+}
+
+void detail::appendf(std::string& out, const char* f, ...) {
+  va_list ap;
+  va_start(ap, f);
+  vappendf(out, f, ap);
+  va_end(ap);
+}
+
+std::string detail::format(const char* f, ...) {
+  std::string out;
+  va_list ap;
+  va_start(ap, f);
+  vappendf(out, f, ap);
+  va_end(ap);
+  return out;
+}
+
+Status detail::makeStatus(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
+  Status s;
+  s.code = c;
+  s.message = std::string(codeName(c)) + ": " + msg;
+  s.offset = offset;
+  s.line = line;
+  s.triangle = triangle;
+  return s;
+}
 
 void detail::adviseHugePages(void* p, size_t bytes) {
 #if defined(__linux__) && !defined(__EMSCRIPTEN__) && defined(MADV_HUGEPAGE)

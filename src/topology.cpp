@@ -10,12 +10,7 @@
 namespace stltopo {
 namespace {
 
-Status fail(Code c, const char* msg) {
-  Status s;
-  s.code = c;
-  s.message = std::string(codeName(c)) + ": " + msg;
-  return s;
-}
+Status fail(Code c, const char* msg) { return detail::makeStatus(c, msg); }
 Status oom() { return fail(Code::OutOfMemory, "could not allocate the topology arrays"); }
 
 struct UnionFind {

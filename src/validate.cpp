@@ -1,19 +1,17 @@
 // validate(): checks every invariant of a Topology against its Mesh.
 #include <cstdio>
 
+#include "detail.h"
 #include "stltopo.h"
 
 namespace stltopo {
 namespace {
 Status bad(const char* what, uint32_t element) {
-  Status s;
-  s.code = Code::Invalid;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "invalid: %s (element %u)", what, element);
-  s.message = buf;
+  Status s = detail::makeStatus(Code::Invalid, detail::format("%s (element %u)", what, element));
   s.element = element;
   return s;
 }
+Status oom() { return detail::makeStatus(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
 }  // namespace
 
 Status validate(const Mesh& mesh, const Topology& t) {
@@ -49,7 +47,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Every triangle has its 3 half-edges; next cycles are exactly the faces.
   Array<uint32_t> perFace;
   if (!perFace.assign(nf, 0)) {
-    Status s; s.code = Code::OutOfMemory; s.message = "out-of-memory: validate"; return s;
+    return oom();
   }
   for (uint32_t e = 0; e < nh; ++e) ++perFace[t.face[e]];
   for (uint32_t f = 0; f < nt; ++f) {
@@ -91,7 +89,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Vertex lookups.
   Array<uint8_t> used;
   if (!used.assign(nv, 0)) {
-    Status s; s.code = Code::OutOfMemory; s.message = "out-of-memory: validate"; return s;
+    return oom();
   }
   for (uint32_t e = 0; e < nh; ++e) used[t.vert[e]] = 1;
   uint32_t nUsed = 0;
