@@ -5,7 +5,7 @@ cd "$(dirname "$0")/.."
 bash scripts/deps.sh native
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_TESTS=ON >/dev/null
 cmake --build build -j2
-(cd build && ctest --output-on-failure -j2)
+(cd build && ctest --output-on-failure --no-tests=error -j2)
 
 # Independent reference (Python, standard library only) on every fixture.
 if [ -f scripts/check-reference.sh ] && command -v python3 >/dev/null; then
