@@ -124,16 +124,6 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     C = remapped.data();
   }
 
-  // Degenerate triangles.
-  if (!out.triangleDegenerate.assign(nt, 0)) return oom();
-  uint8_t* degen = out.triangleDegenerate.data();
-  for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
-    if (a == b || b == c || a == c) {
-      degen[t] = 1;
-      ++out.nDegenerate;
-    }
-  }
   // Side s = 3t + c runs from corner c to corner (c+1)%3.
   const uint32_t ns = 3 * nt;
   constexpr uint32_t kNone = 0x3FFFFFFFu;  // "no partner" in the 30-bit side field
@@ -142,14 +132,21 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
 
   // Group sides by undirected edge: a CSR over the smaller vertex whose entries are
   // (larger vertex << 31 | side << 1 | runs-low-to-high), so sorting a bucket groups its
-  // edges with their sides in file order.
+  // edges with their sides in file order. The counting pass also flags degenerate
+  // triangles (two corners on the same vertex).
   Array<uint32_t> offsets;
   Array<uint64_t> keys;
-  if (!offsets.assign(size_t(nv) + 1, 0)) return oom();
+  if (!out.triangleDegenerate.resize(nt) || !offsets.assign(size_t(nv) + 1, 0)) return oom();
+  uint8_t* degen = out.triangleDegenerate.data();
   uint32_t nLive = 0;
   for (uint32_t t = 0; t < nt; ++t) {
-    if (degen[t]) continue;
     uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+    bool d = a == b || b == c || a == c;
+    degen[t] = d;
+    if (d) {
+      ++out.nDegenerate;
+      continue;
+    }
     ++offsets[std::min(a, b) + 1];
     ++offsets[std::min(b, c) + 1];
     ++offsets[std::min(c, a) + 1];
@@ -248,56 +245,79 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   keys.release();
   offsets.release();
 
-  // Number the pairs in file order: a side either closes the pair of its earlier partner
-  // (odd id) or opens a new pair (even id). partner[] is overwritten in place by the
-  // side's half-edge id. The twin of an unpaired side starts a boundary loop half-edge.
+  // One pass in file order numbers the pairs and writes the triangle half-edges. A side
+  // either closes the pair of its earlier partner (odd id) or opens a new pair (even id);
+  // partner[] is overwritten in place by the side's half-edge id. The twin of an unpaired
+  // side is a boundary-loop half-edge (listed in `boundary`, in increasing id order). The
+  // same pass picks each vertex's outgoing half-edge (bit 31 marks a boundary one, which
+  // wins over any triangle half-edge) and counts its outgoing half-edges.
   const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
+  const uint32_t nBoundarySides = nLive - 2 * nCouples;
+  Array<uint32_t> boundary, degree;
   if (!out.next.resize(nh) || !out.prev.resize(nh) || !out.vert.resize(nh) || !out.face.resize(nh) ||
-      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.assign(nt, kInvalid))
+      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.assign(nv, kInvalid) ||
+      !boundary.resize(nBoundarySides) || !degree.assign(nv, 0))
     return oom();
   uint32_t* next = out.next.data();
   uint32_t* prev = out.prev.data();
   uint32_t* vert = out.vert.data();
   uint32_t* face = out.face.data();
   uint8_t* pairKind = out.pairKind.data();
+  uint32_t* vh = out.vertexHalfedge.data();
+  uint32_t* deg = degree.data();
+  constexpr uint32_t kBoundaryBit = 0x80000000u;  // half-edge ids are < 2^31 (ns < 2^30)
   {
     uint32_t* P = partner.data();
-    uint32_t k = 0;
-    for (uint32_t s = 0; s < ns; ++s) {
-      if (degen[s / 3]) continue;
-      uint32_t x = P[s], p = x & kNone;
-      if (p != kNone && p < s) {
-        P[s] = P[p] ^ 1u;
-      } else {
-        uint32_t he = 2 * k;
-        pairKind[k++] = uint8_t(x >> 30);
-        if (p == kNone) {
-          vert[he + 1] = C[dstSide(s)];
-          face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
+    uint32_t* bnd = boundary.data();
+    uint32_t k = 0, nb = 0;
+    for (uint32_t t = 0; t < nt; ++t) {
+      if (degen[t]) {
+        out.triangleHalfedge[t] = kInvalid;
+        continue;
+      }
+      uint32_t h[3];
+      for (uint32_t c = 0; c < 3; ++c) {
+        uint32_t s = 3 * t + c, x = P[s], p = x & kNone;
+        if (p != kNone && p < s) {
+          h[c] = P[p] ^ 1u;
+        } else {
+          uint32_t he = 2 * k;
+          pairKind[k++] = uint8_t(x >> 30);
+          if (p == kNone) {
+            uint32_t v = C[dstSide(s)];
+            vert[he + 1] = v;
+            face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
+            bnd[nb++] = he + 1;
+            if (!(vh[v] & kBoundaryBit) || vh[v] == kInvalid) vh[v] = (he + 1) | kBoundaryBit;
+            ++deg[v];
+          }
+          h[c] = he;
         }
-        P[s] = he;
+        P[s] = h[c];
+      }
+      out.triangleHalfedge[t] = h[0];
+      for (uint32_t c = 0; c < 3; ++c) {
+        uint32_t e = h[c], v = C[3 * t + c];
+        vert[e] = v;
+        next[e] = h[c == 2 ? 0 : c + 1];
+        prev[e] = h[c == 0 ? 2 : c - 1];
+        face[e] = t;
+        uint32_t cur = vh[v];
+        if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vh[v] = e;
+        ++deg[v];
       }
     }
   }
-  const uint32_t* heOf = partner.data();
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (degen[t]) continue;
-    uint32_t h0 = heOf[3 * t], h1 = heOf[3 * t + 1], h2 = heOf[3 * t + 2];
-    out.triangleHalfedge[t] = h0;
-    vert[h0] = C[3 * t]; vert[h1] = C[3 * t + 1]; vert[h2] = C[3 * t + 2];
-    next[h0] = h1; next[h1] = h2; next[h2] = h0;
-    prev[h0] = h2; prev[h1] = h0; prev[h2] = h1;
-    face[h0] = face[h1] = face[h2] = t;
-  }
   partner.release();
   remapped.release();
+  const uint32_t* bnd = boundary.data();
 
   // Boundary next by the fan rule: for the twin b of side s = u->v, turn around u through
   // the triangles (lPrev, then across the paired edge) until the next unpaired side p;
   // next[b] = twin(p), which leaves u in the same fan.
-  for (uint32_t b = 0; b < nh; ++b) {
-    if (face[b] != kInvalid) continue;
+  for (uint32_t i = 0; i < nBoundarySides; ++i) {
+    uint32_t b = bnd[i];
     uint32_t h = b ^ 1u;
     uint32_t steps = 0;
     for (;;) {
@@ -315,7 +335,8 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   // Label the boundary loops in order of their lowest half-edge id.
   uint32_t nLoops = 0;
   if (!out.loopOffsets.push_back(0)) return oom();
-  for (uint32_t e = 0; e < nh; ++e) {
+  for (uint32_t i = 0; i < nBoundarySides; ++i) {
+    uint32_t e = bnd[i];
     if (face[e] != kInvalid) continue;
     uint32_t f = nt + nLoops;
     bool seam = false;
@@ -338,39 +359,29 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     if (seam) ++out.nSeams; else ++out.nHoles;
     ++nLoops;
   }
+  boundary.release();
 
-  // One outgoing half-edge per vertex: the lowest-id boundary half-edge when the vertex
-  // is on a boundary loop, else the lowest-id half-edge.
-  if (!out.vertexHalfedge.assign(nv, kInvalid)) return oom();
-  uint32_t* vh = out.vertexHalfedge.data();
-  for (uint32_t e = 0; e < nh; ++e) {
-    uint32_t v = vert[e];
-    if (vh[v] == kInvalid || (face[e] >= nt && face[vh[v]] < nt)) vh[v] = e;
-  }
-  for (uint32_t v = 0; v < nv; ++v)
-    if (vh[v] != kInvalid) ++out.nUsedVertices;
-
-  // Vertex loops: a used vertex whose outgoing half-edges form more than one vnext cycle
-  // is non-manifold.
-  if (!out.vertexNonManifold.assign(nv, 0)) return oom();
+  // Vertex loops: a used vertex is non-manifold when the vnext cycle through its chosen
+  // outgoing half-edge does not hold all of its outgoing half-edges (more than one cycle).
+  if (!out.vertexNonManifold.resize(nv)) return oom();
   {
-    Array<uint64_t> seen;  // one bit per half-edge
-    if (!seen.assign(size_t(nh) / 64 + 1, 0)) return oom();
     uint8_t* nm = out.vertexNonManifold.data();
-    for (uint32_t e = 0; e < nh; ++e) {
-      if (seen[e >> 6] >> (e & 63) & 1u) continue;
-      uint32_t x = e, steps = 0;
-      do {
-        seen[x >> 6] |= uint64_t(1) << (x & 63);
-        x = next[x ^ 1u];
-        if (++steps > nh) return fail(Code::Invalid, "internal error: vertex loop did not close");
-      } while (x != e);
-      uint32_t v = vert[e];
-      if (nm[v] < 2) ++nm[v];
-    }
     for (uint32_t v = 0; v < nv; ++v) {
-      nm[v] = nm[v] >= 2 ? 1 : 0;
-      out.nNonManifoldVertices += nm[v];
+      uint32_t e0 = vh[v];
+      nm[v] = 0;
+      if (e0 == kInvalid) continue;
+      e0 &= ~kBoundaryBit;
+      vh[v] = e0;
+      ++out.nUsedVertices;
+      uint32_t x = e0, steps = 0;
+      do {
+        x = next[x ^ 1u];
+        if (++steps > deg[v]) return fail(Code::Invalid, "internal error: vertex loop did not close");
+      } while (x != e0);
+      if (steps != deg[v]) {
+        nm[v] = 1;
+        ++out.nNonManifoldVertices;
+      }
     }
   }
 
