@@ -178,6 +178,8 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   UnionFind uf;
   if (!partner.resize(ns) || !uf.init(nt)) return oom();
   uint32_t nCouples = 0;
+  // Local counters: stores through P could alias the fields of `out`.
+  uint32_t nEdges = 0, nBoundaryEdges = 0, nInconsistentEdges = 0, nNonManifoldEdges = 0;
   {
     std::vector<uint32_t> queue[2];
     uint32_t* P = partner.data();
@@ -199,13 +201,13 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
         uint32_t g1 = g0 + 1;
         while (g1 < k && (k0[g1] >> 31) == (k0[g0] >> 31)) ++g1;
         uint32_t m = g1 - g0;
-        ++out.nEdges;
+        ++nEdges;
         auto side = [&](uint32_t i) { return uint32_t(k0[i] >> 1) & kNone; };
         auto dir = [&](uint32_t i) { return int(k0[i] & 1u); };
         uint32_t s0 = side(g0);
         for (uint32_t i = g0 + 1; i < g1; ++i) uf.unite(s0 / 3, side(i) / 3);
         if (m == 1) {
-          ++out.nBoundaryEdges;
+          ++nBoundaryEdges;
           P[s0] = (uint32_t(EdgeKind::Boundary) << 30) | kNone;
         } else if (m == 2) {
           uint32_t s1 = side(g0 + 1);
@@ -214,12 +216,12 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
             P[s1] = s0;
             ++nCouples;
           } else {
-            ++out.nInconsistentEdges;
+            ++nInconsistentEdges;
             P[s0] = P[s1] = (uint32_t(EdgeKind::Inconsistent) << 30) | kNone;
           }
         } else {
           // First unpaired with first unpaired, opposite directions, in file order.
-          ++out.nNonManifoldEdges;
+          ++nNonManifoldEdges;
           constexpr uint32_t nm = uint32_t(EdgeKind::NonManifold) << 30;
           queue[0].clear();
           queue[1].clear();
@@ -242,6 +244,10 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
       }
     }
   }
+  out.nEdges = nEdges;
+  out.nBoundaryEdges = nBoundaryEdges;
+  out.nInconsistentEdges = nInconsistentEdges;
+  out.nNonManifoldEdges = nNonManifoldEdges;
   keys.release();
   offsets.release();
 
