@@ -472,11 +472,123 @@ struct BinaryParser {
 };
 
 // ---------------------------------------------------------------------------
+// Helpers for the ASCII parser's fast paths.
+constexpr uint64_t kOnes = 0x0101010101010101ull;
+constexpr uint64_t kHigh = 0x8080808080808080ull;
+
+inline bool isSpace(uint8_t c) { return c == ' ' || unsigned(c - '\t') <= unsigned('\r' - '\t'); }
+
+// 8 bytes as a word, the first in the lowest bits.
+inline uint64_t load8(const void* s) {
+  uint64_t w;
+  std::memcpy(&w, s, 8);
+  if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap64(w);
+  return w;
+}
+// 0x80 in each byte of w that ends a token (a byte <= 0x20 or 0x7F), else 0; exact per
+// byte (no carry crosses a byte).
+inline uint64_t tokenStops(uint64_t w) {
+  uint64_t low = w & ~kHigh;
+  uint64_t below21 = ~(low + (0x80 - 0x21) * kOnes) & ~w & kHigh;  // low + 0x5F < 0x80 iff low < 0x21
+  uint64_t del = (low + kOnes) & ~w & kHigh;                        // low + 1 == 0x80 iff low == 0x7F
+  return below21 | del;
+}
+
+// A keyword as one word, for keywordAt(): lower case, at most 8 bytes.
+struct Keyword {
+  uint64_t word, mask;
+  unsigned len;
+};
+constexpr Keyword keyword(const char* s) {
+  Keyword k{0, 0, 0};
+  for (; s[k.len]; ++k.len) k.word |= uint64_t(uint8_t(s[k.len])) << (8 * k.len);
+  k.mask = k.len == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * k.len)) - 1;
+  return k;
+}
+constexpr Keyword kFacet = keyword("facet"), kNormal = keyword("normal"), kOuter = keyword("outer"),
+                  kLoop = keyword("loop"), kVertex = keyword("vertex"), kEndloop = keyword("endloop"),
+                  kEndfacet = keyword("endfacet");
+// Whether kw is at q as AsciiParser::ieq() compares ((byte | 0x20) == letter), followed
+// by whitespace. Reads 9 bytes.
+inline bool keywordAt(const uint8_t* q, const Keyword& kw) {
+  return ((load8(q) | 0x20 * kOnes) & kw.mask) == kw.word && isSpace(q[kw.len]);
+}
+
+// Reads the digits at q (stopping at limit) into m; returns their end. Past 19 digits m
+// wraps around: the caller checks the count.
+inline const char* digits(const char* q, const char* limit, uint64_t& m) {
+  for (; q < limit && unsigned(*q - '0') < 10; ++q) m = m * 10 + unsigned(*q - '0');
+  return q;
+}
+
+// The fast path of parseFloat, for the plain decimal at s: [sign] digits [. digits]
+// [e [sign] digits] with at most 19 digits (leading zeros included) and a small exponent,
+// e.g. "3.99992108", "-0.5", "1.234567e+01". Reads nothing at or past limit. Returns the
+// end of the number (the caller checks that the token ends there), or nullptr when it
+// cannot decide (the caller then takes the general path).
+inline const char* parseDecimal(const char* s, const char* limit, float& out) {
+  const char* q = s;
+  bool neg = false;
+  if (q < limit && (*q == '-' || *q == '+')) neg = *q++ == '-';
+  uint64_t m = 0;
+  const char* intAt = q;
+  q = digits(q, limit, m);
+  int nDigits = int(q - intAt), fracDigits = 0;
+  if (q < limit && *q == '.') {
+    const char* fracAt = ++q;
+    q = digits(q, limit, m);
+    fracDigits = int(q - fracAt);
+    nDigits += fracDigits;
+  }
+  if (nDigits == 0 || nDigits > 19) return nullptr;
+  int e = 0;
+  if (q < limit && (*q | 0x20) == 'e') {
+    ++q;
+    bool eneg = false;
+    if (q < limit && (*q == '-' || *q == '+')) eneg = *q++ == '-';
+    const char* expAt = q;
+    for (; q < limit && unsigned(*q - '0') < 10 && q - expAt < 4; ++q) e = e * 10 + (*q - '0');
+    if (q == expAt) return nullptr;
+    if (eneg) e = -e;
+  }
+  if (m == 0) {
+    out = neg ? -0.0f : 0.0f;
+    return q;
+  }
+  // m * 10^ex in double, with a multiplication (a division is much slower): m is exact,
+  // 10^ex is rounded when ex < 0, and so is the product, so d is within 2 units in the last
+  // place (ulp) of the exact value. The float nearest to d is then the float nearest to the
+  // exact value unless d lies within those 2 ulp of a halfway point between two floats,
+  // where the low 29 bits of d (those a float drops) read 0x10000000: there, and for the
+  // rest (m >= 2^53, |ex| > 22), take the general path.
+  static constexpr double kPow10[45] = {1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14,
+                                        1e-13, 1e-12, 1e-11, 1e-10, 1e-9,  1e-8,  1e-7,  1e-6,  1e-5,
+                                        1e-4,  1e-3,  1e-2,  1e-1,  1e0,   1e1,   1e2,   1e3,   1e4,
+                                        1e5,   1e6,   1e7,   1e8,   1e9,   1e10,  1e11,  1e12,  1e13,
+                                        1e14,  1e15,  1e16,  1e17,  1e18,  1e19,  1e20,  1e21,  1e22};
+  int ex = e - fracDigits;
+  if (m >= (1ull << 53) || ex < -22 || ex > 22) return nullptr;
+  double d = double(m) * kPow10[ex + 22];
+  uint64_t dropped = detail::bitCast<uint64_t>(d) & 0x1FFFFFFFull;
+  if (dropped - (0x10000000ull - 4) <= 8) return nullptr;
+  float f = float(d);
+  out = neg ? -f : f;
+  return q;
+}
+
 // Parses a whole token as a float exactly as strtof does in the C locale.
 bool parseFloat(const char* s, size_t len, float& out) {
   if (len > kMaxNumberChars) return false;  // also for the fast path: any chunking agrees
-  // Fast path: [sign] digits [. digits] [e [sign] digits], mantissa < 2^24, |exp| <= 10:
-  // one correctly rounded float operation gives strtof's result.
+  {
+    float f = 0;
+    if (parseDecimal(s, s + len, f) == s + len) {
+      out = f;
+      return true;
+    }
+  }
+  // What parseDecimal leaves (more digits, larger exponents, near ties, other syntax):
+  // [sign] digits [. digits] [e [sign] digits] with trailing zeros of the mantissa moved
+  // into the exponent, through the exact float and double fast paths, then strtof.
   {
     size_t i = 0;
     bool neg = false;
@@ -521,9 +633,7 @@ bool parseFloat(const char* s, size_t len, float& out) {
         out = neg ? -f : f;
         return true;
       }
-      // Clinger's fast path in double: m and 10^|ex| are exact, so d is the correctly
-      // rounded double. Rounding d to float can only differ from rounding the exact value
-      // when d is exactly halfway between two floats; that case goes to strtof.
+      // Clinger's fast path, as in parseDecimal.
       static const double kPow10d[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
       if (m < (1ull << 53) && ex >= -22 && ex <= 22) {
@@ -538,7 +648,6 @@ bool parseFloat(const char* s, size_t len, float& out) {
   }
   // General path: the C library's strtof in the "C" locale.
   char buf[kMaxNumberChars + 1];
-  if (len > kMaxNumberChars) return false;
   std::memcpy(buf, s, len);
   buf[len] = 0;
   char* end = nullptr;
@@ -580,6 +689,7 @@ struct AsciiParser {
   uint64_t facetLine = 1, facetOffset = 0;
   bool bomChecked = false;
   uint8_t bomHave = 0;
+  uint32_t fastBackoff = 0, fastWait = 0;  // see scan()
 
   explicit AsciiParser(const ReadOptions& o) : b(o) {}
 
@@ -649,9 +759,11 @@ struct AsciiParser {
         fail(Code::AsciiSyntax, format("expected 'normal' or 'outer' after 'facet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
       case NormalNums:
-        if (!number(t, n, normal[numIndex])) return;
-        if (++numIndex == 3) state = ExpectOuter;
+      case VertexNums: {
+        float v;
+        if (number(t, n, v)) putNumber(v);
         return;
+      }
       case ExpectOuter:
         if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
         fail(Code::AsciiSyntax, format("expected 'outer' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
@@ -681,10 +793,6 @@ struct AsciiParser {
         }
         fail(Code::AsciiSyntax, format("expected 'vertex' or 'endloop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
         return;
-      case VertexNums:
-        if (!number(t, n, verts[vertexCount * 3 + numIndex])) return;
-        if (++numIndex == 3) { ++vertexCount; state = ExpectVertexOrEndloop; }
-        return;
       case ExpectEndfacet:
         if (ieq(t, n, "endfacet")) {
           if (!b.add(normal, verts, 0, facetOffset, facetLine)) return;
@@ -700,6 +808,17 @@ struct AsciiParser {
     }
   }
 
+  // A number of the current facet (in state NormalNums or VertexNums).
+  void putNumber(float v) {
+    if (state == NormalNums) {
+      normal[numIndex] = v;
+      if (++numIndex == 3) state = ExpectOuter;
+      return;
+    }
+    verts[vertexCount * 3 + numIndex] = v;
+    if (++numIndex == 3) { ++vertexCount; state = ExpectVertexOrEndloop; }
+  }
+
   bool number(const char* t, size_t n, float& out) {
     if (n > kMaxNumberChars) {
       fail(Code::AsciiSyntax, format("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
@@ -710,13 +829,94 @@ struct AsciiParser {
     return false;
   }
 
-  inline void newlineChar(uint8_t c) {
-    if (c == '\r') { ++line; sawCR = true; }
-    else if (c == '\n') { if (!sawCR) ++line; sawCR = false; }
-    else sawCR = false;
+  // Skips whitespace in [q, end), counting lines in ln: CR, LF and CRLF each end one (cr:
+  // the byte before q was a CR). Returns the first other byte, or end.
+  static inline const uint8_t* skipBlanks(const uint8_t* q, const uint8_t* end, uint64_t& ln, bool& cr) {
+    for (; q < end && isSpace(*q); ++q) {
+      ln += (*q == '\r') | ((*q == '\n') & !cr);
+      cr = *q == '\r';
+    }
+    return q;
   }
 
-  static inline bool isSpace(uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+  // The end of the token at i: the first byte <= 0x20 or 0x7F (whitespace or a bad byte),
+  // or n. 8 bytes per step while they last, then one at a time.
+  static size_t tokenEnd(const uint8_t* p, size_t i, size_t n) {
+    for (; i + 8 <= n; i += 8)
+      if (uint64_t stops = tokenStops(load8(p + i))) return i + (unsigned(__builtin_ctzll(stops)) >> 3);
+    while (i < n && p[i] > 0x20 && p[i] != 0x7f) ++i;
+    return i;
+  }
+
+  // Fast path for a whole facet in the chunk, written the usual way:
+  //   facet normal N N N  outer loop  vertex N N N (3 times)  endloop  endfacet
+  // with whitespace between the tokens and only blanks after endloop and endfacet on their
+  // lines. Parses p[i, n) (at least kFastFacetRoom bytes, 'facet' at i) to the end of the
+  // line of 'endfacet' and adds the triangle, leaving the state exactly as the token
+  // machine would; returns the position reached. Returns 0 and changes nothing when the
+  // text differs in any way (another keyword, a number off the fast path, a bad byte, too
+  // near the end of the chunk...): the token machine then reads the facet.
+  static constexpr size_t kFastFacetRoom = 256;
+  size_t fastFacet(const uint8_t* p, size_t i, size_t n, uint64_t base) {
+    const uint8_t* end = p + n - 16;  // every token starts before end: 16 bytes of slack
+    const uint8_t* q = p + i;
+    uint64_t ln = line;
+    // The whitespace after a token (sawCR is false at a token).
+    auto blanks = [&](const uint8_t* from) {
+      if (*from == ' ' && !isSpace(from[1])) {  // the usual single space
+        q = from + 1;
+        return q < end;
+      }
+      bool cr = false;
+      q = skipBlanks(from, end, ln, cr);
+      return q < end;
+    };
+    // A keyword, then the whitespace after it.
+    auto word = [&](const Keyword& kw) { return keywordAt(q, kw) && blanks(q + kw.len); };
+    // A number, then the whitespace after it.
+    auto number = [&](float& v) {
+      const char* e = parseDecimal(reinterpret_cast<const char*>(q), reinterpret_cast<const char*>(end), v);
+      return e && isSpace(uint8_t(*e)) && blanks(reinterpret_cast<const uint8_t*>(e));
+    };
+    // The rest of a line after a keyword, as state SkipLine reads it: blanks and text, no
+    // control bytes. Leaves q at the line end.
+    auto restOfLine = [&]() {
+      for (; q < end && *q != '\n' && *q != '\r'; ++q)
+        if (*q < 0x20 && *q != '\t' && *q != '\v' && *q != '\f') return false;
+      return q < end;
+    };
+    const uint8_t* facetAt = q;
+    uint64_t facetLn = ln;
+    float nv[3], vv[9];
+    if (!blanks(q + kFacet.len) || !word(kNormal) || !number(nv[0]) || !number(nv[1]) || !number(nv[2]) || !word(kOuter) ||
+        !word(kLoop))
+      return 0;
+    for (int c = 0; c < 3; ++c)
+      if (!word(kVertex) || !number(vv[3 * c]) || !number(vv[3 * c + 1]) || !number(vv[3 * c + 2])) return 0;
+    if (!keywordAt(q, kEndloop)) return 0;
+    q += kEndloop.len;
+    if (!restOfLine() || !blanks(q) || !keywordAt(q, kEndfacet)) return 0;
+    const uint8_t* endAt = q;
+    uint64_t endLn = ln;
+    q += kEndfacet.len;
+    if (!restOfLine()) return 0;
+    // Commit: the state after the 'endfacet' token and the rest of its line.
+    line = endLn;
+    sawCR = false;
+    facetLine = facetLn;
+    facetOffset = base + size_t(facetAt - p);
+    tokenLine = endLn;
+    tokenOffset = base + size_t(endAt - p);
+    std::memcpy(normal, nv, sizeof nv);
+    std::memcpy(verts, vv, sizeof vv);
+    vertexCount = 3;
+    numIndex = 3;
+    state = ExpectEndfacet;
+    if (!b.add(normal, verts, 0, facetOffset, facetLine)) return size_t(endAt - p) + kEndfacet.len;  // as token()
+    state = ExpectFacetOrEnd;
+    afterSkip = ExpectFacetOrEnd;
+    return size_t(q - p);
+  }
 
   void feed(const uint8_t* p, size_t n) {
     size_t i = 0;
@@ -731,11 +931,17 @@ struct AsciiParser {
         bomChecked = true;
       }
     }
+    const uint64_t base = offset - i;  // the offset of p[0]
+    offset = base + scan(p, i, n, base);
+  }
+
+  // Parses p[i, n); returns where it stopped (n, or the place of an error).
+  size_t scan(const uint8_t* p, size_t i, size_t n, uint64_t base) {
     while (i < n && !dead()) {
       if (state == SolidName || state == SkipLine) {
         size_t j = i;
         while (j < n && p[j] != '\n' && p[j] != '\r') {
-          if (p[j] < 0x20 && p[j] != '\t' && p[j] != '\v' && p[j] != '\f') { badByte(p[j], offset + (j - i)); return; }
+          if (p[j] < 0x20 && p[j] != '\t' && p[j] != '\v' && p[j] != '\f') { badByte(p[j], base + j); return i; }
           ++j;
         }
         if (state == SolidName) {
@@ -745,7 +951,6 @@ struct AsciiParser {
           size_t room = kMaxNameBytes + 1 > name.size() ? kMaxNameBytes + 1 - name.size() : 0;
           name.append(reinterpret_cast<const char*>(p + from), std::min(room, j - from));
         }
-        offset += j - i;
         i = j;
         if (i < n) {  // end of line reached
           if (state == SolidName) {
@@ -757,39 +962,46 @@ struct AsciiParser {
         }
         continue;
       }
-      if (!inToken) {
-        // Skip whitespace.
-        while (i < n && isSpace(p[i])) { newlineChar(p[i]); ++i; ++offset; }
-        if (i == n) break;
-        sawCR = false;
-        if (p[i] < 0x20 || p[i] == 0x7f) { badByte(p[i], offset); return; }
-        size_t j = i;
-        while (j < n && !isSpace(p[j]) && p[j] >= 0x20 && p[j] != 0x7f) ++j;
-        tokenOffset = offset;
-        tokenLine = line;
-        if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
-        if (j == n) {  // token may continue in the next chunk
-          inToken = true;
-          carry.assign(reinterpret_cast<const char*>(p + i), std::min(j - i, kMaxCarry));
-          offset += j - i;
-          i = j;
-          break;
-        }
-        offset += j - i;
-        token(reinterpret_cast<const char*>(p + i), j - i);
+      if (inToken) {  // continue a token carried over from the previous chunk
+        size_t j = tokenEnd(p, i, n);
+        if (j < n && !isSpace(p[j])) { badByte(p[j], base + j); return i; }
+        size_t room = kMaxCarry > carry.size() ? kMaxCarry - carry.size() : 0;
+        carry.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
         i = j;
+        if (i < n) endCarry();
         continue;
       }
-      // Continue a carried token.
-      size_t j = i;
-      while (j < n && !isSpace(p[j]) && p[j] >= 0x20 && p[j] != 0x7f) ++j;
-      if (j < n && !isSpace(p[j])) { badByte(p[j], offset + (j - i)); return; }
-      size_t room = kMaxCarry > carry.size() ? kMaxCarry - carry.size() : 0;
-      carry.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
-      offset += j - i;
+      i = size_t(skipBlanks(p + i, p + n, line, sawCR) - p);
+      if (i == n) break;
+      sawCR = false;
+      if (state == ExpectFacetOrEnd && n - i >= kFastFacetRoom && keywordAt(p + i, kFacet)) {
+        // Whole facets at once while they read the usual way. After a miss, leave a few
+        // facets (twice as many after each further miss) to the token machine.
+        if (fastWait > 0) {
+          --fastWait;
+        } else if (size_t j = fastFacet(p, i, n, base)) {
+          fastBackoff = 0;
+          i = j;
+          continue;
+        } else {
+          fastBackoff = std::min<uint32_t>(std::max<uint32_t>(1, fastBackoff * 2), 1024);
+          fastWait = fastBackoff;
+        }
+      }
+      size_t j = tokenEnd(p, i, n);
+      if (j < n && !isSpace(p[j])) { badByte(p[j], base + j); return i; }  // a control byte (j may be i)
+      tokenOffset = base + i;
+      tokenLine = line;
+      const char* t = reinterpret_cast<const char*>(p + i);
+      if (j == n) {  // the token may continue in the next chunk
+        inToken = true;
+        carry.assign(t, std::min(j - i, kMaxCarry));
+        return n;
+      }
+      token(t, j - i);
       i = j;
-      if (i < n) endCarry();
     }
+    return i;
   }
 
   void endCarry() {
