@@ -119,25 +119,49 @@ struct Builder {
     return true;
   }
 
-  // Prefetches the weld-table slots of a binary record's corners, so that the cache misses
-  // of a batch of lookups overlap instead of running one after another. (A no-op in wasm,
-  // which has no prefetch instruction.)
-  inline void prefetch(const uint8_t* rec) const {
-    uint32_t w[9];
-    std::memcpy(w, rec + 12, 36);
-    for (int c = 0; c < 3; ++c) {
-      Slot k{bitsOf(detail::bitCast<float>(w[3 * c]) + 0.0f), bitsOf(detail::bitCast<float>(w[3 * c + 1]) + 0.0f),
-             bitsOf(detail::bitCast<float>(w[3 * c + 2]) + 0.0f), 0};
-      __builtin_prefetch(&table[slotHash(k) & mask]);
+  // Batches of binary records: their corner hashes are computed once, up front, and used
+  // to start loading the weld-table slots, so that the cache misses of a batch overlap
+  // instead of running one after another. Native code prefetches; wasm has no prefetch
+  // instruction, so there each slot's id is loaded (independent loads that out-of-order
+  // execution overlaps) and folded into touchSink, which keeps the loads alive.
+  static constexpr uint32_t kBatchRecords = 32;
+  uint32_t batchHash[3 * kBatchRecords];
+  uint32_t touchSink = 0;
+
+  static inline Slot keyOf(float x, float y, float z) {
+    // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
+    return Slot{bitsOf(x + 0.0f), bitsOf(y + 0.0f), bitsOf(z + 0.0f), 0};
+  }
+  static inline float floatLE(const uint8_t* p) {
+    uint32_t w;
+    std::memcpy(&w, p, 4);
+    if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap32(w);
+    return detail::bitCast<float>(w);
+  }
+  // Fills batchHash for `count` (<= kBatchRecords) records at rec; the table must exist.
+  void prepareBatch(const uint8_t* rec, uint32_t count) {
+    uint32_t acc = 0;
+    for (uint32_t r = 0; r < count; ++r, rec += 50) {
+      for (int c = 0; c < 3; ++c) {
+        const uint8_t* q = rec + 12 + 12 * c;
+        uint32_t h = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
+        batchHash[3 * r + c] = h;
+#if defined(__EMSCRIPTEN__)
+        acc |= table[h & mask].id;
+#else
+        __builtin_prefetch(&table[h & mask]);
+#endif
+      }
     }
+    touchSink += acc;
   }
 
   // Returns the welded vertex id; kInvalid on allocation failure, kNonFinite for NaN/Inf.
   static constexpr uint32_t kNonFinite = kInvalid - 1;
-  inline uint32_t weld(float x, float y, float z) {
-    // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
-    Slot k{bitsOf(x + 0.0f), bitsOf(y + 0.0f), bitsOf(z + 0.0f), 0};
-    uint32_t h = slotHash(k);
+  // hash: slotHash of the key when already known (a batch), else null.
+  inline uint32_t weld(float x, float y, float z, const uint32_t* hash) {
+    Slot k = keyOf(x, y, z);
+    uint32_t h = hash ? *hash : slotHash(k);
     Slot& r = recent[h & (kRecent - 1)];
     if (r.x == k.x && r.y == k.y && r.z == k.z && r.id != kInvalid) return r.id;
     uint32_t i = h & mask;
@@ -191,7 +215,9 @@ struct Builder {
   }
 
   // v: 9 floats (3 corners). n: 3 floats. Returns false on error (sticky).
-  inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line) {
+  // hashes: the corners' key hashes when already computed (binary batches), else null.
+  inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line,
+                  const uint32_t* hashes = nullptr) {
     uint32_t t = mesh.nTriangles();
     if (t >= opt.maxTriangles) {
       error = makeStatus(Code::TooLarge, format("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
@@ -211,7 +237,7 @@ struct Builder {
     }
     uint32_t ids[3];
     for (int c = 0; c < 3; ++c) {
-      ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
+      ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
       if (ids[c] >= kNonFinite) {
         if (ids[c] == kInvalid) {
           error = oom("the vertex array");
@@ -350,7 +376,7 @@ struct BinaryParser {
     partStart = offset;
   }
 
-  inline void record(const uint8_t* r, uint64_t recOffset) {
+  inline void record(const uint8_t* r, uint64_t recOffset, const uint32_t* hashes = nullptr) {
     float f[12];
     std::memcpy(f, r, 48);
     uint16_t attr;
@@ -359,7 +385,7 @@ struct BinaryParser {
       for (float& x : f) x = detail::bitCast<float>(__builtin_bswap32(detail::bitCast<uint32_t>(x)));
       attr = __builtin_bswap16(attr);
     }
-    if (!b.add(f, f + 3, attr, recOffset, 0)) {
+    if (!b.add(f, f + 3, attr, recOffset, 0, hashes)) {
       // A size problem (truncated) outranks a content problem found before it, so keep
       // counting bytes to learn whether the part is complete; drop the arrays.
       contentError = b.error;
@@ -407,11 +433,14 @@ struct BinaryParser {
       // Fast path: whole records straight from the input.
       uint64_t left = uint64_t(partCount - partDone);
       uint64_t whole = std::min<uint64_t>(left, (n - i) / kRecordBytes);
-      constexpr uint64_t kBatch = 32;
+      constexpr uint64_t kBatch = Builder::kBatchRecords;
+      bool hashed = false;
       for (uint64_t k = 0; k < whole && !skipping; ++k) {
-        if (k % kBatch == 0 && !b.table.empty())
-          for (uint64_t r = k; r < whole && r < k + kBatch; ++r) b.prefetch(p + i + (r - k) * kRecordBytes);
-        record(p + i, offset);
+        if (k % kBatch == 0) {
+          hashed = !b.table.empty();
+          if (hashed) b.prepareBatch(p + i, uint32_t(std::min<uint64_t>(kBatch, whole - k)));
+        }
+        record(p + i, offset, hashed ? b.batchHash + 3 * (k % kBatch) : nullptr);
         i += kRecordBytes;
         offset += kRecordBytes;
         ++partDone;
