@@ -260,10 +260,16 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
   const uint32_t nBoundarySides = nLive - 2 * nCouples;
-  Array<uint32_t> boundary, degree;
+  // Per vertex while building: the chosen outgoing half-edge and the out-degree, side by
+  // side so that one cache line serves both.
+  struct VertexInfo {
+    uint32_t he, deg;
+  };
+  Array<uint32_t> boundary;
+  Array<VertexInfo> vinfo;
   if (!out.next.resize(nh) || !out.prev.resize(nh) || !out.vert.resize(nh) || !out.face.resize(nh) ||
-      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.assign(nv, kInvalid) ||
-      !boundary.resize(nBoundarySides) || !degree.assign(nv, 0))
+      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) ||
+      !boundary.resize(nBoundarySides) || !vinfo.assign(nv, VertexInfo{kInvalid, 0}))
     return oom();
   uint32_t* next = out.next.data();
   uint32_t* prev = out.prev.data();
@@ -271,7 +277,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   uint32_t* face = out.face.data();
   uint8_t* pairKind = out.pairKind.data();
   uint32_t* vh = out.vertexHalfedge.data();
-  uint32_t* deg = degree.data();
+  VertexInfo* vi = vinfo.data();
   constexpr uint32_t kBoundaryBit = 0x80000000u;  // half-edge ids are < 2^31 (ns < 2^30)
   {
     uint32_t* P = partner.data();
@@ -295,8 +301,8 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
             vert[he + 1] = v;
             face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
             bnd[nb++] = he + 1;
-            if (!(vh[v] & kBoundaryBit) || vh[v] == kInvalid) vh[v] = (he + 1) | kBoundaryBit;
-            ++deg[v];
+            if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
+            ++vi[v].deg;
           }
           h[c] = he;
         }
@@ -309,9 +315,9 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
         next[e] = h[c == 2 ? 0 : c + 1];
         prev[e] = h[c == 0 ? 2 : c - 1];
         face[e] = t;
-        uint32_t cur = vh[v];
-        if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vh[v] = e;
-        ++deg[v];
+        uint32_t cur = vi[v].he;
+        if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vi[v].he = e;
+        ++vi[v].deg;
       }
     }
   }
@@ -372,23 +378,29 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (!out.vertexNonManifold.resize(nv)) return oom();
   {
     uint8_t* nm = out.vertexNonManifold.data();
+    uint32_t nUsed = 0, nNonManifold = 0;
     for (uint32_t v = 0; v < nv; ++v) {
-      uint32_t e0 = vh[v];
+      uint32_t e0 = vi[v].he, deg = vi[v].deg;
       nm[v] = 0;
-      if (e0 == kInvalid) continue;
+      if (e0 == kInvalid) {
+        vh[v] = kInvalid;
+        continue;
+      }
       e0 &= ~kBoundaryBit;
       vh[v] = e0;
-      ++out.nUsedVertices;
+      ++nUsed;
       uint32_t x = e0, steps = 0;
       do {
         x = next[x ^ 1u];
-        if (++steps > deg[v]) return fail(Code::Invalid, "internal error: vertex loop did not close");
+        if (++steps > deg) return fail(Code::Invalid, "internal error: vertex loop did not close");
       } while (x != e0);
-      if (steps != deg[v]) {
+      if (steps != deg) {
         nm[v] = 1;
-        ++out.nNonManifoldVertices;
+        ++nNonManifold;
       }
     }
+    out.nUsedVertices = nUsed;
+    out.nNonManifoldVertices = nNonManifold;
   }
 
   // Shells: edge-connected components of the non-degenerate triangles.
