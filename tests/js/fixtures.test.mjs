@@ -107,6 +107,38 @@ test('every fixture: validate() passes and the navigation identities hold', asyn
   }
 });
 
+test('copies rebuild prev, face and vert in JS: equal to the arrays of the core (views), every fixture, exact and tolerance weld', async () => {
+  let compared = 0;
+  for (const f of files) {
+    const bytes = readFileSync(f);
+    for (const weld of ['exact', { tolerance: 1e-3 }]) {
+      let copy;
+      let view;
+      try {
+        copy = await loadStl(bytes, { weld });
+        view = await loadStl(bytes, { weld, view: true });
+      } catch (e) {
+        assert.ok(e instanceof StlError, `${f}: ${e}`);
+        continue;
+      }
+      try {
+        for (const k of ['prev', 'face', 'vert']) {
+          const a = copy.halfedges[k];
+          assert.ok(a instanceof Uint32Array, `${f} ${k}`);
+          assert.ok(Buffer.from(a.buffer, a.byteOffset, a.byteLength).equals(
+            Buffer.from(view.halfedges[k].buffer, view.halfedges[k].byteOffset, view.halfedges[k].byteLength)), `${f} ${k}`);
+          assert.equal(copy.halfedges[k], a, 'rebuilt once, then kept');
+        }
+        assert.deepEqual(copy.holes.map((h) => [...h.vertices]), view.holes.map((h) => [...h.vertices]), f);
+        compared += 1;
+      } finally {
+        view.dispose();
+      }
+    }
+  }
+  assert.ok(compared >= 40, `only ${compared} comparisons`);
+});
+
 test('facts from the source projects: numpy-stl and trimesh', async () => {
   // The MANIFEST quotes these from the projects' own tests.
   const bwb = await loadStlFile(fixture('bwb.stl'));

@@ -4,7 +4,8 @@
 //
 // Memory: by default every array is copied out of wasm memory in the same
 // expression that views it (view + slice), and the wasm-side session is deleted
-// before loadStl resolves: nothing to dispose, nothing detaches. With
+// before loadStl resolves: nothing to dispose, nothing detaches (prev, face and vert
+// are not copied but rebuilt in JS on first read: see DERIVED_ARRAYS). With
 // { view: true } the arrays are borrowed views into wasm memory, valid until
 // mesh.dispose(). A view *you keep in a variable* detaches (length 0) when the
 // wasm memory grows (emscripten#6747); the mesh's own properties re-create it.
@@ -38,6 +39,10 @@ const TOPOLOGY_ARRAYS = [
 ];
 // Small per-loop arrays: always copied, so holes/seams never dangle.
 const LOOP_ARRAYS = ['loopOffsets', 'loopHalfedges', 'loopIsSeam', 'loopPerimeter'];
+// Half-edge arrays that copies (and worker results) leave in wasm: they follow from next,
+// triangleHalfedge, triangles, vertexWeld and the loops, and are rebuilt in JS on first
+// use, which costs about as much as copying them (3 x 4 bytes per half-edge) would.
+const DERIVED_ARRAYS = ['prev', 'face', 'vert'];
 
 const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
 
@@ -333,7 +338,17 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       arrays.colorValid = get('colorValid');
     }
     if (meta.hasTopology) {
-      for (const n of TOPOLOGY_ARRAYS) arrays[n] = LOOP_ARRAYS.includes(n) ? session.array(n, true) : get(n);
+      for (const n of TOPOLOGY_ARRAYS) {
+        if (copy && DERIVED_ARRAYS.includes(n)) continue; // rebuilt in JS on first use (deriveHalfedgeArrays)
+        arrays[n] = LOOP_ARRAYS.includes(n) ? session.array(n, true) : get(n);
+      }
+      // The origin vertex of every loop half-edge (for mesh.holes), read through a view
+      // that no allocation can detach before it is used.
+      const vert = session.array('vert', false);
+      const list = arrays.loopHalfedges;
+      const lv = new Uint32Array(list.length);
+      for (let i = 0; i < list.length; ++i) lv[i] = vert[list[i]];
+      arrays.loopVertices = lv;
     }
     return {
       format: meta.format,
@@ -460,15 +475,60 @@ function buildLoops(arrays, nTriangles) {
   const off = arrays.loopOffsets;
   if (!off) return { holes, seams };
   const list = arrays.loopHalfedges;
-  const vert = arrays.vert;
+  const lv = arrays.loopVertices;
   for (let h = 0; h + 1 < off.length; ++h) {
     const halfedges = list.subarray(off[h], off[h + 1]);
-    const vertices = new Uint32Array(halfedges.length);
-    for (let i = 0; i < halfedges.length; ++i) vertices[i] = vert[halfedges[i]];
+    const vertices = lv.slice(off[h], off[h + 1]);
     const loop = { id: h, face: nTriangles + h, halfedges, vertices, edgeCount: halfedges.length, perimeter: arrays.loopPerimeter[h] };
     (arrays.loopIsSeam[h] ? seams : holes).push(loop);
   }
   return { holes, seams };
+}
+
+// prev, face and vert of a copied mesh, from the arrays it holds (see DERIVED_ARRAYS).
+// Every triangle half-edge is reached from triangleHalfedge through next; every loop
+// half-edge e is listed in its loop, and its origin is the destination of its twin
+// (a triangle half-edge), which is the origin of next[e ^ 1].
+function deriveHalfedgeArrays(arrays, nTriangles, which) {
+  const next = arrays.next;
+  const n = next.length;
+  if (which === 'prev') {
+    const prev = new Uint32Array(n);
+    for (let e = 0; e < n; ++e) prev[next[e]] = e;
+    return prev;
+  }
+  const th = arrays.triangleHalfedge;
+  const list = arrays.loopHalfedges;
+  const off = arrays.loopOffsets;
+  if (which === 'face') {
+    const face = new Uint32Array(n);
+    for (let t = 0; t < nTriangles; ++t) {
+      const h0 = th[t];
+      if (h0 === kInvalid) continue;
+      const h1 = next[h0];
+      face[h0] = t;
+      face[h1] = t;
+      face[next[h1]] = t;
+    }
+    for (let h = 0; h + 1 < off.length; ++h) for (let i = off[h]; i < off[h + 1]; ++i) face[list[i]] = nTriangles + h;
+    return face;
+  }
+  const vert = new Uint32Array(n);
+  const tri = arrays.triangles;
+  const weld = arrays.vertexWeld;
+  for (let t = 0; t < nTriangles; ++t) {
+    const h0 = th[t];
+    if (h0 === kInvalid) continue;
+    const h1 = next[h0];
+    vert[h0] = weld[tri[3 * t]];
+    vert[h1] = weld[tri[3 * t + 1]];
+    vert[next[h1]] = weld[tri[3 * t + 2]];
+  }
+  for (let i = 0; i < list.length; ++i) {
+    const e = list[i];
+    vert[e] = vert[next[(e ^ 1) >>> 0]];
+  }
+  return vert;
 }
 
 export class Mesh {
@@ -496,6 +556,19 @@ export class Mesh {
     // Each array property: a plain value for copies; for views, a getter that
     // re-creates the view when memory growth detached it.
     const def = (obj, key, name) => {
+      if (!live && arrays[name] === undefined && DERIVED_ARRAYS.includes(name)) {
+        // Rebuilt on first read, then a plain property.
+        Object.defineProperty(obj, key, {
+          enumerable: true,
+          configurable: true,
+          get: () => {
+            const a = deriveHalfedgeArrays(arrays, raw.nTriangles, name);
+            Object.defineProperty(obj, key, { value: a, enumerable: true, writable: true, configurable: true });
+            return a;
+          },
+        });
+        return;
+      }
       if (!live || LOOP_ARRAYS.includes(name)) {
         obj[key] = arrays[name];
         return;
