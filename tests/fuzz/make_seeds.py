@@ -7,6 +7,7 @@ seeds/fuzz_whole/. The other targets take a few parameter bytes in front of the 
 bytes, so their seeds are the same files with prefixes:
   fuzz_stream:    [flags][n chunk sizes]   (n = (flags & 7) + 1)
   fuzz_tolerance: [mode][mantissa]         (see fuzz_tolerance.cpp)
+fuzz_number takes up to 9 number tokens separated by spaces (NUMBER_SEEDS).
 Run again after changing it: python3 tests/fuzz/make_seeds.py
 """
 import math
@@ -165,7 +166,7 @@ def main():
         with open(path, "rb") as fh:
             raw["regress_" + name] = fh.read()
     shutil.rmtree(SEEDS, ignore_errors=True)
-    dirs = {t: os.path.join(SEEDS, t) for t in ("fuzz_whole", "fuzz_stream", "fuzz_tolerance")}
+    dirs = {t: os.path.join(SEEDS, t) for t in ("fuzz_whole", "fuzz_stream", "fuzz_tolerance", "fuzz_number")}
     for d in dirs.values():
         os.makedirs(d)
     # Stream prefixes: (flags, chunk sizes); the flags select options (see fuzz_stream.cpp).
@@ -182,6 +183,25 @@ def main():
         mode, mant = tolerances[i % len(tolerances)]
         with open(os.path.join(dirs["fuzz_tolerance"], name), "wb") as fh:
             fh.write(bytes([mode, mant]) + data)
+    for i, tokens in enumerate(NUMBER_SEEDS):
+        with open(os.path.join(dirs["fuzz_number"], "numbers_%02d" % i), "w") as fh:
+            fh.write(tokens)
+
+
+# Number tokens for fuzz_number: the usual STL spellings, near-halfway cases of the fast
+# path, long mantissas, exponent extremes, denormals, hex floats, inf/nan and malformed ones.
+NUMBER_SEEDS = [
+    "0 0 0 1 0 0 0 1 0",
+    "3.99992108 -0.5 1.234567e+01 -1.0E-3 +2 7. .5 -0 0.0",
+    "16777217 16777219 33554433 0.1 0.2 0.3 1e-7 3.4028235e38 1.17549435e-38",
+    "2.0000001192092896 1.00000005960464477539 0.500000029802322387695 9007199254740993 1e22 1e23",
+    "123456789012345678901234567890 0.000000000000000000000000000000001 1e-45 1.4e-45 7e-46",
+    "3.4028236e38 3.40282357e38 1e39 1e999 -1e999 1e-999 0e999999 00000000000000000000001.5 1.5e0000000002",
+    "0x1p3 0X1.8P-1 -0x.8p1 inf -INF nan NaN infinity 0x1p128",
+    "1e 1e+ . - + .e1 1..2 1e1.5 --1",
+    "4.2949673e9 -1.7976931348623157e308 2.2250738585072014e-308 4.9406564584124654e-324",
+    "8.589973e9 0.30000001192092896 0.1000000014901161194 -1.0000000000000000000000000001",
+]
 
 
 if __name__ == "__main__":
