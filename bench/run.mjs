@@ -49,6 +49,8 @@ function usage(code) {
   --contenders LIST    subset of ${ALL_CONTENDERS.join(',')}
   --halfedge-cap SEC   time cap of one three-mesh-halfedge run (default 60)
   --child-cap SEC      time cap of any other child process (default 900)
+  --warm-memory GIB    touch this much memory once before measuring (default: free memory - 3 GiB,
+                       at most 16; --quick 2; --tiny 0); see "Memory warm-up" below
   --out FILE           JSON results (default bench/results/latest.json; --tiny: a temp file)
   --no-write           write no result files`);
   process.exit(code);
@@ -56,7 +58,7 @@ function usage(code) {
 
 const opt = {
   sizes: null, reps: null, warm: null, only: null, contenders: null, halfedgeCap: 60,
-  childCap: 900, out: null, write: true, quick: false, tiny: false,
+  childCap: 900, out: null, write: true, quick: false, tiny: false, warmMemoryGiB: null,
 };
 {
   const a = process.argv.slice(2);
@@ -73,6 +75,7 @@ const opt = {
       case '--halfedge-cap': opt.halfedgeCap = Number(v()); break;
       case '--child-cap': opt.childCap = Number(v()); break;
       case '--out': opt.out = path.resolve(v()); break;
+      case '--warm-memory': opt.warmMemoryGiB = Math.max(0, Number(v()) || 0); break;
       case '--no-write': opt.write = false; break;
       case '-h': case '--help': usage(0); break;
       default: console.error(`run.mjs: unknown option ${a[i]}`); usage(2);
@@ -301,6 +304,39 @@ const env = {
 
 const t0run = Date.now();
 log(`stltopo bench: ${selected.length} cases x ${opt.reps} reps; contenders ${opt.contenders.join(', ')}`);
+
+// Memory warm-up. On a freshly booted VM the host backs guest memory lazily: the first
+// time the guest touches a physical page costs the host a fault and a zeroing (seen here:
+// ~3.5 us per 4 KiB page, ~40x the cost of a page the guest has used before). Whichever
+// contender happens to receive never-touched pages pays that, so the figures would depend
+// on the machine's history rather than on the code. One child process writes through
+// most of the free memory once and exits; the kernel then reuses those pages. The first
+// and a second pass are timed and reported (env.memoryWarmup).
+function warmMemory(gib) {
+  if (!(gib > 0)) return { gib: 0 };
+  const script = `
+    const t = [], bufs = [];
+    for (let pass = 0; pass < 2; ++pass) {
+      const t0 = performance.now();
+      for (let i = 0; i < ${Math.round(gib * 4)}; ++i) {
+        if (pass === 0) bufs.push(Buffer.allocUnsafeSlow(256 << 20));
+        bufs[i].fill(pass + 1);
+      }
+      t.push(performance.now() - t0);
+    }
+    console.log(JSON.stringify(t));`;
+  const r = spawnSync(process.execPath, ['--max-old-space-size=256', '-e', script], { encoding: 'utf8' });
+  if (r.status !== 0) { log(`memory warm-up failed: ${(r.stderr || '').slice(-300)}`); return { gib, failed: true }; }
+  const [firstMs, againMs] = JSON.parse(r.stdout.trim());
+  const out = { gib, firstTouchMs: round(firstMs, 0), secondPassMs: round(againMs, 0), firstTouchGiBps: round(gib / (firstMs / 1e3), 2), secondPassGiBps: round(gib / (againMs / 1e3), 2) };
+  log(`memory warm-up: ${gib} GiB, first touch ${out.firstTouchGiBps} GiB/s, second pass ${out.secondPassGiBps} GiB/s`);
+  return out;
+}
+{
+  const auto = Math.min(16, Math.floor(os.freemem() / 2 ** 30) - 3);
+  const gib = opt.warmMemoryGiB ?? (opt.tiny ? 0 : opt.quick ? Math.min(2, auto) : auto);
+  env.memoryWarmup = warmMemory(Math.max(0, gib));
+}
 const idle = {};
 if (opt.contenders.includes('native-cli')) idle.cliKiB = idleRss(cliArgs(idleFile));
 if (opt.contenders.includes('admesh')) idle.admeshKiB = idleRss(admeshArgs(idleFile));
@@ -524,7 +560,10 @@ md.push(`Machine: ${env.machine.cpu}, ${env.machine.cores} cores, ${env.machine.
   `three-mesh-halfedge ${env.versions['three-mesh-halfedge']}, admesh ${env.versions.admesh}. ` +
   `Medians of ${opt.reps} alternating repetitions (one child process per measurement, one at a time); in-process "warm" = median of the calls after the first ` +
   `in the same process (${opt.warm}; native at 100k and below: 5; fewer when a call takes over 10 s); whole-process figures at 100k and below: median of 3 back-to-back runs per repetition. ` +
-  `Commit ${env.git.commit ? env.git.commit.slice(0, 10) : '?'}${env.git.dirtySources ? ' (+ uncommitted source changes)' : ''}. Load average at start ${env.machine.loadAverageAtStart.join(', ')}.`);
+  `Commit ${env.git.commit ? env.git.commit.slice(0, 10) : '?'}${env.git.dirtySources ? ' (+ uncommitted source changes)' : ''}. Load average at start ${env.machine.loadAverageAtStart.join(', ')}.` +
+  (env.memoryWarmup.gib > 0 && !env.memoryWarmup.failed
+    ? ` Memory warm-up before measuring: ${env.memoryWarmup.gib} GiB touched once, first touch ${env.memoryWarmup.firstTouchGiBps} GiB/s, second pass ${env.memoryWarmup.secondPassGiBps} GiB/s.`
+    : ''));
 md.push('');
 md.push('### Time (ms; lower is better)');
 md.push('');

@@ -91,8 +91,9 @@ class Session {
     return remember(reader_->feed(input_, n));
   }
 
-  // Completes the read, frees the reader and builds the topology when asked.
-  val finish(bool topology, double tolerance) {
+  // Completes the read, frees the reader and builds the topology when asked
+  // (prevAndFace false: without the prev and face arrays, see TopologyOptions).
+  val finish(bool topology, double tolerance, bool prevAndFace) {
     if (!reader_) return statusToJs(makeStatus(Code::OutOfMemory, "could not allocate the reader"));
     std::free(input_);
     input_ = nullptr;
@@ -105,6 +106,7 @@ class Session {
     if (topology) {
       stltopo::TopologyOptions to;
       to.tolerance = tolerance > 0 ? tolerance : 0;
+      to.prevAndFace = prevAndFace;
       s = stltopo::buildTopology(mesh_, topo_, to);
       if (!s.ok()) return remember(s);
       hasTopology_ = true;

@@ -265,16 +265,28 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   struct VertexInfo {
     uint32_t he, deg;
   };
+  // Without prev and face (options.prevAndFace false), a bit per half-edge marks the
+  // boundary-loop half-edges that are not labelled yet (what face == kInvalid marks),
+  // and the fan walk takes lPrev of a triangle half-edge as next[next[e]].
+  const bool full = options.prevAndFace;
   Array<uint32_t> boundary;
   Array<VertexInfo> vinfo;
-  if (!out.next.resize(nh) || !out.prev.resize(nh) || !out.vert.resize(nh) || !out.face.resize(nh) ||
-      !out.pairKind.resize(nPairs) || !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) ||
-      !boundary.resize(nBoundarySides) || !vinfo.assign(nv, VertexInfo{kInvalid, 0}))
+  Array<uint64_t> unlabelled;
+  if (!out.next.resize(nh) || !out.vert.resize(nh) || !out.pairKind.resize(nPairs) ||
+      !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) || !boundary.resize(nBoundarySides) ||
+      !vinfo.assign(nv, VertexInfo{kInvalid, 0}))
+    return oom();
+  if (full ? !out.prev.resize(nh) || !out.face.resize(nh) : !unlabelled.assign((size_t(nh) + 63) / 64, 0))
     return oom();
   uint32_t* next = out.next.data();
   uint32_t* prev = out.prev.data();
   uint32_t* vert = out.vert.data();
   uint32_t* face = out.face.data();
+  uint64_t* ubits = unlabelled.data();
+  // Whether boundary-loop half-edge e is still unlabelled (false for triangle half-edges).
+  auto isUnlabelled = [&](uint32_t e) {
+    return full ? face[e] == kInvalid : ((ubits[e >> 6] >> (e & 63)) & 1u) != 0;
+  };
   uint8_t* pairKind = out.pairKind.data();
   uint32_t* vh = out.vertexHalfedge.data();
   VertexInfo* vi = vinfo.data();
@@ -299,7 +311,8 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
           if (p == kNone) {
             uint32_t v = C[dstSide(s)];
             vert[he + 1] = v;
-            face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
+            if (full) face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
+            else ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
             bnd[nb++] = he + 1;
             if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
             ++vi[v].deg;
@@ -313,8 +326,10 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
         uint32_t e = h[c], v = C[3 * t + c];
         vert[e] = v;
         next[e] = h[c == 2 ? 0 : c + 1];
-        prev[e] = h[c == 0 ? 2 : c - 1];
-        face[e] = t;
+        if (full) {
+          prev[e] = h[c == 0 ? 2 : c - 1];
+          face[e] = t;
+        }
         uint32_t cur = vi[v].he;
         if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vi[v].he = e;
         ++vi[v].deg;
@@ -333,10 +348,10 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     uint32_t h = b ^ 1u;
     uint32_t steps = 0;
     for (;;) {
-      uint32_t p = prev[h];
-      if (face[p ^ 1u] == kInvalid) {
+      uint32_t p = full ? prev[h] : next[next[h]];  // h is a triangle half-edge
+      if (isUnlabelled(p ^ 1u)) {
         next[b] = p ^ 1u;
-        prev[p ^ 1u] = b;
+        if (full) prev[p ^ 1u] = b;
         break;
       }
       h = p ^ 1u;
@@ -349,13 +364,14 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (!out.loopOffsets.push_back(0)) return oom();
   for (uint32_t i = 0; i < nBoundarySides; ++i) {
     uint32_t e = bnd[i];
-    if (face[e] != kInvalid) continue;
+    if (!isUnlabelled(e)) continue;
     uint32_t f = nt + nLoops;
     bool seam = false;
     double perim = 0;
     uint32_t x = e, steps = 0;
     do {
-      face[x] = f;
+      if (full) face[x] = f;
+      else ubits[x >> 6] &= ~(uint64_t(1) << (x & 63));
       if (!out.loopHalfedges.push_back(x)) return oom();
       if (pairKind[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
       const float* a = mesh.positions.data() + size_t(vert[x]) * 3;

@@ -20,6 +20,8 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // The counts agree with the arrays.
   if (t.nTriangles != nt || t.nVertices != nv) return bad("triangle/vertex counts differ from the mesh", 0);
   if (nh % 2 != 0) return bad("odd number of half-edges", nh);
+  if (nh > 0 && t.prev.empty() && t.face.empty())
+    return bad("prev and face were not built (TopologyOptions::prevAndFace = false)", nh);
   if (t.prev.size() != nh || t.vert.size() != nh || t.face.size() != nh || t.pairKind.size() != nh / 2)
     return bad("half-edge arrays differ in length", nh);
   if (t.triangleHalfedge.size() != nt || t.triangleDegenerate.size() != nt) return bad("per-triangle arrays have the wrong length", nt);

@@ -26,6 +26,8 @@ Built build(const gen::Soup& s, double tolerance = 0) {
   EXPECT_TRUE(st.ok()) << st.message;
   Status v = validate(b.mesh, b.topo);
   EXPECT_TRUE(v.ok()) << v.message;
+  // Every generated case also checks the report-only topology (prevAndFace = false).
+  EXPECT_EQ(gen::leanTopologyDifference(b.mesh, b.topo, tolerance), "");
   return b;
 }
 

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 
+#include "../stl_gen.h"
 #include "stltopo.h"
 
 namespace fuzz {
@@ -90,6 +91,12 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
     FUZZ_CHECK(s.ok());
   }
   FUZZ_CHECK(t.nBoundaryEdges + t.nNonManifoldEdges + t.nInconsistentEdges <= t.nEdges);
+  // The report-only topology (prevAndFace = false, as the CLIs build it) is the same.
+  const std::string lean = gen::leanTopologyDifference(m, t, to.tolerance);
+  if (!lean.empty()) {
+    std::fprintf(stderr, "prevAndFace = false differs: %s\n", lean.c_str());
+    FUZZ_CHECK(lean.empty());
+  }
   FUZZ_CHECK(t.nDegenerate <= t.nTriangles);
   std::string j = infoJson("f", m, &t);
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');

@@ -39,9 +39,10 @@ const TOPOLOGY_ARRAYS = [
 ];
 // Small per-loop arrays: always copied, so holes/seams never dangle.
 const LOOP_ARRAYS = ['loopOffsets', 'loopHalfedges', 'loopIsSeam', 'loopPerimeter'];
-// Half-edge arrays that copies (and worker results) leave in wasm: they follow from next,
-// triangleHalfedge, triangles, vertexWeld and the loops, and are rebuilt in JS on first
-// use, which costs about as much as copying them (3 x 4 bytes per half-edge) would.
+// Half-edge arrays that copies (and worker results) do not take from wasm: they follow
+// from next, triangleHalfedge, triangles, vertexWeld and the loops, and are rebuilt in JS
+// on first use, which costs about as much as copying them (3 x 4 bytes per half-edge)
+// would. For copies the core does not even build prev and face (prevAndFace: false).
 const DERIVED_ARRAYS = ['prev', 'face', 'vert'];
 
 const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
@@ -308,7 +309,8 @@ export function createStltopo({ instantiate, loadWorker = null }) {
           }
         }
       }
-      const st = session.finish(o.topology, o.tolerance);
+      // prev and face only where they are read from wasm: views and validate().
+      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate);
       if (st) throw fromStatus(st);
       progress(true);
       return session;
@@ -371,7 +373,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     const entry = await getModule();
     let session = null;
     try {
-      session = await readSession(entry, source, o);
+      session = await readSession(entry, source, validate ? { ...o, validate } : o);
       return extractRaw(session, true, validate);
     } catch (e) {
       throw wasmFailure(entry, e);
