@@ -76,6 +76,18 @@ if (mode === 'wasm-read' || mode === 'wasm-full' || mode === 'wasm-view') {
   // The wasm linear memory never shrinks: its size after the first call is the high-water
   // mark of the heap (WebAssembly.Memory buffer byteLength, via emscripten_get_heap_size).
   out.heapBytes = (await _internal.heap()).size;
+  if (mode === 'wasm-full') {
+    // Copies leave halfedges.prev, face and vert to be rebuilt in JS on first read (the
+    // core does not build prev and face for them): what that first read costs, once.
+    const mesh = await loadStl(readFileSync(file), { topology, view });
+    gc();
+    const t0 = performance.now();
+    const { prev, face, vert } = mesh.halfedges;
+    out.derivedHalfedgesMs = performance.now() - t0;
+    if (prev.length !== mesh.nHalfedges || face.length !== prev.length || vert.length !== prev.length) {
+      throw new Error('derived half-edge arrays have the wrong length');
+    }
+  }
 } else if (mode === 'three' || mode === 'three-halfedge') {
   let STLLoader, mergeVertices, HalfedgeDS;
   const halfedge = mode === 'three-halfedge';

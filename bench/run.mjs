@@ -441,6 +441,7 @@ function summarize(c, samples) {
       r.heapIdleBytes = s[0].heapIdleBytes;
       r.heapBytesPerTriangle = perTri(r.heapBytes);
       r.holes = s[0].holes;
+      if (k === 'wasm-full') r.derivedHalfedgesMs = round(med(s, (x) => x.derivedHalfedgesMs));
     } else {
       const st = (pick) => {
         const xs = s.map(pick).filter(Boolean);
@@ -585,7 +586,7 @@ md.push('');
 md.push('### stltopo stages, native in-process (ms, warm; first call in parentheses) and throughput');
 md.push('');
 md.push(table(
-  ['case', 'read (parse + weld)', 'topology (pairing + holes + vertex loops)', 'stats (report)', 'total', 'M tri/s in-process', 'M tri/s wasm full', 'M tri/s process', 'MB/s process'],
+  ['case', 'read (parse + weld)', 'topology (pairing + holes + vertex loops)', 'stats (report)', 'total', 'M tri/s in-process', 'M tri/s wasm full', 'M tri/s process', 'MB/s process', 'wasm full: first read of prev/face/vert in JS'],
   results.filter((r) => C(r, 'native')).map((r) => {
     const n = C(r, 'native');
     return [
@@ -593,6 +594,7 @@ md.push(table(
       `${ms(n.warm.reportMs)} (${ms(n.first.reportMs)})`, `${ms(n.warm.totalMs)} (${ms(n.first.totalMs)})`,
       f(n.mTrianglesPerSecond, 2), C(r, 'wasm-full') ? f(C(r, 'wasm-full').mTrianglesPerSecond, 2) : '–',
       C(r, 'native-cli') ? f(C(r, 'native-cli').mTrianglesPerSecond, 2) : '–', f(r.mbytesPerSecondNativeCli, 0),
+      C(r, 'wasm-full') && C(r, 'wasm-full').derivedHalfedgesMs != null ? ms(C(r, 'wasm-full').derivedHalfedgesMs) : '–',
     ];
   }),
 ));
