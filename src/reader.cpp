@@ -146,13 +146,17 @@ struct Builder {
         const uint8_t* q = rec + 12 + 12 * c;
         uint32_t h = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
         batchHash[3 * r + c] = h;
-#if defined(__EMSCRIPTEN__)
-        acc |= table[h & mask].id;
-#else
+#if !defined(__EMSCRIPTEN__)
         __builtin_prefetch(&table[h & mask]);
 #endif
       }
     }
+#if defined(__EMSCRIPTEN__)
+    // The loads in a loop of their own: a few instructions each, so that many more of them
+    // fit in the out-of-order window (and miss at the same time) than between the hashes.
+    const Slot* tb = table.data();
+    for (uint32_t i = 0; i < 3 * count; ++i) acc |= tb[batchHash[i] & mask].id;
+#endif
     touchSink += acc;
   }
 
