@@ -251,6 +251,12 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   keys.release();
   offsets.release();
 
+  // Shells: edge-connected components of the non-degenerate triangles. Counted now, so
+  // that the union-find is freed before the half-edge arrays are allocated.
+  for (uint32_t t = 0; t < nt; ++t)
+    if (!degen[t] && uf.find(t) == t) ++out.nShells;
+  uf.parent.release();
+
   // One pass in file order numbers the pairs and writes the triangle half-edges. A side
   // either closes the pair of its earlier partner (odd id) or opens a new pair (even id);
   // partner[] is overwritten in place by the side's half-edge id. The twin of an unpaired
@@ -419,9 +425,6 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     out.nNonManifoldVertices = nNonManifold;
   }
 
-  // Shells: edge-connected components of the non-degenerate triangles.
-  for (uint32_t t = 0; t < nt; ++t)
-    if (!degen[t] && uf.find(t) == t) ++out.nShells;
   return Status{};
 }
 
