@@ -44,7 +44,7 @@ function usage(code) {
   --tiny               ${SIZES.tiny}-triangle cases, 1 repetition (the npm test smoke run)
   --sizes LIST         comma-separated sizes from ${Object.keys(SIZES).join(',')} (default 100k,1M,4M)
   --reps N             repetitions per contender and case (default 3; --tiny 1)
-  --warm N             warm calls after the first one, in-process contenders (default 2)
+  --warm N             warm calls after the first one, in-process contenders (default 4)
   --only REGEX         only the cases whose id matches (ids: bin-1M-shuffled-holes, ascii-100k, ...)
   --contenders LIST    subset of ${ALL_CONTENDERS.join(',')}
   --halfedge-cap SEC   time cap of one three-mesh-halfedge run (default 60)
@@ -87,7 +87,7 @@ const opt = {
   for (const c of opt.contenders) if (!ALL_CONTENDERS.includes(c)) { console.error(`run.mjs: unknown contender ${c}`); usage(2); }
   opt.sizes ??= opt.tiny ? ['tiny'] : opt.quick ? ['100k'] : ['100k', '1M', '4M'];
   opt.reps ??= opt.tiny ? 1 : 3;
-  opt.warm ??= opt.tiny ? 1 : 2;
+  opt.warm ??= opt.tiny ? 1 : 4;
   opt.out ??= opt.tiny ? path.join(os.tmpdir(), `stltopo-bench-smoke-${process.pid}.json`)
     : path.join(root, 'bench/results/latest.json');
 }
