@@ -49,8 +49,8 @@ function usage(code) {
   --contenders LIST    subset of ${ALL_CONTENDERS.join(',')}
   --halfedge-cap SEC   time cap of one three-mesh-halfedge run (default 60)
   --child-cap SEC      time cap of any other child process (default 900)
-  --warm-memory GIB    touch this much memory once before measuring (default: free memory - 3 GiB,
-                       at most 16; --quick 2; --tiny 0); see "Memory warm-up" below
+  --warm-memory GIB    touch this much memory once before measuring and report how fast that was
+                       (default 1; --tiny 0); see "Memory first touch" below
   --out FILE           JSON results (default bench/results/latest.json; --tiny: a temp file)
   --no-write           write no result files`);
   process.exit(code);
@@ -305,13 +305,15 @@ const env = {
 const t0run = Date.now();
 log(`stltopo bench: ${selected.length} cases x ${opt.reps} reps; contenders ${opt.contenders.join(', ')}`);
 
-// Memory warm-up. On a freshly booted VM the host backs guest memory lazily: the first
-// time the guest touches a physical page costs the host a fault and a zeroing (seen here:
-// ~3.5 us per 4 KiB page, ~40x the cost of a page the guest has used before). Whichever
-// contender happens to receive never-touched pages pays that, so the figures would depend
-// on the machine's history rather than on the code. One child process writes through
-// most of the free memory once and exits; the kernel then reuses those pages. The first
-// and a second pass are timed and reported (env.memoryWarmup).
+// Memory first touch. On a VM whose host backs guest memory lazily, the first touch of a
+// page the host has not backed costs a host fault and zeroing (seen here: 0.27 GiB/s, ~15 us
+// per 4 KiB page, against 10-23 GiB/s for a second pass over the same memory). With free
+// page reporting (Firecracker's page_reporting_order=11 here) the guest hands freed 8 MiB
+// blocks back to the host within seconds, so this cannot be warmed up for good: every new
+// process, and every first call, pays it again for the memory it touches. Whole-process
+// and first-call figures include it, in proportion to the memory each contender touches;
+// in-process warm figures do not. One child process touches GIB of memory twice and the
+// rates are reported (env.memoryWarmup), so that a run says what its machine did.
 function warmMemory(gib) {
   if (!(gib > 0)) return { gib: 0 };
   const script = `
@@ -329,13 +331,12 @@ function warmMemory(gib) {
   if (r.status !== 0) { log(`memory warm-up failed: ${(r.stderr || '').slice(-300)}`); return { gib, failed: true }; }
   const [firstMs, againMs] = JSON.parse(r.stdout.trim());
   const out = { gib, firstTouchMs: round(firstMs, 0), secondPassMs: round(againMs, 0), firstTouchGiBps: round(gib / (firstMs / 1e3), 2), secondPassGiBps: round(gib / (againMs / 1e3), 2) };
-  log(`memory warm-up: ${gib} GiB, first touch ${out.firstTouchGiBps} GiB/s, second pass ${out.secondPassGiBps} GiB/s`);
+  log(`memory first touch: ${gib} GiB, ${out.firstTouchGiBps} GiB/s; second pass ${out.secondPassGiBps} GiB/s`);
   return out;
 }
 {
-  const auto = Math.min(16, Math.floor(os.freemem() / 2 ** 30) - 3);
-  const gib = opt.warmMemoryGiB ?? (opt.tiny ? 0 : opt.quick ? Math.min(2, auto) : auto);
-  env.memoryWarmup = warmMemory(Math.max(0, gib));
+  const gib = opt.warmMemoryGiB ?? (opt.tiny ? 0 : 1);
+  env.memoryWarmup = warmMemory(Math.max(0, Math.min(gib, Math.floor(os.freemem() / 2 ** 30) - 2)));
 }
 const idle = {};
 if (opt.contenders.includes('native-cli')) idle.cliKiB = idleRss(cliArgs(idleFile));
@@ -563,7 +564,7 @@ md.push(`Machine: ${env.machine.cpu}, ${env.machine.cores} cores, ${env.machine.
   `in the same process (${opt.warm}; native at 100k and below: 5; fewer when a call takes over 10 s); whole-process figures at 100k and below: median of 3 back-to-back runs per repetition. ` +
   `Commit ${env.git.commit ? env.git.commit.slice(0, 10) : '?'}${env.git.dirtySources ? ' (+ uncommitted source changes)' : ''}. Load average at start ${env.machine.loadAverageAtStart.join(', ')}.` +
   (env.memoryWarmup.gib > 0 && !env.memoryWarmup.failed
-    ? ` Memory warm-up before measuring: ${env.memoryWarmup.gib} GiB touched once, first touch ${env.memoryWarmup.firstTouchGiBps} GiB/s, second pass ${env.memoryWarmup.secondPassGiBps} GiB/s.`
+    ? ` Memory first touch on this machine (${env.memoryWarmup.gib} GiB, one process): ${env.memoryWarmup.firstTouchGiBps} GiB/s, second pass ${env.memoryWarmup.secondPassGiBps} GiB/s; whole-process and first-call figures pay the first-touch rate for the memory they use.`
     : ''));
 md.push('');
 md.push('### Time (ms; lower is better)');
