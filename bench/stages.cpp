@@ -7,6 +7,9 @@
 // all repetitions. cpuMs: process CPU time of read + topology + report (unaffected by
 // waiting for a busy core). rssKiB: peak RSS before the first call and after it (getrusage).
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <time.h>
 
@@ -67,6 +70,15 @@ static std::string jsonStages(const Times& t, size_t from, size_t to, uint32_t n
 }
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // Warm calls reuse the memory of the calls before them, as the wasm heap does (linear
+  // memory is never given back) and as the CLI does: glibc would otherwise unmap every
+  // large array when it is freed and map fresh, zeroed pages for the next call, and on a
+  // VM with free page reporting each of those first touches costs a host page fault
+  // (seen here: +/-50 % on the shuffled topology from one call to the next).
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
   if (argc < 2) {
     std::fprintf(stderr, "usage: stltopo_stages FILE [REPS] [--json]\n");
     return 2;
