@@ -6,12 +6,17 @@
 // faults); "warm" is the median of repetitions 2..REPS; the plain fields are the median of
 // all repetitions. cpuMs: process CPU time of read + topology + report (unaffected by
 // waiting for a busy core). rssKiB: peak RSS before the first call and after it (getrusage).
+//   stltopo_stages FILE --streamed-peak
+// instead streams FILE through a Reader in 1 MiB chunks, builds the full topology (prev
+// and face included) and the report once, and prints the peak RSS above the RSS before
+// the read, as JSON: the memory of the full topology with the input streamed.
 #include <sys/resource.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -69,7 +74,40 @@ static std::string jsonStages(const Times& t, size_t from, size_t to, uint32_t n
   return buf;
 }
 
+static long currentRssKiB() {
+  long pages = 0, resident = 0;
+  FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+  std::fclose(f);
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+static int streamedPeak(const char* path) {
+  FILE* f = std::fopen(path, "rb");
+  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  std::vector<uint8_t> buf(1 << 20);
+  long before = currentRssKiB();
+  stltopo::Reader reader;
+  stltopo::Status s;
+  for (size_t n; s.ok() && (n = std::fread(buf.data(), 1, buf.size(), f)) > 0;) s = reader.feed(buf.data(), n);
+  std::fclose(f);
+  stltopo::Mesh mesh;
+  if (s.ok()) s = reader.finish(mesh);
+  stltopo::Topology topo;
+  if (s.ok()) s = stltopo::buildTopology(mesh, topo);  // prevAndFace = true: the full topology
+  if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+  std::string j = stltopo::infoJson(path, mesh, &topo);
+  long peak = maxRssKiB();
+  std::printf("{\"triangles\":%u,\"rssBeforeKiB\":%ld,\"peakRssKiB\":%ld,\"halfedges\":%u,\"reportBytes\":%zu}\n",
+              mesh.nTriangles(), before, peak, topo.nHalfedges(), j.size());
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  // With the C library's default allocation (each large array mapped and unmapped on its
+  // own), the peak is that of the live arrays.
+  if (argc > 2 && !std::strcmp(argv[2], "--streamed-peak")) return streamedPeak(argv[1]);
 #if defined(__GLIBC__)
   // Warm calls reuse the memory of the calls before them, as the wasm heap does (linear
   // memory is never given back) and as the CLI does: glibc would otherwise unmap every
