@@ -271,9 +271,9 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   struct VertexInfo {
     uint32_t he, deg;
   };
-  // Without prev and face (options.prevAndFace false), a bit per half-edge marks the
-  // boundary-loop half-edges that are not labelled yet (what face == kInvalid marks),
-  // and the fan walk takes lPrev of a triangle half-edge as next[next[e]].
+  // A bit per half-edge marks the boundary-loop half-edges not labelled with their loop
+  // yet; the fan walk takes lPrev of a triangle half-edge as next[next[e]]. So prev and
+  // face are only written, never read, and options.prevAndFace = false can skip them.
   const bool full = options.prevAndFace;
   Array<uint32_t> boundary;
   Array<VertexInfo> vinfo;
@@ -282,7 +282,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
       !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) || !boundary.resize(nBoundarySides) ||
       !vinfo.assign(nv, VertexInfo{kInvalid, 0}))
     return oom();
-  if (full ? !out.prev.resize(nh) || !out.face.resize(nh) : !unlabelled.assign((size_t(nh) + 63) / 64, 0))
+  if (!unlabelled.assign((size_t(nh) + 63) / 64, 0) || (full && (!out.prev.resize(nh) || !out.face.resize(nh))))
     return oom();
   uint32_t* next = out.next.data();
   uint32_t* prev = out.prev.data();
@@ -290,9 +290,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   uint32_t* face = out.face.data();
   uint64_t* ubits = unlabelled.data();
   // Whether boundary-loop half-edge e is still unlabelled (false for triangle half-edges).
-  auto isUnlabelled = [&](uint32_t e) {
-    return full ? face[e] == kInvalid : ((ubits[e >> 6] >> (e & 63)) & 1u) != 0;
-  };
+  auto isUnlabelled = [&](uint32_t e) { return ((ubits[e >> 6] >> (e & 63)) & 1u) != 0; };
   uint8_t* pairKind = out.pairKind.data();
   uint32_t* vh = out.vertexHalfedge.data();
   VertexInfo* vi = vinfo.data();
@@ -317,8 +315,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
           if (p == kNone) {
             uint32_t v = C[dstSide(s)];
             vert[he + 1] = v;
-            if (full) face[he + 1] = kInvalid;  // marks a boundary-loop half-edge until labelled
-            else ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
+            ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
             bnd[nb++] = he + 1;
             if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
             ++vi[v].deg;
@@ -354,7 +351,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     uint32_t h = b ^ 1u;
     uint32_t steps = 0;
     for (;;) {
-      uint32_t p = full ? prev[h] : next[next[h]];  // h is a triangle half-edge
+      uint32_t p = next[next[h]];  // lPrev: h is a triangle half-edge
       if (isUnlabelled(p ^ 1u)) {
         next[b] = p ^ 1u;
         if (full) prev[p ^ 1u] = b;
@@ -376,8 +373,8 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
     double perim = 0;
     uint32_t x = e, steps = 0;
     do {
+      ubits[x >> 6] &= ~(uint64_t(1) << (x & 63));
       if (full) face[x] = f;
-      else ubits[x >> 6] &= ~(uint64_t(1) << (x & 63));
       if (!out.loopHalfedges.push_back(x)) return oom();
       if (pairKind[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
       const float* a = mesh.positions.data() + size_t(vert[x]) * 3;
