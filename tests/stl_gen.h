@@ -132,6 +132,12 @@ inline stltopo::Status readChunked(const std::string& bytes, size_t chunk, stlto
   return r.finish(m);
 }
 
+// Element-wise equality of two arrays (bit for bit).
+template <class T>
+inline bool sameArray(const stltopo::Array<T>& a, const stltopo::Array<T>& b) {
+  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
 // Builds the topology of m again with TopologyOptions::prevAndFace = false and returns
 // the first difference from `full` (built with the same tolerance and prevAndFace = true),
 // or "" when the lean topology equals it in everything but the empty prev and face.
@@ -143,11 +149,8 @@ inline std::string leanTopologyDifference(const stltopo::Mesh& m, const stltopo:
   stltopo::Status s = stltopo::buildTopology(m, lean, o);
   if (!s.ok()) return "buildTopology: " + s.message;
   if (!lean.prev.empty() || !lean.face.empty()) return "prev or face was built";
-  auto same = [](const auto& a, const auto& b) {
-    return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
-  };
 #define STLTOPO_SAME(f) \
-  if (!same(lean.f, full.f)) return #f;
+  if (!sameArray(lean.f, full.f)) return #f;
   STLTOPO_SAME(next) STLTOPO_SAME(vert) STLTOPO_SAME(pairKind) STLTOPO_SAME(triangleHalfedge)
   STLTOPO_SAME(vertexHalfedge) STLTOPO_SAME(vertexWeld) STLTOPO_SAME(loopHalfedge) STLTOPO_SAME(loopOffsets)
   STLTOPO_SAME(loopHalfedges) STLTOPO_SAME(loopIsSeam) STLTOPO_SAME(loopPerimeter) STLTOPO_SAME(triangleDegenerate)

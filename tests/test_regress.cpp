@@ -39,10 +39,7 @@ void expectSameStatus(const Status& a, const Status& b, const std::string& what)
   EXPECT_EQ(a.triangle, b.triangle) << what;
 }
 
-template <class T>
-bool sameArray(const Array<T>& a, const Array<T>& b) {
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using gen::sameArray;
 
 void expectSameMesh(const Mesh& a, const Mesh& b, const std::string& what) {
   EXPECT_EQ(a.format, b.format) << what;

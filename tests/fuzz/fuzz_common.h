@@ -102,10 +102,7 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
 }
 
-template <class T>
-inline bool sameArray(const Array<T>& a, const Array<T>& b) {
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using gen::sameArray;
 
 inline bool sameStatus(const Status& a, const Status& b) {
   return a.code == b.code && a.message == b.message && a.offset == b.offset && a.line == b.line &&
