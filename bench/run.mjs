@@ -49,7 +49,7 @@ function usage(code) {
   --contenders LIST    subset of ${ALL_CONTENDERS.join(',')}
   --halfedge-cap SEC   time cap of one three-mesh-halfedge run (default 60)
   --child-cap SEC      time cap of any other child process (default 900)
-  --warm-memory GIB    touch this much memory once before measuring and report how fast that was
+  --first-touch GIB    touch this much memory twice before measuring and report how fast that was
                        (default 1; --tiny 0); see "Memory first touch" below
   --out FILE           JSON results (default bench/results/latest.json; --tiny: a temp file)
   --no-write           write no result files`);
@@ -58,7 +58,7 @@ function usage(code) {
 
 const opt = {
   sizes: null, reps: null, warm: null, only: null, contenders: null, halfedgeCap: 60,
-  childCap: 900, out: null, write: true, quick: false, tiny: false, warmMemoryGiB: null,
+  childCap: 900, out: null, write: true, quick: false, tiny: false, firstTouchGiB: null,
 };
 {
   const a = process.argv.slice(2);
@@ -75,7 +75,7 @@ const opt = {
       case '--halfedge-cap': opt.halfedgeCap = Number(v()); break;
       case '--child-cap': opt.childCap = Number(v()); break;
       case '--out': opt.out = path.resolve(v()); break;
-      case '--warm-memory': opt.warmMemoryGiB = Math.max(0, Number(v()) || 0); break;
+      case '--first-touch': opt.firstTouchGiB = Math.max(0, Number(v()) || 0); break;
       case '--no-write': opt.write = false; break;
       case '-h': case '--help': usage(0); break;
       default: console.error(`run.mjs: unknown option ${a[i]}`); usage(2);
@@ -317,8 +317,8 @@ log(`stltopo bench: ${selected.length} cases x ${opt.reps} reps; contenders ${op
 // process, and every first call, pays it again for the memory it touches. Whole-process
 // and first-call figures include it, in proportion to the memory each contender touches;
 // in-process warm figures do not. One child process touches GIB of memory twice and the
-// rates are reported (env.memoryWarmup), so that a run says what its machine did.
-function warmMemory(gib) {
+// rates are reported (env.memoryFirstTouch), so that a run says what its machine did.
+function probeFirstTouch(gib) {
   if (!(gib > 0)) return { gib: 0 };
   const script = `
     const t = [], bufs = [];
@@ -332,15 +332,15 @@ function warmMemory(gib) {
     }
     console.log(JSON.stringify(t));`;
   const r = spawnSync(process.execPath, ['--max-old-space-size=256', '-e', script], { encoding: 'utf8' });
-  if (r.status !== 0) { log(`memory warm-up failed: ${(r.stderr || '').slice(-300)}`); return { gib, failed: true }; }
+  if (r.status !== 0) { log(`memory first-touch probe failed: ${(r.stderr || '').slice(-300)}`); return { gib, failed: true }; }
   const [firstMs, againMs] = JSON.parse(r.stdout.trim());
   const out = { gib, firstTouchMs: round(firstMs, 0), secondPassMs: round(againMs, 0), firstTouchGiBps: round(gib / (firstMs / 1e3), 2), secondPassGiBps: round(gib / (againMs / 1e3), 2) };
   log(`memory first touch: ${gib} GiB, ${out.firstTouchGiBps} GiB/s; second pass ${out.secondPassGiBps} GiB/s`);
   return out;
 }
 {
-  const gib = opt.warmMemoryGiB ?? (opt.tiny ? 0 : 1);
-  env.memoryWarmup = warmMemory(Math.max(0, Math.min(gib, Math.floor(os.freemem() / 2 ** 30) - 2)));
+  const gib = opt.firstTouchGiB ?? (opt.tiny ? 0 : 1);
+  env.memoryFirstTouch = probeFirstTouch(Math.max(0, Math.min(gib, Math.floor(os.freemem() / 2 ** 30) - 2)));
 }
 const idle = {};
 if (opt.contenders.includes('native-cli')) idle.cliKiB = idleRss(cliArgs(idleFile));
@@ -571,8 +571,8 @@ md.push(`Machine: ${env.machine.cpu}, ${env.machine.cores} cores, ${env.machine.
   `Medians of ${opt.reps} alternating repetitions (one child process per measurement, one at a time); in-process "warm" = median of the calls after the first ` +
   `in the same process (${opt.warm}; native at 100k and below: 5; fewer when a call takes over 10 s); whole-process figures at 100k and below: median of 3 back-to-back runs per repetition. ` +
   `Commit ${env.git.commit ? env.git.commit.slice(0, 10) : '?'}${env.git.dirtySources ? ' (+ uncommitted source changes)' : ''}. Load average at start ${env.machine.loadAverageAtStart.join(', ')}.` +
-  (env.memoryWarmup.gib > 0 && !env.memoryWarmup.failed
-    ? ` Memory first touch on this machine (${env.memoryWarmup.gib} GiB, one process): ${env.memoryWarmup.firstTouchGiBps} GiB/s, second pass ${env.memoryWarmup.secondPassGiBps} GiB/s; whole-process and first-call figures pay the first-touch rate for the memory they use.`
+  (env.memoryFirstTouch.gib > 0 && !env.memoryFirstTouch.failed
+    ? ` Memory first touch on this machine (${env.memoryFirstTouch.gib} GiB, one process): ${env.memoryFirstTouch.firstTouchGiBps} GiB/s, second pass ${env.memoryFirstTouch.secondPassGiBps} GiB/s; whole-process and first-call figures pay the first-touch rate for the memory they use.`
     : ''));
 md.push('');
 md.push('### Time (ms; lower is better)');
