@@ -258,11 +258,17 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   uf.parent.release();
 
   // One pass in file order numbers the pairs and writes the triangle half-edges. A side
-  // either closes the pair of its earlier partner (odd id) or opens a new pair (even id);
-  // partner[] is overwritten in place by the side's half-edge id. The twin of an unpaired
-  // side is a boundary-loop half-edge (listed in `boundary`, in increasing id order). The
-  // same pass picks each vertex's outgoing half-edge (bit 31 marks a boundary one, which
-  // wins over any triangle half-edge) and counts its outgoing half-edges.
+  // either opens a new pair (even id 2k) or closes the pair its earlier partner opened
+  // (odd id 2k+1). The opening side pushes k into its partner's partner[] word (marked with
+  // the Boundary kind, which is otherwise only stored with kNone), so the closing side
+  // finds its id in its own word, read in order, instead of reading its partner's word at a
+  // random place. The opening side also writes what it knows of the closing half-edge:
+  // vert (its own destination) and face (its partner's triangle), next to its own entries,
+  // so the closing side writes only next and prev at the random place of its id. The twin
+  // of an unpaired side is a boundary-loop half-edge (listed in `boundary`, in increasing
+  // id order). The same pass picks each vertex's outgoing half-edge (bit 31 marks a
+  // boundary one, which wins over any triangle half-edge) and counts its outgoing
+  // half-edges.
   const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
   const uint32_t nBoundarySides = nLive - 2 * nCouples;
@@ -295,6 +301,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   uint32_t* vh = out.vertexHalfedge.data();
   VertexInfo* vi = vinfo.data();
   constexpr uint32_t kBoundaryBit = 0x80000000u;  // half-edge ids are < 2^31 (ns < 2^30)
+  constexpr uint32_t kPushed = uint32_t(EdgeKind::Boundary);  // partner word holding a pair id
   {
     uint32_t* P = partner.data();
     uint32_t* bnd = boundary.data();
@@ -307,31 +314,34 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
       uint32_t h[3];
       for (uint32_t c = 0; c < 3; ++c) {
         uint32_t s = 3 * t + c, x = P[s], p = x & kNone;
-        if (p != kNone && p < s) {
-          h[c] = P[p] ^ 1u;
-        } else {
-          uint32_t he = 2 * k;
-          pairKind[k++] = uint8_t(x >> 30);
-          if (p == kNone) {
-            uint32_t v = C[dstSide(s)];
-            vert[he + 1] = v;
-            ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
-            bnd[nb++] = he + 1;
-            if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
-            ++vi[v].deg;
-          }
-          h[c] = he;
+        if (x >> 30 == kPushed && p != kNone) {
+          h[c] = 2 * p + 1;  // closes the pair whose id its partner pushed into p
+          continue;
         }
-        P[s] = h[c];
+        uint32_t he = 2 * k;
+        pairKind[k] = uint8_t(x >> 30);
+        uint32_t v = C[dstSide(s)];
+        vert[he + 1] = v;
+        if (p == kNone) {
+          ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
+          bnd[nb++] = he + 1;
+          if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
+          ++vi[v].deg;
+        } else {
+          P[p] = (kPushed << 30) | k;  // p > s: a partner earlier in file order would have pushed
+          if (full) face[he + 1] = p / 3;
+        }
+        ++k;
+        h[c] = he;
       }
       out.triangleHalfedge[t] = h[0];
       for (uint32_t c = 0; c < 3; ++c) {
         uint32_t e = h[c], v = C[3 * t + c];
-        vert[e] = v;
         next[e] = h[c == 2 ? 0 : c + 1];
-        if (full) {
-          prev[e] = h[c == 0 ? 2 : c - 1];
-          face[e] = t;
+        if (full) prev[e] = h[c == 0 ? 2 : c - 1];
+        if (!(e & 1u)) {  // opening: the closing side's entries were written by its partner
+          vert[e] = v;
+          if (full) face[e] = t;
         }
         uint32_t cur = vi[v].he;
         if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vi[v].he = e;
