@@ -173,7 +173,9 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   }
 
   // Pair the sides of each undirected edge, classify the edge, and unite its triangles
-  // into shells. partner[s] = kind << 30 | paired side (kNone: boundary or cut).
+  // into shells. partner[s] = kind << 30 | paired side (kNone: boundary or cut). The
+  // later side of a pair (in file order) needs no word here: the numbering pass writes it
+  // before reading it.
   Array<uint32_t> partner;
   UnionFind uf;
   if (!partner.resize(ns) || !uf.init(nt)) return oom();
@@ -212,8 +214,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
         } else if (m == 2) {
           uint32_t s1 = side(g0 + 1);
           if (dir(g0) != dir(g0 + 1)) {
-            P[s0] = s1;  // kind Interior = 0
-            P[s1] = s0;
+            P[s0] = s1;  // kind Interior = 0; s0 < s1 (a group is sorted by side)
             ++nCouples;
           } else {
             ++nInconsistentEdges;
