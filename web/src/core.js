@@ -518,13 +518,18 @@ function deriveHalfedgeArrays(arrays, nTriangles, which) {
   const vert = new Uint32Array(n);
   const tri = arrays.triangles;
   const weld = arrays.vertexWeld;
+  // The exact weld maps every vertex to itself: then skip the lookup, a random read per
+  // corner on a shuffled file.
+  let identity = true;
+  for (let v = 0; v < weld.length && identity; ++v) identity = weld[v] === v;
   for (let t = 0; t < nTriangles; ++t) {
     const h0 = th[t];
     if (h0 === kInvalid) continue;
     const h1 = next[h0];
-    vert[h0] = weld[tri[3 * t]];
-    vert[h1] = weld[tri[3 * t + 1]];
-    vert[next[h1]] = weld[tri[3 * t + 2]];
+    const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    vert[h0] = identity ? a : weld[a];
+    vert[h1] = identity ? b : weld[b];
+    vert[next[h1]] = identity ? c : weld[c];
   }
   for (let i = 0; i < list.length; ++i) {
     const e = list[i];
