@@ -257,11 +257,10 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
           for (uint32_t i = g0; i < g1; ++i) {
             uint32_t s = side(i);
             int d = dir(i);
-            P[s] = nm | kNone;
+            P[s] = nm | kNone;  // until paired: then the push from o replaces it
             if (head[1 - d] < queue[1 - d].size()) {
               uint32_t o = queue[1 - d][head[1 - d]++];
-              P[s] = nm | o;
-              P[o] = nm | s;
+              P[o] = nm | s;  // o < s (a group is sorted by side)
               ++nCouples;
             } else {
               queue[d].push_back(s);
