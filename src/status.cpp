@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <cstring>
 
 #include "detail.h"
 #include "stltopo.h"
@@ -47,6 +48,10 @@ std::string detail::format(const char* f, ...) {
 }
 
 Status detail::makeStatus(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
+  return Status::error(c, msg, offset, line, triangle);
+}
+
+Status Status::error(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
   Status s;
   s.code = c;
   s.message = std::string(codeName(c)) + ": " + msg;
@@ -69,25 +74,28 @@ void detail::adviseHugePages(void* p, size_t bytes) {
 #endif
 }
 
+namespace {
+// Indexed by Code; the static_assert keeps it in step with the enum.
+constexpr const char* kCodeNames[] = {
+    "ok",         "empty",         "not-stl", "truncated",     "unexpected-end",   "ascii-syntax",
+    "non-finite", "too-large",     "out-of-memory", "invalid-argument", "aborted", "invalid",
+    "trailing-bytes", "missing-endsolid", "name-truncated",
+};
+static_assert(sizeof(kCodeNames) / sizeof(kCodeNames[0]) == size_t(kCodeCount), "one name per Code");
+}  // namespace
+
 const char* codeName(Code c) {
-  switch (c) {
-    case Code::Ok: return "ok";
-    case Code::Empty: return "empty";
-    case Code::NotStl: return "not-stl";
-    case Code::Truncated: return "truncated";
-    case Code::UnexpectedEnd: return "unexpected-end";
-    case Code::AsciiSyntax: return "ascii-syntax";
-    case Code::NonFinite: return "non-finite";
-    case Code::TooLarge: return "too-large";
-    case Code::OutOfMemory: return "out-of-memory";
-    case Code::InvalidArgument: return "invalid-argument";
-    case Code::Aborted: return "aborted";
-    case Code::Invalid: return "invalid";
-    case Code::TrailingBytes: return "trailing-bytes";
-    case Code::MissingEndsolid: return "missing-endsolid";
-    case Code::NameTruncated: return "name-truncated";
-  }
-  return "unknown";
+  int i = int(c);
+  return i >= 0 && i < kCodeCount ? kCodeNames[i] : "unknown";
+}
+
+bool codeFromName(const char* name, Code& out) {
+  for (int i = 0; i < kCodeCount; ++i)
+    if (std::strcmp(name, kCodeNames[i]) == 0) {
+      out = Code(i);
+      return true;
+    }
+  return false;
 }
 
 const char* formatName(Format f) {

@@ -43,9 +43,14 @@ enum class Code : uint8_t {
   TrailingBytes,   // "trailing-bytes": < 84 extra bytes after the last binary triangle
   MissingEndsolid, // "missing-endsolid": ASCII file ends without endsolid
   NameTruncated,   // "name-truncated": a solid name longer than kMaxNameBytes
+  // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };
+inline constexpr int kCodeCount = int(Code::NameTruncated) + 1;
 
+// The stable name of a code ("truncated"), "unknown" for a value outside the enum.
 const char* codeName(Code c);
+// The code whose name is `name`; false (and `out` unchanged) when no code has that name.
+bool codeFromName(const char* name, Code& out);
 
 // A status: a code, a human message and where it happened. Fields that do not
 // apply are kNoOffset / 0 (line numbers start at 1) / kInvalid.
@@ -57,6 +62,10 @@ struct Status {
   uint32_t triangle = kInvalid; // triangle index, kInvalid = not applicable
   uint32_t element = kInvalid;  // validate(): the offending half-edge/vertex/face id
   bool ok() const { return code == Code::Ok; }
+
+  // An error or warning whose message starts with the code's name: "truncated: <message>".
+  static Status error(Code c, const std::string& message, uint64_t offset = kNoOffset, uint64_t line = 0,
+                      uint32_t triangle = kInvalid);
 };
 
 namespace detail {
