@@ -1,11 +1,14 @@
 // STL writing: every fixture read -> written (binary and ASCII) -> read again gives the
 // same arrays, bit for bit; chunking, sink failure, names, colours and refused meshes.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -419,3 +422,104 @@ TEST(WriteStl, WritingTwiceGivesTheSameBytesAndAsciiIsPlainText) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// The CLI: stltopo convert.
+#ifdef STLTOPO_CLI
+namespace {
+
+struct Ran {
+  int status;
+  std::string out, err;
+};
+
+// Runs a shell command line; stdout and stderr are captured in files.
+Ran shell(const std::string& cmd) {
+  // Named after the test: ctest runs tests in parallel processes.
+  std::string stem = testing::TempDir() + "/" + testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::string o = stem + ".out", e = stem + ".err";
+  int rc = std::system((cmd + " >'" + o + "' 2>'" + e + "'").c_str());
+  Ran r{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, gen::readFile(o), gen::readFile(e)};
+  std::remove(o.c_str());
+  std::remove(e.c_str());
+  return r;
+}
+
+std::string cli() { return std::string("'") + STLTOPO_CLI + "'"; }
+
+// A fresh empty folder for one test.
+std::string freshDir(const std::string& name) {
+  std::filesystem::path p = std::filesystem::path(testing::TempDir()) / ("stltopo-" + name);
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p.string();
+}
+
+size_t entries(const std::string& dir) {
+  return size_t(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
+}
+
+TEST(ConvertCli, WritesWhatTheLibraryWritesFromFilesAndPipes) {
+  std::string dir = freshDir("convert");
+  std::string in = std::string(STLTOPO_FIXTURES) + "/mikedh_trimesh/models/multibody.stl";  // ASCII, 2 solids
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::readFile(in), m).ok());
+  Ran r = shell(cli() + " convert '" + in + "' '" + dir + "/a.stl' --binary");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(gen::readFile(dir + "/a.stl"), write(m));
+  // The input's format by default; '-' for standard input and output.
+  r = shell("cat '" + in + "' | " + cli() + " convert - -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, write(m, asciiOptions()));
+  // Colours and names.
+  WriteOptions o;
+  o.colors = WriteColors::Magics;
+  o.name = "renamed";
+  Mesh colored = colouredCube({0x8000u | 31u << 10, 0x8000u | 5u});
+  std::string src = dir + "/colored.stl";
+  {
+    std::ofstream f(src, std::ios::binary);
+    f << write(colored);
+  }
+  r = shell(cli() + " convert '" + src + "' '" + dir + "/b.stl' --colors magics --name renamed");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(gen::readFile(dir + "/b.stl"), write(colored, o));
+  EXPECT_EQ(entries(dir), 3u);  // a.stl, colored.stl, b.stl: no temporary file left
+}
+
+TEST(ConvertCli, AFailedConversionLeavesNoOutputBehind) {
+  std::string dir = freshDir("convert-fail");
+  std::string out = dir + "/out.stl";
+  // An input that does not read: exit 1, the error JSON on stderr, no OUT.
+  Ran r = shell(cli() + " convert '" + std::string(STLTOPO_FIXTURES) + "/regress/stream-long-number.stl' '" + out + "'");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("\"code\":\"ascii-syntax\""), std::string::npos) << r.err;
+  EXPECT_EQ(entries(dir), 0u);
+  // A write that fails part-way (a 100 KiB file size limit, a 950 KB output): write-failed,
+  // and an OUT that was there before keeps its old bytes.
+  {
+    std::ofstream f(out);
+    f << "old";
+  }
+  std::string in = std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/stl_binary/rear_case.stl";
+  r = shell("ulimit -f 100; " + cli() + " convert '" + in + "' '" + out + "'");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("\"code\":\"write-failed\""), std::string::npos) << r.err;
+  EXPECT_EQ(gen::readFile(out), "old");
+  EXPECT_EQ(entries(dir), 1u);
+  // Without the limit the same conversion replaces OUT.
+  r = shell(cli() + " convert '" + in + "' '" + out + "'");
+  EXPECT_EQ(r.status, 0) << r.err;
+  Mesh a, b;
+  ASSERT_TRUE(gen::read(gen::readFile(in), a).ok());
+  ASSERT_TRUE(gen::read(gen::readFile(out), b).ok());
+  EXPECT_TRUE(sameArray(a.positions, b.positions));
+  // Usage errors: exit 2.
+  EXPECT_EQ(shell(cli() + " convert '" + in + "'").status, 2);
+  EXPECT_EQ(shell(cli() + " convert '" + in + "' x.stl --colors rainbow").status, 2);
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+}  // namespace
+#endif
