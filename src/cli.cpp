@@ -147,30 +147,33 @@ struct Output {
 int convert(int argc, char** argv) {
   std::vector<std::string> files;
   stltopo::WriteOptions wo;
-  bool formatGiven = false, endOfOptions = false;
+  bool formatGiven = false;
   for (int i = 2; i < argc; ++i) {
     std::string s = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      if (i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", name); std::exit(2); }
-      return argv[++i];
-    };
-    if (!endOfOptions && s == "--") endOfOptions = true;
-    else if (!endOfOptions && (s == "--ascii" || s == "--binary")) {
+    if (s == "--") {  // the rest are file names
+      files.insert(files.end(), argv + i + 1, argv + argc);
+      break;
+    }
+    if (s.size() < 2 || s[0] != '-') {
+      files.push_back(s);
+      continue;
+    }
+    bool takesValue = s == "--colors" || s == "--name";
+    if (takesValue && i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str()); return 2; }
+    std::string v = takesValue ? argv[++i] : "";
+    if (s == "--ascii" || s == "--binary") {
       wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
       formatGiven = true;
-    } else if (!endOfOptions && s == "--colors") {
-      std::string v = value("--colors");
-      if (v == "viscam") wo.colors = stltopo::WriteColors::VisCam;
-      else if (v == "magics") wo.colors = stltopo::WriteColors::Magics;
-      else if (v == "none") wo.colors = stltopo::WriteColors::None;
-      else { std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str()); return 2; }
-    } else if (!endOfOptions && s == "--name") {
-      wo.name = value("--name");
-    } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
-      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
+    } else if (s == "--name") {
+      wo.name = v;
+    } else if (s == "--colors" && (v == "viscam" || v == "magics" || v == "none")) {
+      wo.colors = v == "viscam" ? stltopo::WriteColors::VisCam : v == "magics" ? stltopo::WriteColors::Magics : stltopo::WriteColors::None;
+    } else if (s == "--colors") {
+      std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str());
       return 2;
     } else {
-      files.push_back(s);
+      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
+      return 2;
     }
   }
   if (files.size() != 2) { std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage); return 2; }
