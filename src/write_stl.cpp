@@ -16,7 +16,6 @@ namespace stltopo {
 namespace {
 
 using detail::format;
-using detail::makeStatus;
 
 constexpr size_t kHeaderBytes = 84, kRecordBytes = 50;
 // The longest ASCII facet: 12 numbers of at most kMaxFloatChars and the keywords.
@@ -49,27 +48,36 @@ inline unsigned to5(uint8_t c) { return (unsigned(c) * 31u + 127u) / 255u; }
 
 inline bool blank(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
+// A name as written: a view into Mesh::solids or WriteOptions::name (no allocation).
+struct Name {
+  const char* p = "";
+  size_t n = 0;
+  Name prefix(size_t k) const { return Name{p, k < n ? k : n}; }
+};
+
 // name cut before the first byte the format cannot carry and to at most max bytes (at a
 // UTF-8 character boundary), then trimmed as the reader trims.
-std::string safeName(const std::string& name, bool ascii, size_t max) {
+Name safeName(Name name, bool ascii, size_t max) {
   size_t n = 0;
-  for (; n < name.size() && n < max; ++n) {
-    unsigned char c = static_cast<unsigned char>(name[n]);
+  for (; n < name.n && n < max; ++n) {
+    unsigned char c = static_cast<unsigned char>(name.p[n]);
     if (c == 0 || (ascii && c < 0x20 && c != '\t' && c != '\v' && c != '\f')) break;
   }
-  if (n == max && n < name.size())
-    while (n > 0 && (static_cast<unsigned char>(name[n]) & 0xC0) == 0x80) --n;  // inside a character
+  if (n == max && n < name.n)
+    while (n > 0 && (static_cast<unsigned char>(name.p[n]) & 0xC0) == 0x80) --n;  // inside a character
   size_t b = 0;
-  while (b < n && blank(static_cast<unsigned char>(name[b]))) ++b;
-  while (n > b && blank(static_cast<unsigned char>(name[n - 1]))) --n;
-  return name.substr(b, n - b);
+  while (b < n && blank(static_cast<unsigned char>(name.p[b]))) ++b;
+  while (n > b && blank(static_cast<unsigned char>(name.p[n - 1]))) --n;
+  return Name{name.p + b, n - b};
 }
 
+constexpr size_t kNoTag = ~size_t(0);
+
 // The first "COLOR=" that the reader would find in a header starting with name.
-size_t colorTagIn(const std::string& name) {
-  for (size_t i = 0; i + 6 <= name.size() && i + 10 <= 80; ++i)
-    if (std::memcmp(name.data() + i, kColorTag, 6) == 0) return i;
-  return std::string::npos;
+size_t colorTagIn(Name name) {
+  for (size_t i = 0; i + 6 <= name.n && i + 10 <= 80; ++i)
+    if (std::memcmp(name.p + i, kColorTag, 6) == 0) return i;
+  return kNoTag;
 }
 
 inline void putU32(uint8_t* p, uint32_t v) {
@@ -109,7 +117,7 @@ struct StlWriter::Impl {
   size_t part = 0;
   enum class Phase : uint8_t { Header, Body, Footer } phase = Phase::Header;
   uint32_t next = 0;      // next triangle of the part
-  std::string partName;   // the current part's name as written
+  Name partName;          // the current part's name as written (ASCII)
 
   Impl(const Mesh& m, const WriteOptions& o) : mesh(m), opt(o), ascii(o.format == Format::Ascii) {
     if (opt.chunkBytes < kMinChunkBytes) opt.chunkBytes = kMinChunkBytes;
@@ -118,26 +126,26 @@ struct StlWriter::Impl {
   Status check() {
     const uint64_t nv = mesh.positions.size() / 3, nt3 = mesh.triangles.size();
     if (mesh.positions.size() % 3 != 0 || nt3 % 3 != 0)
-      return makeStatus(Code::InvalidArgument,
+      return Status::error(Code::InvalidArgument,
                         format("positions (%zu) and triangles (%zu) must hold 3 values per element",
                                mesh.positions.size(), mesh.triangles.size()));
     const uint64_t nt = nt3 / 3;
     if (nt > 0xFFFFFFFFull)
-      return makeStatus(Code::TooLarge, format("%llu triangles: an STL file holds at most 2^32 - 1", (unsigned long long)nt));
+      return Status::error(Code::TooLarge, format("%llu triangles: an STL file holds at most 2^32 - 1", (unsigned long long)nt));
     auto lengthIs = [](size_t have, uint64_t want) { return have == 0 || have == want; };
     if (!lengthIs(mesh.attributes.size(), nt) || !lengthIs(mesh.normals.size(), 3 * nt))
-      return makeStatus(Code::InvalidArgument,
+      return Status::error(Code::InvalidArgument,
                         format("attributes (%zu) and normals (%zu) must be empty or hold 1 and 3 values per triangle (%llu)",
                                mesh.attributes.size(), mesh.normals.size(), (unsigned long long)nt));
     if (mesh.colorConvention != ColorConvention::None && (mesh.colors.size() != 3 * nt || mesh.colorValid.size() != nt))
-      return makeStatus(Code::InvalidArgument,
+      return Status::error(Code::InvalidArgument,
                         format("colors (%zu) and colorValid (%zu) must hold 3 and 1 values per triangle (%llu)",
                                mesh.colors.size(), mesh.colorValid.size(), (unsigned long long)nt));
     const uint32_t* tri = mesh.triangles.data();
     for (uint64_t t = 0; t < nt; ++t)
       for (int c = 0; c < 3; ++c)
         if (tri[3 * t + c] >= nv)
-          return makeStatus(Code::InvalidIndex,
+          return Status::error(Code::InvalidIndex,
                             format("triangle %llu corner %d is vertex %u, but the mesh has %llu vertices",
                                    (unsigned long long)t, c, tri[3 * t + c], (unsigned long long)nv),
                             kNoOffset, 0, uint32_t(t));
@@ -150,7 +158,7 @@ struct StlWriter::Impl {
       const Solid& so = mesh.solids[s];
       uint64_t end = uint64_t(so.firstTriangle) + so.triangleCount;
       if (so.firstTriangle < at || end > nt)
-        return makeStatus(Code::InvalidArgument,
+        return Status::error(Code::InvalidArgument,
                           format("solid %zu (triangles %u..%llu) %s", s, so.firstTriangle, (unsigned long long)end,
                                  end > nt ? format("runs past the last triangle (%llu)", (unsigned long long)nt).c_str()
                                           : "overlaps the solid before it or is out of order"));
@@ -176,7 +184,7 @@ struct StlWriter::Impl {
     return Status{};
   }
 
-  static Status oom() { return makeStatus(Code::OutOfMemory, "could not allocate the writer's buffers"); }
+  static Status oom() { return Status::error(Code::OutOfMemory, "could not allocate the writer's buffers"); }
 
   uint16_t word(uint32_t t) const {
     switch (words) {
@@ -196,15 +204,17 @@ struct StlWriter::Impl {
     return 0;
   }
 
-  std::string nameOf(const Part& p) const {
-    if (opt.name) return *opt.name;
-    return p.solid == kInvalid ? std::string() : mesh.solids[p.solid].name;
+  Name nameOf(const Part& p) const {
+    if (opt.name) return Name{opt.name->data(), opt.name->size()};
+    if (p.solid == kInvalid) return Name{};
+    const std::string& s = mesh.solids[p.solid].name;
+    return Name{s.data(), s.size()};
   }
 
   // The 84 bytes that start binary part p.
   void binaryHeader(const Part& p, uint8_t* h) {
     std::memset(h, 0, kHeaderBytes);
-    std::string name = safeName(nameOf(p), false, 80);
+    Name name = safeName(nameOf(p), false, 80);
     bool colorHeader = false;
     uint8_t rgb[3] = {opt.defaultColor[0], opt.defaultColor[1], opt.defaultColor[2]};
     if (outColors == ColorConvention::Magics) {
@@ -221,17 +231,16 @@ struct StlWriter::Impl {
       }
       colorHeader = words == Words::ToMagics || p.count == 0 || anyColored;
       size_t i = colorTagIn(name);
-      if (colorHeader && i != std::string::npos && i + 9 <= name.size() &&
-          (!usesDefault || std::memcmp(name.data() + i + 6, rgb, 3) == 0)) {
+      if (colorHeader && i != kNoTag && i + 9 <= name.n && (!usesDefault || std::memcmp(name.p + i + 6, rgb, 3) == 0)) {
         colorHeader = false;  // the name's own COLOR= already says it
-      } else if (i != std::string::npos) {
-        name = safeName(name.substr(0, i), false, 80);
+      } else if (i != kNoTag) {
+        name = safeName(name.prefix(i), false, 80);
       }
-      if (colorHeader && name.size() > kColorAt - 1) name = safeName(name, false, kColorAt - 1);
-    } else if (size_t i = colorTagIn(name); i != std::string::npos) {
-      name = safeName(name.substr(0, i), false, 80);  // else the reader would see Magics colours
+      if (colorHeader && name.n > kColorAt - 1) name = safeName(name, false, kColorAt - 1);
+    } else if (size_t i = colorTagIn(name); i != kNoTag) {
+      name = safeName(name.prefix(i), false, 80);  // else the reader would see Magics colours
     }
-    std::memcpy(h, name.data(), name.size());
+    std::memcpy(h, name.p, name.n);
     if (colorHeader) {
       std::memcpy(h + kColorAt, kColorTag, 6);
       std::memcpy(h + kColorAt + 6, rgb, 3);
@@ -308,9 +317,9 @@ struct StlWriter::Impl {
         if (ascii) {
           partName = safeName(nameOf(p), true, kMaxNameBytes);
           char* o = put(reinterpret_cast<char*>(b + used), "solid");
-          if (!partName.empty()) {
+          if (partName.n > 0) {
             *o++ = ' ';
-            o = put(o, partName.data(), partName.size());
+            o = put(o, partName.p, partName.n);
           }
           *o++ = '\n';
           used = size_t(reinterpret_cast<uint8_t*>(o) - b);
@@ -339,9 +348,9 @@ struct StlWriter::Impl {
       if (ascii) {
         if (cap - used < kMaxSolidLineBytes) return;
         char* o = put(reinterpret_cast<char*>(b + used), "endsolid");
-        if (!partName.empty()) {
+        if (partName.n > 0) {
           *o++ = ' ';
-          o = put(o, partName.data(), partName.size());
+          o = put(o, partName.p, partName.n);
         }
         *o++ = '\n';
         used = size_t(reinterpret_cast<uint8_t*>(o) - b);
@@ -388,7 +397,7 @@ Status writeStl(const Mesh& mesh, WriteSink sink, void* user, const WriteOptions
     Status s = w.next(data, size);
     if (!s.ok() || size == 0) return s;
     if (!sink(user, data, size))
-      return makeStatus(Code::WriteFailed,
+      return Status::error(Code::WriteFailed,
                         format("the output refused the %zu bytes at offset %llu", size,
                                (unsigned long long)(w.bytesWritten() - size)),
                         w.bytesWritten() - size);
