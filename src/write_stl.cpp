@@ -10,6 +10,7 @@
 
 #include "detail.h"
 #include "float_format.h"
+#include "solid_parts.h"
 #include "stltopo_write.h"
 
 namespace stltopo {
@@ -28,11 +29,7 @@ static_assert(kMinChunkBytes >= kMaxSolidLineBytes + kMaxFacetBytes, "a chunk ho
 constexpr size_t kColorAt = 70;
 constexpr char kColorTag[] = "COLOR=";
 
-// A part: one binary part or one solid block.
-struct Part {
-  uint32_t first, count;
-  uint32_t solid;  // index in Mesh::solids, kInvalid for triangles no solid covers
-};
+using Part = detail::SolidPart;  // one binary part or one solid block
 
 // How the attribute words are written.
 enum class Words : uint8_t {
@@ -149,24 +146,8 @@ struct StlWriter::Impl {
                             format("triangle %llu corner %d is vertex %u, but the mesh has %llu vertices",
                                    (unsigned long long)t, c, tri[3 * t + c], (unsigned long long)nv),
                             kNoOffset, 0, uint32_t(t));
-    // Parts: the solids in order, and the stretches between them.
-    uint64_t at = 0;
-    auto add = [&](uint64_t first, uint64_t count, uint32_t solid) {
-      return parts.push_back(Part{uint32_t(first), uint32_t(count), solid});
-    };
-    for (size_t s = 0; s < mesh.solids.size(); ++s) {
-      const Solid& so = mesh.solids[s];
-      uint64_t end = uint64_t(so.firstTriangle) + so.triangleCount;
-      if (so.firstTriangle < at || end > nt)
-        return Status::error(Code::InvalidArgument,
-                          format("solid %zu (triangles %u..%llu) %s", s, so.firstTriangle, (unsigned long long)end,
-                                 end > nt ? format("runs past the last triangle (%llu)", (unsigned long long)nt).c_str()
-                                          : "overlaps the solid before it or is out of order"));
-      if (so.firstTriangle > at && !add(at, so.firstTriangle - at, kInvalid)) return oom();
-      if (!add(so.firstTriangle, so.triangleCount, uint32_t(s))) return oom();
-      at = end;
-    }
-    if ((at < nt || parts.empty()) && !add(at, nt - at, kInvalid)) return oom();
+    Status ps = detail::solidParts(mesh.solids.data(), mesh.solids.size(), nt, parts);
+    if (!ps.ok()) return ps;
     if (!buf.resize(opt.chunkBytes)) return oom();
     // The attribute words.
     ColorConvention in = mesh.colorConvention;
