@@ -8,7 +8,6 @@
 #include <locale.h>
 
 #include "detail.h"
-#include "stltopo.h"
 
 namespace stltopo {
 namespace {

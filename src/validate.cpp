@@ -2,16 +2,15 @@
 #include <cstdio>
 
 #include "detail.h"
-#include "stltopo.h"
 
 namespace stltopo {
 namespace {
 Status bad(const char* what, uint32_t element) {
-  Status s = detail::makeStatus(Code::Invalid, detail::format("%s (element %u)", what, element));
+  Status s = Status::error(Code::Invalid, detail::format("%s (element %u)", what, element));
   s.element = element;
   return s;
 }
-Status oom() { return detail::makeStatus(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
+Status oom() { return Status::error(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
 }  // namespace
 
 Status validate(const Mesh& mesh, const Topology& t) {
