@@ -154,7 +154,7 @@ def cases():
         holes=0, seams=0, boundaryEdges=0, watertight=False, manifold=False, shells=1)
     # two cubes touching at the corner (1,1,1)
     add('two_cubes_shared_corner', binary(cb + cube((1, 1, 1))), nonManifoldVertices=1,
-        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3)
+        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3, genus=None)
     add('torus', binary(torus()), eulerCharacteristic=0, genus=1, watertight=True, manifold=True)
     add('torus_two_holes', binary(torus(removed=((0, 0), (6, 4)))), holes=2, holeSizes=[4, 4],
         boundaryEdges=8, genus=None)
