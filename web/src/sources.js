@@ -23,19 +23,15 @@ export function bufferSource(bytes) {
   };
 }
 
-export function streamSource(stream, total) {
-  let reader;
-  try {
-    reader = stream.getReader();
-  } catch (e) {
-    throw invalid(`cannot read the stream (${e.message})`);
-  }
+// A source over read() -> Promise<{ done, value }> (a stream reader or an async iterator);
+// stop(reason) ends the producer early.
+function readerSource(total, read, stop) {
   let finished = false;
   return {
     total,
     async next() {
       if (finished) return null;
-      const { done, value } = await reader.read();
+      const { done, value } = await read();
       if (done) {
         finished = true;
         return null;
@@ -45,31 +41,26 @@ export function streamSource(stream, total) {
     cancel(reason) {
       if (finished) return;
       finished = true;
-      reader.cancel(reason).catch(() => {});
+      stop(reason);
     },
   };
 }
 
+export function streamSource(stream, total) {
+  let reader;
+  try {
+    reader = stream.getReader();
+  } catch (e) {
+    throw invalid(`cannot read the stream (${e.message})`);
+  }
+  return readerSource(total, () => reader.read(), (reason) => reader.cancel(reason).catch(() => {}));
+}
+
 export function iteratorSource(iterable, total) {
   const it = iterable[Symbol.asyncIterator]();
-  let finished = false;
-  return {
-    total,
-    async next() {
-      if (finished) return null;
-      const { done, value } = await it.next();
-      if (done) {
-        finished = true;
-        return null;
-      }
-      return toBytes(value);
-    },
-    cancel() {
-      if (finished) return;
-      finished = true;
-      if (typeof it.return === 'function') Promise.resolve(it.return()).catch(() => {});
-    },
-  };
+  return readerSource(total, () => it.next(), () => {
+    if (typeof it.return === 'function') Promise.resolve(it.return()).catch(() => {});
+  });
 }
 
 function isResponse(x) {
