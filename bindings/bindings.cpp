@@ -102,28 +102,35 @@ template <> struct JsType<Array<uint32_t>> { static constexpr const char* js = "
 template <> struct JsType<Array<uint16_t>> { static constexpr const char* js = "Uint16Array"; };
 template <> struct JsType<Array<uint8_t>> { static constexpr const char* js = "Uint8Array"; };
 
+struct JsArray {
+  const char *name, *group, *key, *element;
+  int width;
+  const char* when;
+  int flags;
+  const char *type, *doc;
+};
+#define STLTOPO_ROW(name, part, group, key, element, width, when, flags, doc) \
+  {#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, doc},
+constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
+#undef STLTOPO_ROW
+
 // The table as JS objects: [{ name, group, key, element, width, when, copied, derived, type, doc }].
 val arrayLayout() {
   val list = val::array();
-  auto add = [&](const char* name, const char* group, const char* key, const char* element, int width,
-                 const char* when, int flags, const char* type, const char* doc) {
+  for (const JsArray& a : kJsArrays) {
     val d = val::object();
-    d.set("name", val(name));
-    d.set("group", val(group));
-    d.set("key", val(key));
-    d.set("element", val(element));
-    d.set("width", val(width));
-    d.set("when", val(when));
-    d.set("copied", val((flags & kCopied) != 0));
-    d.set("derived", val((flags & kDerived) != 0));
-    d.set("type", val(type));
-    d.set("doc", val(doc));
+    d.set("name", val(a.name));
+    d.set("group", val(a.group));
+    d.set("key", val(a.key));
+    d.set("element", val(a.element));
+    d.set("width", val(a.width));
+    d.set("when", val(a.when));
+    d.set("copied", val((a.flags & kCopied) != 0));
+    d.set("derived", val((a.flags & kDerived) != 0));
+    d.set("type", val(a.type));
+    d.set("doc", val(a.doc));
     list.call<void>("push", d);
-  };
-#define STLTOPO_ADD(name, part, group, key, element, width, when, flags, doc) \
-  add(#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, doc);
-  STLTOPO_JS_ARRAYS(STLTOPO_ADD)
-#undef STLTOPO_ADD
+  }
   return list;
 }
 

@@ -119,3 +119,14 @@ test('the npm CLI prints the native bytes for a missing file (errorJson from JS)
   assert.ok(a.stdout.equals(b.stdout));
   assert.equal(JSON.parse(b.stdout.toString()).error.code, 'invalid-argument');
 });
+
+test('the entry points export the public API only (no _internal, no fileSource), and exports maps no internal file', async () => {
+  const pkg = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
+  assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './worker']);
+  const pub = ['EdgeKind', 'Mesh', 'StlError', 'kInvalid', 'loadStl', 'loadStlFile'];
+  assert.deepEqual(Object.keys(await import('stltopo')).sort(), pub);
+  assert.deepEqual(Object.keys(worker).sort(), pub);
+  assert.deepEqual(Object.keys(await import('stltopo/three')).sort(),
+    ['holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);
+  await assert.rejects(import('stltopo/dist/instance.node.js'), { code: 'ERR_PACKAGE_PATH_NOT_EXPORTED' });
+});
