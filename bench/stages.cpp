@@ -32,8 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
-#include "stltopo_write.h"
+#include "stltopo/stltopo.h"
 
 using Clock = std::chrono::steady_clock;
 

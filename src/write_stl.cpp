@@ -1,4 +1,4 @@
-// STL writer (see stltopo_write.h). The mesh is checked once, cut into parts (one per
+// STL writer (see stltopo/write.h). The mesh is checked once, cut into parts (one per
 // solid, plus the stretches of triangles no solid covers), and each next() fills the
 // chunk buffer with whole headers and records. The colour encodings are the exact inverse
 // of the reader's decoding (Builder::decodeColors), so reading the output gives back the
@@ -11,7 +11,7 @@
 #include "detail.h"
 #include "float_format.h"
 #include "solid_parts.h"
-#include "stltopo_write.h"
+#include "stltopo/write.h"
 
 namespace stltopo {
 namespace {

@@ -14,7 +14,6 @@
 
 #include "stl_gen.h"
 #include "stltopo.h"
-#include "stltopo_write.h"
 
 #ifndef STLTOPO_FIXTURES
 #error "STLTOPO_FIXTURES must name the tests/fixtures directory"

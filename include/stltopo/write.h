@@ -1,4 +1,4 @@
-// stltopo: writing a Mesh as binary or ASCII STL, streamed in bounded chunks.
+// stltopo/write.h: writing a Mesh as binary or ASCII STL, streamed in bounded chunks.
 //
 // What is written (see README, "Writing STL"):
 //   - one binary part, or one `solid ... endsolid` block, per Mesh::solids entry, in
@@ -21,7 +21,8 @@
 #include <optional>
 #include <string>
 
-#include "stltopo.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
 
 namespace stltopo {
 
