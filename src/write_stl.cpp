@@ -10,6 +10,7 @@
 
 #include "detail.h"
 #include "float_format.h"
+#include "mesh_builder.h"
 #include "solid_parts.h"
 #include "stltopo/write.h"
 
@@ -39,9 +40,8 @@ enum class Words : uint8_t {
   ToMagics,  // r | g << 5 | b << 10 for a coloured triangle, else 0x8000 (the default)
 };
 
-// The 5-bit value that the reader's c5() (v * 255 + 15) / 31 turns into c when c is one
-// of its 32 outputs, and the nearest one otherwise.
-inline unsigned to5(uint8_t c) { return (unsigned(c) * 31u + 127u) / 255u; }
+// The reader's decoding is Builder::c5(); to5() is its inverse.
+using detail::Builder;
 
 inline bool blank(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
@@ -173,13 +173,12 @@ struct StlWriter::Impl {
       case Words::Zero: return 0;
       case Words::ToVisCam: {
         if (!mesh.colorValid[t]) return 0;
-        const uint8_t* c = mesh.colors.data() + 3 * size_t(t);
-        return uint16_t(0x8000u | to5(c[0]) << 10 | to5(c[1]) << 5 | to5(c[2]));
+        return Builder::visCamWord(mesh.colors.data() + 3 * size_t(t));
       }
       case Words::ToMagics: {
         if (!mesh.colorValid[t]) return 0x8000u;
         const uint8_t* c = mesh.colors.data() + 3 * size_t(t);
-        return uint16_t(to5(c[0]) | to5(c[1]) << 5 | to5(c[2]) << 10);
+        return uint16_t(Builder::to5(c[0]) | Builder::to5(c[1]) << 5 | Builder::to5(c[2]) << 10);
       }
     }
     return 0;
@@ -246,9 +245,9 @@ struct StlWriter::Impl {
       n[0] = n[1] = n[2] = 0;
       return;
     }
-    n[0] = float(nx / len);
-    n[1] = float(ny / len);
-    n[2] = float(nz / len);
+    n[0] = float(nx / len) + 0.0f;  // + 0: no "-0" in ASCII for an axis-aligned normal
+    n[1] = float(ny / len) + 0.0f;
+    n[2] = float(nz / len) + 0.0f;
   }
 
   void binaryRecord(uint32_t t, uint8_t* r) const {
