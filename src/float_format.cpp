@@ -124,43 +124,38 @@ struct Exact {
   int e;
   bool narrowBelow;  // the float below is half as far as the float above
 
-  // Sets N, D, H for v / 10^k; false when they do not fit the integer arithmetic.
-  bool scale(int k, U128& N, U128& D, U128& H) const {
+  // Sets N, D, H for v / 10^k in the integer type U; false when they do not fit it (with
+  // room for 4 * 10^8 * D, the largest product of the candidates).
+  template <class U>
+  bool scale(int k, U& N, U& D, U& H) const {
+    constexpr int kBits = int(sizeof(U) * 8);
     int a = k < 0 ? -k : 0, b = e > k ? e - k : 0, c = k > 0 ? k : 0, d = k > e ? k - e : 0;
     if (a > 55 || c > 55) return false;
-    // Room for N and for 10^8 * D (2^27) times 4.
-    if (24 + kPow5.bits[a] + b > 125 || kPow5.bits[c] + d > 96) return false;
-    H = kPow5.p[a] << b;
+    if (24 + kPow5.bits[a] + b > kBits - 2 || kPow5.bits[c] + d > kBits - 30) return false;
+    H = U(kPow5.p[a]) << b;
     N = H * m;
-    D = kPow5.p[c] << d;
+    D = U(kPow5.p[c]) << d;
     return true;
   }
 };
 
-// The digits and decimal exponent shortest() gives for the positive finite float f, or
-// false when the integer arithmetic cannot decide (a candidate exactly on the boundary of
-// the interval that reads back as f, or sizes out of range).
-bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
-  uint32_t bits = bitCast<uint32_t>(f);
-  uint32_t mant = bits & 0x7fffffu, ex = bits >> 23;
-  Exact x;
-  x.m = ex == 0 ? mant : mant | 0x800000u;
-  x.e = ex == 0 ? -149 : int(ex) - 150;
-  x.narrowBelow = mant == 0 && ex > 1;
-  int b2 = x.e + (63 - __builtin_clzll(x.m));   // floor(log2 v)
-  int E10 = int((int64_t(b2) * 78913) >> 18);  // floor(log10 v) or one less
+enum class Found : uint8_t { Yes, Unsure, NoRoom };
+
+// exactDigits() in the integer type U (64 bits for the usual magnitudes, else 128): E10 is
+// floor(log10 v) or one less.
+template <class U>
+Found digitsIn(const Exact& x, int E10, uint64_t& digits, int& p, int& exp10) {
   // v / 10^(E10 - 8) = q9 + r9 / D: q9 has 9 digits when E10 is right, 10 when one low.
-  U128 N, D, H;
+  U N, D, H, r9 = 0;
   uint64_t q9 = 0;
-  U128 r9 = 0;
   for (int pass = 0; pass < 2; ++pass) {
     int k = E10 - 8;
-    if (!x.scale(k, N, D, H)) return false;
-    U128 q;
+    if (!x.scale(k, N, D, H)) return Found::NoRoom;
+    U q;
     if (k <= 0) {  // D is a power of two
       int d = k > x.e ? k - x.e : 0;
       q = N >> d;
-      r9 = N & ((U128(1) << d) - 1);
+      r9 = N & ((U(1) << d) - 1);
     } else {
       q = N / D;
       r9 = N - q * D;
@@ -177,16 +172,16 @@ bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
   enum Fit { Inside, Outside, Unsure };
   auto candidate = [&](int j, uint64_t& c) {
     uint64_t P = kPow10[j], qp = q9 / P;
-    U128 rem = U128(q9 % P) * D + r9, whole = U128(P) * D;
+    U rem = U(q9 % P) * D + r9, whole = U(P) * D;
     // Round half to even, as printf does with an exact tie.
     bool below = 2 * rem < whole || (2 * rem == whole && (qp & 1) == 0);
     c = below ? qp : qp + 1;
-    U128 err = below ? rem : whole - rem;
-    U128 twice = (below && x.narrowBelow ? 4 : 2) * err;
+    U err = below ? rem : whole - rem;
+    U twice = U(below && x.narrowBelow ? 4 : 2) * err;
     return twice < H ? Inside : twice > H ? Outside : Unsure;
   };
   uint64_t c9;
-  if (candidate(0, c9) != Inside) return false;
+  if (candidate(0, c9) != Inside) return Found::Unsure;
   digits = c9;
   p = 9;
   if (x.narrowBelow) {
@@ -195,7 +190,7 @@ bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
     for (int q = 1; q < 9; ++q) {
       uint64_t c;
       Fit fit = candidate(9 - q, c);
-      if (fit == Unsure) return false;
+      if (fit == Unsure) return Found::Unsure;
       if (fit == Inside) {
         digits = c;
         p = q;
@@ -208,14 +203,31 @@ bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
     for (int j = 1; j < 9; ++j) {
       uint64_t c;
       Fit fit = candidate(j, c);
-      if (fit == Unsure) return false;
+      if (fit == Unsure) return Found::Unsure;
       if (fit == Outside) break;
       digits = c;
       p = 9 - j;
     }
   }
   exp10 = E10;
-  return true;
+  return Found::Yes;
+}
+
+// The digits and decimal exponent shortest() gives for the positive finite float f, or
+// false when the integer arithmetic cannot decide (a candidate exactly on the boundary of
+// the interval that reads back as f, or sizes out of range).
+bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
+  uint32_t bits = bitCast<uint32_t>(f);
+  uint32_t mant = bits & 0x7fffffu, ex = bits >> 23;
+  Exact x;
+  x.m = ex == 0 ? mant : mant | 0x800000u;
+  x.e = ex == 0 ? -149 : int(ex) - 150;
+  x.narrowBelow = mant == 0 && ex > 1;
+  int b2 = x.e + (63 - __builtin_clzll(x.m));   // floor(log2 v)
+  int E10 = int((int64_t(b2) * 78913) >> 18);  // floor(log10 v) or one less
+  Found r = digitsIn<uint64_t>(x, E10, digits, p, exp10);
+  if (r == Found::NoRoom) r = digitsIn<U128>(x, E10, digits, p, exp10);
+  return r == Found::Yes;
 }
 
 }  // namespace
