@@ -36,14 +36,10 @@ const JOBS = 2;
 
 // Consumers that fail today, and how: a failing check of one of these is a todo, not a failure.
 const KNOWN = {
-  'vite5 build': 'worker.format iife: worker-thread.js imports index.js, whose import(\'./worker.js\') code-splits the worker',
-  'vite7 build': 'worker.format iife: worker-thread.js imports index.js, whose import(\'./worker.js\') code-splits the worker',
   'vite5 dev': 'optimizeDeps pre-bundles stltopo: the .wasm URL gets the HTML page back, the worker URL a 404',
   'vite7 dev': 'optimizeDeps pre-bundles stltopo: the .wasm URL gets the HTML page back, the worker URL a 404',
-  'vite8 build': 'fs and path externalized: one glue file serves the web and Node',
-  webpack5: 'circular dependency between chunks: import(\'./worker.js\') in index.js',
-  esbuild: 'the glue requires fs and path; new URL(..., import.meta.url) assets are not copied',
-  rollup: 'new URL(..., import.meta.url) assets are not copied: the .wasm is a 404',
+  esbuild: 'new URL(..., import.meta.url) assets are not copied: the .wasm and the worker are 404s',
+  rollup: 'new URL(..., import.meta.url) assets are not copied: the .wasm and the worker are 404s',
   'TypeScript bundler': 'TS2339: halfedges is typed | null even with topology: true',
   'TypeScript node16': 'TS2339: halfedges is typed | null even with topology: true',
   'TypeScript node': 'TS2307 for stltopo/worker and stltopo/three (no typesVersions); TS2339 on halfedges',
@@ -159,7 +155,9 @@ const hashOf = (...files) => {
 const installApp = once(async (dir) => {
   const src = path.join(here, dir);
   const dst = path.join(work, dir);
-  mkdirSync(path.join(dst, 'src'), { recursive: true });
+  mkdirSync(dst, { recursive: true });
+  for (const f of readdirSync(dst)) if (f !== 'node_modules') rmSync(path.join(dst, f), { recursive: true, force: true });
+  mkdirSync(path.join(dst, 'src'));
   for (const f of readdirSync(src)) cpSync(path.join(src, f), path.join(dst, f), { recursive: true });
   if (dir !== 'ts') {
     cpSync(path.join(here, 'app/main.js'), path.join(dst, 'src/main.js'));

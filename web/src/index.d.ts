@@ -8,7 +8,7 @@ export declare const EdgeKind: Readonly<{ Interior: 0; Boundary: 1; Inconsistent
 
 export type ErrorCode =
   | 'empty' | 'not-stl' | 'truncated' | 'unexpected-end' | 'ascii-syntax' | 'non-finite' | 'too-large'
-  | 'out-of-memory' | 'invalid-argument' | 'aborted';
+  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'wasm-load';
 export type WarningCode = 'trailing-bytes' | 'missing-endsolid' | 'name-truncated';
 
 /** Every failure of loadStl: the same codes and messages as the C++ core. */
@@ -215,3 +215,19 @@ export declare function loadStl(input: StlInput, options?: LoadOptions): Promise
 
 /** Node only: streams a file from disk (rejects in browsers). */
 export declare function loadStlFile(path: string | URL, options?: LoadOptions): Promise<Mesh>;
+
+export interface InitOptions {
+  /** URL of stltopo-wasm.wasm (a string is resolved against the page; in Node also a path). */
+  wasmUrl?: string | URL | null;
+  /** The bytes of stltopo-wasm.wasm; wins over wasmUrl. */
+  wasmBinary?: ArrayBuffer | Uint8Array | null;
+  /** URL of the worker script (stltopo's dist/worker-thread.js, or your bundle of it). */
+  workerUrl?: string | URL | null;
+}
+/**
+ * Where the wasm and the worker script come from, when the bundler or server does not serve
+ * them next to the package's files. Call it before the first load; null restores a default.
+ * Failing to fetch or compile the wasm, or to start the worker, rejects loads with
+ * StlError 'wasm-load', whose message names the URL and what came back.
+ */
+export declare function init(options: InitOptions): void;

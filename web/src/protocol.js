@@ -1,12 +1,14 @@
 // The message protocol between stltopo/worker's main-thread side (worker-client.js) and
 // the worker thread (worker-handler.js). Every message is { type, ...fields }:
 //   main -> worker
-//     load    { input, options }   input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
+//     load    { input, options, wasm }  input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
 //                                  | { kind: 'stream', total } | { kind: 'path', path } (Node);
-//                                  options: plainOptions() of the load
+//                                  options: plainOptions() of the load; wasm: the page's
+//                                  init() { wasmUrl, wasmBinary } (absolute URL, bytes or null)
 //     chunks  { chunks, done, error? }  the answer to a pull: Uint8Arrays (transferred), done at
 //                                  the end, error (errorToMessage) when the producer failed
 //   worker -> main
+//     ready   {}                   once, when the thread runs (before it, an error is a failed start)
 //     pull    {}                   asks for the next chunks of a 'stream' input
 //     progress { fraction, bytesRead }
 //     result  { raw }              the mesh's raw data, its arrays transferred (transferList)
@@ -14,11 +16,12 @@
 import { StlError } from './errors.js';
 
 export const Msg = Object.freeze({
-  Load: 'load', Chunks: 'chunks', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
+  Load: 'load', Chunks: 'chunks', Ready: 'ready', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
 });
 export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
 
-export const loadMessage = (input, options) => ({ type: Msg.Load, input, options });
+export const loadMessage = (input, options, wasm) => ({ type: Msg.Load, input, options, wasm });
+export const readyMessage = () => ({ type: Msg.Ready });
 export const chunksMessage = (chunks, done, error) => (error ? { type: Msg.Chunks, chunks, done, error } : { type: Msg.Chunks, chunks, done });
 export const pullMessage = () => ({ type: Msg.Pull });
 export const progressMessage = (fraction, bytesRead) => ({ type: Msg.Progress, fraction, bytesRead });

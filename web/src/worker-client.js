@@ -6,6 +6,13 @@ import { normalizeOptions, plainOptions } from './options.js';
 import { toSource } from './sources.js';
 import { Mesh } from './mesh.js';
 import { Msg, InputKind, loadMessage, chunksMessage, errorFromMessage } from './protocol.js';
+import { wasmSettings } from './wasm-load.js';
+
+// Where the worker's wasm comes from: the page's init() settings.
+function wasmOf() {
+  const { wasmUrl, wasmBinary } = wasmSettings();
+  return { wasmUrl, wasmBinary };
+}
 
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
 const MAX_IDLE = 2;
@@ -15,7 +22,7 @@ export function createWorkerLoader(spawn) {
 
   function acquire() {
     let w;
-    while ((w = idle.pop()) && !w.alive());
+    while ((w = idle.pop()) && !w.alive()) w.terminate();
     if (!w) w = spawn();
     w.ref();
     return w;
@@ -108,20 +115,20 @@ export function createWorkerLoader(spawn) {
         ? new Uint8Array(input)
         : new Uint8Array(input.buffer, input.byteOffset, input.byteLength);
       const bytes = src.slice(); // the caller keeps its buffer; the copy is transferred
-      return run(loadMessage({ kind: InputKind.Bytes, bytes }, opts), [bytes.buffer], o, null);
+      return run(loadMessage({ kind: InputKind.Bytes, bytes }, opts, wasmOf()), [bytes.buffer], o, null);
     }
     if (input && typeof input.stream === 'function' && typeof input.size === 'number' && typeof input.getReader !== 'function') {
-      return run(loadMessage({ kind: InputKind.Blob, blob: input }, opts), [], o, null);
+      return run(loadMessage({ kind: InputKind.Blob, blob: input }, opts, wasmOf()), [], o, null);
     }
     const source = toSource(input); // streams, Responses, async iterables: pumped from this thread
-    return run(loadMessage({ kind: InputKind.Stream, total: source.total }, opts), [], o, source);
+    return run(loadMessage({ kind: InputKind.Stream, total: source.total }, opts, wasmOf()), [], o, source);
   }
 
   // Node: the worker reads the file at `path` (a string) itself.
   async function loadStlFile(path, options) {
     const o = normalizeOptions(options);
     checkAbort(o.signal);
-    return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o)), [], o, null);
+    return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o), wasmOf()), [], o, null);
   }
 
   return { loadStl, loadStlFile };

@@ -1,8 +1,9 @@
 // Worker-thread side of stltopo/worker (shared by the browser and Node threads).
 import { bufferSource, streamSource } from './sources.js';
 import { normalizeOptions } from './options.js';
+import { init } from './wasm-load.js';
 import {
-  Msg, InputKind, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
+  Msg, InputKind, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -49,6 +50,7 @@ export function serve(port, internal, { fileSource = null } = {}) {
       else if (input.kind === InputKind.Stream) source = pulled = pulledSource(port, input.total);
       else if (input.kind === InputKind.Path && fileSource) source = await fileSource(input.path);
       else throw new Error(`stltopo worker: unknown input kind ${input.kind}`);
+      if (msg.wasm) init(msg.wasm); // before this thread's instance starts
       const o = normalizeOptions(msg.options);
       o.onProgress = (fraction, bytesRead) => port.post(progressMessage(fraction, bytesRead));
       const raw = await internal.loadRaw(source, o, { validate: true });
@@ -59,4 +61,5 @@ export function serve(port, internal, { fileSource = null } = {}) {
       pulled = null;
     }
   });
+  port.post(readyMessage());
 }

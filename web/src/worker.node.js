@@ -47,5 +47,6 @@ export async function loadStlFile(path, options) {
   }
   return loader.loadStlFile(p, options);
 }
+export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
