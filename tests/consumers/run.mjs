@@ -36,10 +36,6 @@ const JOBS = 2;
 
 // Consumers that fail today, and how: a failing check of one of these is a todo, not a failure.
 const KNOWN = {
-  'vite5 dev': 'optimizeDeps pre-bundles stltopo: the .wasm URL gets the HTML page back, the worker URL a 404',
-  'vite7 dev': 'optimizeDeps pre-bundles stltopo: the .wasm URL gets the HTML page back, the worker URL a 404',
-  esbuild: 'new URL(..., import.meta.url) assets are not copied: the .wasm and the worker are 404s',
-  rollup: 'new URL(..., import.meta.url) assets are not copied: the .wasm and the worker are 404s',
   'TypeScript bundler': 'TS2339: halfedges is typed | null even with topology: true',
   'TypeScript node16': 'TS2339: halfedges is typed | null even with topology: true',
   'TypeScript node': 'TS2307 for stltopo/worker and stltopo/three (no typesVersions); TS2339 on halfedges',
