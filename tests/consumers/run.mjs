@@ -35,11 +35,7 @@ const npm = process.platform === 'win32' ? 'npm.cmd' : 'npm';
 const JOBS = 2;
 
 // Consumers that fail today, and how: a failing check of one of these is a todo, not a failure.
-const KNOWN = {
-  'TypeScript bundler': 'TS2339: halfedges is typed | null even with topology: true',
-  'TypeScript node16': 'TS2339: halfedges is typed | null even with topology: true',
-  'TypeScript node': 'TS2307 for stltopo/worker and stltopo/three (no typesVersions); TS2339 on halfedges',
-};
+const KNOWN = {};
 
 // name: the app folder; kind: 'build' (bundle, then serve dist/ statically), 'dev' (the
 // bundler's dev server), 'static' (the app folder itself served as files).
