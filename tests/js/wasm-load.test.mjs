@@ -62,3 +62,10 @@ test('init: bad options are invalid-argument', () => {
     assert.throws(() => init(bad), (e) => e instanceof StlError && e.code === 'invalid-argument', JSON.stringify(bad));
   }
 });
+
+test("wasm-load is a code of the core too: the npm CLI's error JSON keeps it", async () => {
+  const { api } = await import('../../dist/instance.node.js');
+  const err = new StlError('wasm-load', 'wasm-load: /x/stltopo-wasm.wasm is not the WebAssembly module: HTTP 404');
+  const json = JSON.parse(await api.internal.errorJson('part.stl', err));
+  assert.deepEqual(json, { file: 'part.stl', error: { code: 'wasm-load', message: err.message } });
+});
