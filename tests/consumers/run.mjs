@@ -42,6 +42,8 @@ const KNOWN = {};
 const TARGETS = [
   { name: 'vite5 build', dir: 'vite5', kind: 'build' },
   { name: 'vite5 dev', dir: 'vite5', kind: 'dev' },
+  // Without the README's config: the failures a user meets must be StlErrors that say why.
+  { name: 'vite5 dev without optimizeDeps.exclude', dir: 'vite5', kind: 'dev', config: 'none' },
   { name: 'vite7 build', dir: 'vite7', kind: 'build' },
   { name: 'vite7 dev', dir: 'vite7', kind: 'dev' },
   { name: 'vite8 build', dir: 'vite8', kind: 'build' },
@@ -185,10 +187,15 @@ const buildApp = once(async (dir) => {
   });
 });
 
-async function startDev(dst) {
+async function startDev(dst, config) {
   rmSync(path.join(dst, 'node_modules/.vite'), { recursive: true, force: true }); // a first start, as a user gets it
   const port = await freePort();
-  const p = spawn(process.execPath, ['node_modules/vite/bin/vite.js', '--host', '127.0.0.1', '--port', String(port), '--strictPort'],
+  const args = ['--host', '127.0.0.1', '--port', String(port), '--strictPort'];
+  if (config === 'none') {
+    writeFileSync(path.join(dst, 'vite.none.config.js'), 'export default {};\n');
+    args.push('--config', 'vite.none.config.js');
+  }
+  const p = spawn(process.execPath, ['node_modules/vite/bin/vite.js', ...args],
     { cwd: dst, env: { ...process.env, NO_COLOR: '1', FORCE_COLOR: '0' }, stdio: ['ignore', 'pipe', 'pipe'] });
   let log = '';
   const ready = new Promise((resolve, reject) => {
@@ -307,9 +314,17 @@ for (const t of targets) {
       }
     } else if (t.kind === 'dev') {
       const dst = await installApp(t.dir);
-      const server = await startDev(dst);
+      const server = await startDev(dst, t.config);
       try {
         const seen = await visit(server.url);
+        if (t.config === 'none') {
+          const { main, worker } = seen.result;
+          assert.equal(main.code, 'wasm-load', JSON.stringify(main));
+          assert.match(main.error, /^StlError: wasm-load: http:\/\/127\.0\.0\.1:\d+\/node_modules\/\.vite\/deps\/stltopo-wasm\.wasm is not the WebAssembly module: HTTP 200 \(text\/html\), first bytes 3c 21 64 6f/);
+          assert.equal(worker.code, 'wasm-load', JSON.stringify(worker));
+          assert.match(worker.error, /^StlError: wasm-load: the worker did not start.*init\(\{ workerUrl \}\)/);
+          return;
+        }
         const warnings = server.log().split('\n').filter((l) => WARNING_LINE.test(l)).map((w) => `dev server warning: ${w.trim()}`);
         report(ctx, t.name, checkResult(seen, warnings), server.log());
       } finally {
