@@ -22,6 +22,7 @@ const ABSENT = {
   normals: 'null without { normals: true }',
   colors: "null when colorConvention is 'none'",
   topology: 'null with topology: false',
+  indexed: 'null for meshes of loadStl()',
 };
 // Topology fields are typed by Mesh's parameter: present, null, or either (IfTopology).
 const tsType = (when, type) => (when === 'topology' ? `IfTopology<T, ${type}>` : ABSENT[when] ? `${type} | null` : type);

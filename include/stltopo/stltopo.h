@@ -18,3 +18,5 @@
 #include "stltopo/read.h"
 #include "stltopo/topology.h"
 #include "stltopo/report.h"
+#include "stltopo/indexed.h"
+#include "stltopo/write.h"

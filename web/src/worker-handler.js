@@ -4,6 +4,7 @@ import { normalizeOptions } from './options.js';
 import { init } from './wasm-load.js';
 import {
   Msg, InputKind, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
+  writtenMessage,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -36,9 +37,33 @@ function pulledSource(port, total) {
 
 export function serve(port, internal, { fileSource = null } = {}) {
   let pulled = null;
+  let writing = null; // the iterator of the write in progress
   port.onMessage(async (msg) => {
+    if (msg.wasm) init(msg.wasm); // the page's init(), before this thread's instance starts
     if (msg.type === Msg.Chunks) {
       if (pulled) pulled.deliver(msg);
+      return;
+    }
+    if (msg.type === Msg.Write || msg.type === Msg.WritePull) {
+      try {
+        if (msg.type === Msg.Write) writing = internal.writeHere(msg.mesh, internal.normalizeWriteOptions(msg.options));
+        const r = writing ? await writing.next() : { done: true };
+        if (r.done) writing = null;
+        port.post(writtenMessage(r.done ? null : r.value), r.done ? [] : [r.value.buffer]);
+      } catch (e) {
+        writing = null;
+        port.post(errorMessage(e));
+      }
+      return;
+    }
+    if (msg.type === Msg.Indexed) {
+      try {
+        const o = internal.normalizeIndexedOptions(msg.options);
+        const raw = await internal.indexedRaw(msg.positions, msg.triangles, o, { validate: true });
+        port.post(resultMessage(raw), transferList(raw));
+      } catch (e) {
+        port.post(errorMessage(e));
+      }
       return;
     }
     if (msg.type !== Msg.Load) return;
@@ -50,7 +75,6 @@ export function serve(port, internal, { fileSource = null } = {}) {
       else if (input.kind === InputKind.Stream) source = pulled = pulledSource(port, input.total);
       else if (input.kind === InputKind.Path && fileSource) source = await fileSource(input.path);
       else throw new Error(`stltopo worker: unknown input kind ${input.kind}`);
-      if (msg.wasm) init(msg.wasm); // before this thread's instance starts
       const o = normalizeOptions(msg.options);
       o.onProgress = (fraction, bytesRead) => port.post(progressMessage(fraction, bytesRead));
       const raw = await internal.loadRaw(source, o, { validate: true });

@@ -4,6 +4,7 @@
 import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
 import { describeUrl, wasmSettings } from './wasm-load.js';
+import { Msg } from './protocol.js';
 
 // A worker that fails before its first message did not start: its script was not served
 // (a 404, an HTML page) or does not load. That is a 'wasm-load' error, which names the
@@ -26,7 +27,10 @@ const loader = createWorkerLoader(() => {
   return {
     post: (msg, transfer) => w.postMessage(msg, transfer || []),
     listen(onMessage, onError) {
-      w.onmessage = onMessage ? (e) => { started = true; onMessage(e.data); } : () => { started = true; };
+      w.onmessage = (e) => {
+        started = true;
+        if (onMessage && e.data.type !== Msg.Ready) onMessage(e.data);
+      };
       w.onerror = onError ? (e) => {
         e.preventDefault();
         if (started) onError(new Error(`stltopo worker: ${e.message || 'an error in the worker'}`));
@@ -42,6 +46,15 @@ const loader = createWorkerLoader(() => {
 });
 
 export const loadStl = loader.loadStl;
+export const fromIndexed = loader.fromIndexed;
+export const writeStl = loader.writeStl;
+
+/** toStl() with the writing in a worker: a Blob (type model/stl). */
+export async function toStl(mesh, options) {
+  const chunks = [];
+  for await (const c of loader.writeStl(mesh, options)) chunks.push(c);
+  return new Blob(chunks, { type: 'model/stl' });
+}
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
