@@ -33,9 +33,11 @@ enum class Code : uint8_t {
   // errors (after the warnings: the numbering of the codes above stays)
   InvalidIndex,    // "invalid-index": a vertex id out of range (element: the triangle)
   WriteFailed,     // "write-failed": the output sink refused the data
+  // errors of the JS layer (the core never returns them; named here so that JS errors print as the core's)
+  WasmLoad,        // "wasm-load": the npm package could not fetch or compile its wasm, or start its worker
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };
-inline constexpr int kCodeCount = int(Code::WriteFailed) + 1;
+inline constexpr int kCodeCount = int(Code::WasmLoad) + 1;
 
 // The stable name of a code ("truncated"), "unknown" for a value outside the enum.
 const char* codeName(Code c);
