@@ -43,9 +43,11 @@ enum class Code : uint8_t {
   TrailingBytes,   // "trailing-bytes": < 84 extra bytes after the last binary triangle
   MissingEndsolid, // "missing-endsolid": ASCII file ends without endsolid
   NameTruncated,   // "name-truncated": a solid name longer than kMaxNameBytes
+  // errors (continued)
+  EditRefused,     // "edit-refused": an EditableMesh edit was refused; nothing changed
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };
-inline constexpr int kCodeCount = int(Code::NameTruncated) + 1;
+inline constexpr int kCodeCount = int(Code::EditRefused) + 1;
 
 // The stable name of a code ("truncated"), "unknown" for a value outside the enum.
 const char* codeName(Code c);
