@@ -38,32 +38,13 @@ std::vector<uint32_t> holeSizes(EditableMesh& em) {
   return out;
 }
 
-// A copy of every array and attribute, to show that a refused edit changed nothing.
-struct Snapshot {
-  std::vector<std::vector<uint8_t>> arrays;
-  template <class T>
-  void add(const Array<T>& a) {
-    const uint8_t* p = reinterpret_cast<const uint8_t*>(a.data());
-    arrays.emplace_back(p, p + a.size() * sizeof(T));
-  }
-  explicit Snapshot(EditableMesh& em) {
-    add(em.positions()); add(em.triangles()); add(em.next()); add(em.prev()); add(em.vert()); add(em.faceWords());
-    add(em.pairKind()); add(em.triangleHalfedge()); add(em.vertexHalfedge());
-    for (const std::string& n : em.attributeNames()) {
-      const AttributeView* v = em.attribute(n);
-      const uint8_t* p = static_cast<const uint8_t*>(v->data);
-      arrays.emplace_back(p, p + v->count * v->components * valueTypeSize(v->type));
-    }
-    std::string j = em.infoJson("f");
-    arrays.emplace_back(j.begin(), j.end());
-  }
-  bool operator==(const Snapshot& o) const { return arrays == o.arrays; }
-};
+using editcheck::Snapshot;
 
-uint32_t halfedgeBetween(const EditableMesh& em, uint32_t a, uint32_t b) {
-  for (uint32_t e = 0; e < em.nHalfedges(); ++e)
-    if (em.halfedgeAlive(e) && em.vert()[e] == a && em.vert()[e ^ 1u] == b) return e;
-  return kInvalid;
+gen::Soup tetrahedron() {
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return s;
 }
 
 }  // namespace
@@ -159,11 +140,8 @@ TEST(Edit, FillingAHoleBringsTheCubeBackToWatertightGenusZero) {
 }
 
 TEST(Edit, CollapsingAnEdgeOfATetrahedronIsRefused) {
-  gen::Soup s;
-  s.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
   EditableMesh em;
-  makeEditable(s, em);
+  makeEditable(tetrahedron(), em);
   ASSERT_TRUE(em.stats().watertight);
   for (uint32_t e = 0; e < em.nHalfedges(); ++e) {
     Snapshot before(em);
@@ -220,11 +198,8 @@ TEST(Edit, FlipKeepsTheCountsAndIsRefusedOnABoundary) {
 TEST(Edit, FlipIsRefusedWhenTheNewEdgeExists) {
   // Tetrahedron: the flipped edge of any edge joins the two other vertices, which are
   // joined already.
-  gen::Soup s;
-  s.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
   EditableMesh em;
-  makeEditable(s, em);
+  makeEditable(tetrahedron(), em);
   Snapshot before(em);
   Status st = em.flipEdge(0);
   EXPECT_EQ(st.code, Code::EditRefused);
@@ -391,4 +366,86 @@ TEST(Edit, ColoursAndAttributeWordsSurviveEditsAndCompaction) {
     for (int k = 0; k < 3; ++k) EXPECT_EQ(out.colors[3 * t + k], m.colors[3 * (t + 1) + k]);
     EXPECT_EQ(out.colorValid[t], m.colorValid[t + 1]);
   }
+}
+
+// ---------------------------------------------------------------------------
+// Randomized edit sequences. Each edit is checked: a refused edit changed nothing; a done
+// edit leaves validate() holding and a topology equal, array by array, to buildTopology of
+// the compacted mesh. The seed is printed on failure; STLTOPO_EDIT_SEED=<n> reruns one.
+
+namespace {
+
+struct Rng {
+  std::mt19937_64 g;
+  uint32_t operator()(uint32_t n) { return n == 0 ? 0 : uint32_t(g() % n); }
+};
+
+void runRandomEdits(const std::string& name, const Mesh& mesh, uint64_t seed, uint32_t nEdits, uint32_t checkEvery,
+                    double tolerance = 0) {
+  EditableMesh em;
+  TopologyOptions o;
+  o.tolerance = tolerance;
+  Status s = em.init(mesh, o);
+  ASSERT_TRUE(s.ok()) << s.message;
+  Rng rng{std::mt19937_64(seed)};
+  editcheck::RandomEditor<Rng> ed(em, rng);
+  for (uint32_t i = 0; i < nEdits; ++i) {
+    std::string what;
+    std::string d = ed.step(what, (i + 1) % checkEvery == 0);
+    ASSERT_EQ(d, "") << name << ": seed " << seed << ", edit " << i << " (" << what << ")";
+  }
+  ASSERT_EQ(editcheck::differenceFromRebuild(em), "") << name << ": seed " << seed << " at the end";
+  EXPECT_GT(ed.done(), nEdits / 10) << name << ": too few edits were done";
+}
+
+uint64_t seedFor(uint64_t base) {
+  const char* env = std::getenv("STLTOPO_EDIT_SEED");
+  return env ? std::strtoull(env, nullptr, 10) : base;
+}
+
+Mesh readFixture(const std::string& rel) {
+  Mesh m;
+  std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + rel);
+  Status s = gen::read(bytes, m);
+  EXPECT_TRUE(s.ok()) << rel << ": " << s.message;
+  return m;
+}
+
+}  // namespace
+
+TEST(EditRandom, GeneratedMeshesEveryEditChecked) {
+  gen::Soup torus = gen::torus(7, 5, {3, 11, 12});
+  gen::Soup cubes = gen::cube();
+  gen::append(cubes, gen::cube(1, 0, 0));  // two cubes sharing a side: non-manifold edges
+  gen::Soup pinched = gen::cube();
+  gen::append(pinched, gen::cube(1, 1, 1));  // touching at a corner: a non-manifold vertex
+  const std::pair<const char*, gen::Soup> cases[] = {{"torus with holes", torus}, {"two cubes", cubes}, {"pinched", pinched}};
+  for (const auto& c : cases)
+    for (uint64_t k = 0; k < 4; ++k) runRandomEdits(c.first, readSoup(c.second), seedFor(1000 + k), 600, 1);
+}
+
+TEST(EditRandom, FixturesClosedOpenAndBroken) {
+  const char* small[] = {
+      "wolph_numpy-stl/tests/stl_binary/Moon.stl",          // closed
+      "hmeyer_stl_io/src/testdata/bunny_99.stl",            // open
+      "wolph_numpy-stl/tests/stl_tests/triamid.stl",        // inconsistent edges, seams
+      "mikedh_trimesh/models/shared.STL",                   // a non-manifold edge
+      "mikedh_trimesh/models/multibody.stl",                // inconsistent shells
+      "mikedh_trimesh/models/soup.stl",                     // separate triangles
+  };
+  for (const char* f : small) {
+    Mesh m = readFixture(f);
+    for (uint64_t k = 0; k < 2; ++k) runRandomEdits(f, m, seedFor(2000 + k), 1500, 1);
+  }
+  const char* larger[] = {
+      "assimp_assimp/test/models/STL/sphereWithHole.stl",   // open, non-manifold vertices
+      "assimp_assimp/test/models/STL/Spider_binary.stl",    // degenerate and inconsistent
+      "assimp_assimp/test/models/STL/3DSMaxExport.STL",     // non-manifold edges
+  };
+  for (const char* f : larger) runRandomEdits(f, readFixture(f), seedFor(3000), 3000, 25);
+}
+
+TEST(EditRandom, ToleranceWeldedFixture) {
+  Mesh m = readFixture("assimp_assimp/test/models/STL/Spider_binary.stl");
+  runRandomEdits("Spider tolerance 0.01", m, seedFor(4000), 1000, 10, 0.01);
 }
