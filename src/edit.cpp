@@ -13,6 +13,17 @@
 
 #include "detail.h"
 
+// Allocation failure of the std containers (names, the attribute list) is caught where
+// exceptions exist; the wasm build has none (an allocation failure there aborts, as for
+// the rest of the std containers of the core).
+#if defined(__cpp_exceptions)
+#define STLTOPO_TRY try
+#define STLTOPO_CATCH catch (...)
+#else
+#define STLTOPO_TRY if (true)
+#define STLTOPO_CATCH else
+#endif
+
 namespace stltopo {
 namespace {
 
@@ -200,9 +211,9 @@ struct EditableMesh::Impl {
         refusal = detail::format("attribute \"%s\" refuses to %s the values", a.name.c_str(), merge ? "merge" : "split");
         return false;
       }
-      try {
+      STLTOPO_TRY {
         list.push_back(Pending{ai, id, u, v, off});
-      } catch (...) {
+      } STLTOPO_CATCH {
         oom = true;
         return false;
       }
@@ -844,10 +855,10 @@ Status EditableMesh::init(const Mesh& mesh, const Topology& topo) {
   statsStale_ = true;
   format_ = mesh.format;
   colorConvention_ = mesh.colorConvention;
-  try {
+  STLTOPO_TRY {
     solids_ = mesh.solids;
     warnings_ = mesh.warnings;
-  } catch (...) {
+  } STLTOPO_CATCH {
     return fail();
   }
   // The file's per-triangle data as triangle attributes.
@@ -873,7 +884,7 @@ Status EditableMesh::addAttribute(const std::string& name, Element element, Valu
     return badArgument(detail::format("an attribute has 1 to %u components, not %u", kMaxComponents, components));
   if ((rules.merge == Rule::Custom && !rules.mergeFn) || (rules.split == Rule::Custom && !rules.splitFn))
     return badArgument("a custom rule needs its callback");
-  try {
+  STLTOPO_TRY {
     Attribute a;
     a.name = name;
     a.view.element = element;
@@ -900,7 +911,7 @@ Status EditableMesh::addAttribute(const std::string& name, Element element, Valu
       }
     attributes_.push_back(std::move(a));
     attributes_.back().view.data = attributes_.back().bytes.data();
-  } catch (...) {
+  } STLTOPO_CATCH {
     return oom();
   }
   return Status{};
@@ -1026,7 +1037,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
       if (w == 0 || q[c] > out.bboxMax[c]) out.bboxMax[c] = q[c];
     }
   }
-  try {
+  STLTOPO_TRY {
     for (const Solid& s : solids_) {
       Solid o;
       o.name = s.name;
@@ -1034,7 +1045,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
     }
     if (out.solids.empty() && nt > 0) out.solids.push_back(Solid{});
     out.warnings = warnings_;
-  } catch (...) {
+  } STLTOPO_CATCH {
     return oom();
   }
   size_t solid = 0;
@@ -1177,9 +1188,9 @@ Status EditableMesh::compact(CompactMaps* maps) {
   if (!s.ok()) return s;
   // Every attribute, renumbered (init made the file's ones again; these replace them).
   std::vector<Attribute> renumbered;
-  try {
+  STLTOPO_TRY {
     renumbered.resize(attributes_.size());
-  } catch (...) {
+  } STLTOPO_CATCH {
     return oom();
   }
   for (size_t i = 0; i < attributes_.size(); ++i) {
@@ -1198,11 +1209,11 @@ Status EditableMesh::compact(CompactMaps* maps) {
       uint32_t y = (*map)[i0];
       if (y != kInvalid) std::memcpy(x.bytes.data() + size_t(y / step) * st, a.bytes.data() + (i0 / step) * st, st);
     }
-    try {
+    STLTOPO_TRY {
       x.name = a.name;
       x.rules = a.rules;
       x.defaultValue = a.defaultValue;
-    } catch (...) {
+    } STLTOPO_CATCH {
       return oom();
     }
     x.view = a.view;
