@@ -435,14 +435,14 @@ TEST(EditRandom, FixturesClosedOpenAndBroken) {
   };
   for (const char* f : small) {
     Mesh m = readFixture(f);
-    for (uint64_t k = 0; k < 2; ++k) runRandomEdits(f, m, seedFor(2000 + k), 1500, 1);
+    for (uint64_t k = 0; k < 2; ++k) runRandomEdits(f, m, seedFor(2000 + k), 1000, 1);
   }
   const char* larger[] = {
       "assimp_assimp/test/models/STL/sphereWithHole.stl",   // open, non-manifold vertices
       "assimp_assimp/test/models/STL/Spider_binary.stl",    // degenerate and inconsistent
       "assimp_assimp/test/models/STL/3DSMaxExport.STL",     // non-manifold edges
   };
-  for (const char* f : larger) runRandomEdits(f, readFixture(f), seedFor(3000), 3000, 25);
+  for (const char* f : larger) runRandomEdits(f, readFixture(f), seedFor(3000), 2000, 50);
 }
 
 TEST(EditRandom, ToleranceWeldedFixture) {
