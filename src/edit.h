@@ -170,6 +170,8 @@ class EditableMesh {
   const Array<uint8_t>& pairKind() const { return pairKind_; }
   const Array<uint32_t>& triangleHalfedge() const { return triangleHalfedge_; }
   const Array<uint32_t>& vertexHalfedge() const { return vertexHalfedge_; }
+  const Array<uint8_t>& triangleDegenerateFlags() const { return degenerate_; }
+  const Array<uint8_t>& vertexNonManifoldFlags() const { return vertexNonManifold_; }
 
   // face[e] with the loop numbering brought up to date (O(n) after an edit, else O(1)).
   uint32_t face(uint32_t e);

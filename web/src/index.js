@@ -2,6 +2,7 @@
 // (new URL('./stltopo-wasm.wasm', import.meta.url)), which bundlers understand.
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo, StlError, Mesh, kInvalid, EdgeKind } from './core.js';
+import { createEditableMesh, kLoopFaceBit } from './edit.js';
 
 const api = createStltopo({
   instantiate: (extra) => createStltopoModule(extra),
@@ -13,6 +14,10 @@ const api = createStltopo({
  * See index.d.ts and docs/JS-API.md.
  */
 export const loadStl = api.loadStl;
+
+/** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
+export const EditableMesh = createEditableMesh(api.internal.getModule);
+export { kLoopFaceBit };
 
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {

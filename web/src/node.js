@@ -4,6 +4,7 @@
 import { readFile, open } from 'node:fs/promises';
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo, normalizeOptions, StlError, Mesh, kInvalid, EdgeKind } from './core.js';
+import { createEditableMesh, kLoopFaceBit } from './edit.js';
 
 const wasmUrl = new URL('./stltopo-wasm.wasm', import.meta.url);
 let wasmBytes = null;
@@ -17,6 +18,10 @@ const api = createStltopo({
 });
 
 export const loadStl = api.loadStl;
+
+/** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
+export const EditableMesh = createEditableMesh(api.internal.getModule);
+export { kLoopFaceBit };
 
 const FILE_CHUNK = 1 << 20;
 
