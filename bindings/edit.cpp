@@ -100,6 +100,7 @@ class EditSession {
   }
 
   // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
+  val reserve(double vertices, double triangles) { return editStatus(em_.reserve(u32(vertices), u32(triangles))); }
   val removeTriangle(double t) { return editStatus(em_.removeTriangle(u32(t))); }
   val addVertex(double x, double y, double z) {
     uint32_t v = 0;
@@ -242,6 +243,7 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("addSolid", &EditSession::addSolid)
       .function("setFormat", &EditSession::setFormat)
       .function("init", &EditSession::init)
+      .function("reserve", &EditSession::reserve)
       .function("removeTriangle", &EditSession::removeTriangle)
       .function("addVertex", &EditSession::addVertex)
       .function("addTriangle", &EditSession::addTriangle)

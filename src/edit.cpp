@@ -1302,6 +1302,20 @@ Status EditableMesh::validate() const {
 
 // ============================================================================ edits
 
+Status EditableMesh::reserve(uint32_t vertices, uint32_t triangles) {
+  Impl::clearChange(*this);
+  // A change that adds `triangles` triangles reserves the triangle and half-edge arrays.
+  for (uint32_t i = 0; i < triangles; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!chAdded_.push_back(kInvalid)) {
+        Impl::clearChange(*this);
+        return oom();
+      }
+  bool ok = Impl::reserve(*this, vertices);
+  Impl::clearChange(*this);
+  return ok ? Status{} : oom();
+}
+
 Status EditableMesh::addVertex(float x, float y, float z, uint32_t* out) {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
     return Status::error(Code::NonFinite, "a vertex needs finite coordinates");

@@ -180,6 +180,11 @@ class EditableMesh {
   // infoJson of the compacted mesh (O(n)); "" when memory runs out.
   std::string infoJson(const std::string& file);
 
+  // Room for `vertices` more vertices and `triangles` more triangles (and their half-edges
+  // and attributes) without reallocating: the arrays otherwise grow by doubling, which
+  // makes the one edit that crosses a capacity O(n). OutOfMemory changes nothing.
+  Status reserve(uint32_t vertices, uint32_t triangles);
+
   // --- Edits ---------------------------------------------------------------------------
   // A new vertex (unused until a triangle uses it). Vertex attributes get their default.
   Status addVertex(float x, float y, float z, uint32_t* out = nullptr);

@@ -157,6 +157,8 @@ export function createEditableMesh(getModule) {
       return r === null ? { ok: true } : { ok: false, ...r };
     }
 
+    /** Room for more vertices and triangles, so that no later edit reallocates the arrays. */
+    reserve(vertices, triangles) { check(this.#live().reserve(id(vertices, 'vertices'), id(triangles, 'triangles'))); }
     removeTriangle(t) { this.#edit(this.#live().removeTriangle(id(t, 'triangle'))); }
     addVertex(x, y, z) { return this.#edit(this.#live().addVertex(x, y, z)); }
     /** Returns the new triangle id. options.nonManifold allows non-manifold and inconsistent edges. */

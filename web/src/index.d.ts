@@ -245,6 +245,7 @@ export declare class EditableMesh {
   triangleAlive(t: number): boolean;
   halfedgeAlive(e: number): boolean;
   validate(): ValidateResult;
+  reserve(vertices: number, triangles: number): void;
   removeTriangle(t: number): void;
   addVertex(x: number, y: number, z: number): number;
   addTriangle(a: number, b: number, c: number, options?: { nonManifold?: boolean }): number;
