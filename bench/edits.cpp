@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "edit.h"
+#include "stltopo/edit.h"
 
 using namespace stltopo;
 using Clock = std::chrono::steady_clock;

@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "edit.h"
-#include "stltopo.h"
+#include "stltopo/edit.h"
+#include "stltopo/stltopo.h"
 
 using emscripten::typed_memory_view;
 using emscripten::val;

@@ -6,7 +6,7 @@
 // would give for the new triangles (up to the numbering, which toMesh() makes equal).
 // Operations check everything that can refuse them and reserve every array they may grow
 // before apply() starts, so apply() cannot fail half-way.
-#include "edit.h"
+#include "stltopo/edit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -1111,6 +1111,10 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   const uint32_t nh = 2 * nPairs;
   T.nTriangles = nt;
   T.nVertices = nv;
+  // The editable mesh is welded already (a tolerance weld was applied by init()): its
+  // compacted form has the exact weld.
+  T.tolerance = 0;
+  T.nWeldedVertices = nv;
   EditLoops L;
   if (!Impl::labelLoops(*this, L, nullptr)) return oom();
   Array<uint32_t> loopOf;  // per slot half-edge: its loop (boundary half-edges only)

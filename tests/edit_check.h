@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "edit.h"
+#include "stltopo/edit.h"
 #include "stl_gen.h"
 
 namespace editcheck {
@@ -37,7 +37,7 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
   EDITCHECK_COUNT(nTriangles) EDITCHECK_COUNT(nVertices) EDITCHECK_COUNT(nEdges) EDITCHECK_COUNT(nBoundaryEdges)
   EDITCHECK_COUNT(nNonManifoldEdges) EDITCHECK_COUNT(nInconsistentEdges) EDITCHECK_COUNT(nNonManifoldVertices)
   EDITCHECK_COUNT(nDegenerate) EDITCHECK_COUNT(nShells) EDITCHECK_COUNT(nUsedVertices) EDITCHECK_COUNT(nHoles)
-  EDITCHECK_COUNT(nSeams)
+  EDITCHECK_COUNT(nSeams) EDITCHECK_COUNT(nWeldedVertices)
 #undef EDITCHECK_COUNT
   if (infoJson("f", m, &t) != infoJson("f", m, &f)) return "infoJson differs from a fresh build";
   if (em.infoJson("f") != infoJson("f", m, &f)) return "EditableMesh::infoJson differs from a fresh build";

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <random>
 
-#include "edit.h"
+#include "stltopo/edit.h"
 #include "edit_check.h"
 #include "stl_gen.h"
 

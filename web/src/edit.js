@@ -1,7 +1,8 @@
 // EditableMesh: local edits on a mesh held in wasm memory (see docs/EDITING.md for the
 // contracts). The arrays and figures read from it are copies, made when first read after an
 // edit; the mesh itself lives in wasm until dispose().
-import { StlError, Mesh, kInvalid } from './core.js';
+import { stlError, invalid, fromStatus } from './errors.js';
+import { Mesh, kInvalid } from './mesh.js';
 
 /** The face word of a boundary half-edge: kLoopFaceBit | loop id. */
 export const kLoopFaceBit = 0x80000000;
@@ -10,21 +11,18 @@ const ELEMENTS = { vertex: 0, triangle: 1, edge: 2 };
 const RULES = { keepFirst: 0, average: 1, fail: 2 };
 const TYPES = [Uint8Array, Int8Array, Uint16Array, Int16Array, Uint32Array, Int32Array, Float32Array, Float64Array];
 
-function fail(st) {
-  throw new StlError(st.code, st.message, st);
-}
 function check(r) {
-  if (r !== null && typeof r === 'object' && typeof r.code === 'string' && typeof r.message === 'string') fail(r);
+  if (r !== null && typeof r === 'object' && typeof r.code === 'string' && typeof r.message === 'string') throw fromStatus(r);
   return r;
 }
 function rule(r, what) {
   if (typeof r === 'function') return [3, r];
   if (r === undefined) return [0, null];
-  if (!(r in RULES)) throw new StlError('invalid-argument', `invalid-argument: unknown ${what} rule ${String(r)} (keepFirst, average, fail or a function)`);
+  if (!(r in RULES)) throw invalid(`unknown ${what} rule ${String(r)} (keepFirst, average, fail or a function)`);
   return [RULES[r], null];
 }
 function id(x, what) {
-  if (!Number.isInteger(x) || x < 0 || x > 0xfffffffe) throw new StlError('invalid-argument', `invalid-argument: ${what} must be an id, not ${String(x)}`);
+  if (!Number.isInteger(x) || x < 0 || x > 0xfffffffe) throw invalid(`${what} must be an id, not ${String(x)}`);
   return x;
 }
 
@@ -51,7 +49,7 @@ export function createEditableMesh(getModule) {
      * the topology is built.
      */
     static async from(source, options = {}) {
-      if (!source || !source.positions || !source.triangles) throw new StlError('invalid-argument', 'invalid-argument: EditableMesh.from() needs a Mesh or { positions, triangles }');
+      if (!source || !source.positions || !source.triangles) throw invalid('EditableMesh.from() needs a Mesh or { positions, triangles }');
       const entry = await getModule();
       const M = entry.module;
       const s = new M._EditableMesh();
@@ -59,7 +57,7 @@ export function createEditableMesh(getModule) {
         const up = (name, arr) => {
           if (!arr) return;
           const v = s.upload(name, arr.length);
-          if (v === null) throw new StlError('out-of-memory', `out-of-memory: could not allocate ${name}`);
+          if (v === null) throw stlError('out-of-memory', `could not allocate ${name}`);
           v.set(arr);
         };
         up('positions', source.positions);
@@ -82,7 +80,7 @@ export function createEditableMesh(getModule) {
     }
 
     #live() {
-      if (this.#disposed) throw new StlError('invalid-argument', 'invalid-argument: the editable mesh was disposed');
+      if (this.#disposed) throw invalid('the editable mesh was disposed');
       return this.#session;
     }
     #edit(r) {
@@ -179,10 +177,10 @@ export function createEditableMesh(getModule) {
      */
     fillHole(h, options = {}) {
       const method = options.method || 'fan';
-      if (method !== 'fan' && method !== 'ear') throw new StlError('invalid-argument', `invalid-argument: unknown fill method ${String(method)} (fan or ear)`);
+      if (method !== 'fan' && method !== 'ear') throw invalid(`unknown fill method ${String(method)} (fan or ear)`);
       const byLoop = typeof h === 'number';
       const target = byLoop ? id(h, 'loop') : h && h.halfedges ? h.halfedges[0] : undefined;
-      if (target === undefined) throw new StlError('invalid-argument', 'invalid-argument: fillHole() needs a loop id or a hole');
+      if (target === undefined) throw invalid('fillHole() needs a loop id or a hole');
       return this.#edit(this.#live().fill(target, byLoop, method === 'ear'));
     }
     /** Renumbers densely; returns the old -> new maps { vertices, triangles, halfedges }. */
@@ -194,14 +192,14 @@ export function createEditableMesh(getModule) {
      * 'keepFirst' (default), 'average', 'fail' or a function (a, b, t) => array | null.
      */
     addAttribute(name, element, values, { components = 1, merge, split } = {}) {
-      if (!(element in ELEMENTS)) throw new StlError('invalid-argument', `invalid-argument: unknown element ${String(element)} (vertex, triangle or edge)`);
+      if (!(element in ELEMENTS)) throw invalid(`unknown element ${String(element)} (vertex, triangle or edge)`);
       const type = TYPES.findIndex((T) => values instanceof T);
-      if (type < 0) throw new StlError('invalid-argument', 'invalid-argument: attribute values must be a typed array');
+      if (type < 0) throw invalid('attribute values must be a typed array');
       const [mr, mf] = rule(merge, 'merge');
       const [sr, sf] = rule(split, 'split');
       const s = this.#live();
       const count = element === 'vertex' ? this.nVertices : element === 'triangle' ? this.nTriangles : this.nHalfedges / 2;
-      if (values.length !== count * components) throw new StlError('invalid-argument', `invalid-argument: ${name} needs ${count * components} values (${count} x ${components}), not ${values.length}`);
+      if (values.length !== count * components) throw invalid(`${name} needs ${count * components} values (${count} x ${components}), not ${values.length}`);
       this.#edit(s.addAttribute(String(name), ELEMENTS[element], type, components, mr, sr, mf, sf));
       s.attribute(String(name), false).set(values);
     }

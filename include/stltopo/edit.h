@@ -45,7 +45,10 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
 
 namespace stltopo {
 

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace {
 
@@ -37,12 +37,7 @@ struct Args {
 // (no copy through a buffer), anything else is read 1 MiB at a time.
 stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& base, stltopo::Mesh& mesh) {
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
-  if (!f) {
-    stltopo::Status s;
-    s.code = stltopo::Code::InvalidArgument;
-    s.message = "invalid-argument: cannot open " + path + ": " + std::strerror(errno);
-    return s;
-  }
+  if (!f) return stltopo::Status::error(stltopo::Code::InvalidArgument, "cannot open " + path + ": " + std::strerror(errno));
   stltopo::ReadOptions opt = base;
   struct stat st;
   if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode)) opt.sizeHint = uint64_t(st.st_size);
@@ -72,10 +67,8 @@ stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& ba
         if (!s.ok()) break;
       }
       if (n < buf.size()) {
-        if (std::ferror(f)) {
-          s.code = stltopo::Code::InvalidArgument;
-          s.message = "invalid-argument: read error on " + path + ": " + std::strerror(errno);
-        }
+        if (std::ferror(f))
+          s = stltopo::Status::error(stltopo::Code::InvalidArgument, "read error on " + path + ": " + std::strerror(errno));
         break;
       }
     }
@@ -91,7 +84,7 @@ int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Large arrays from the heap, and freed blocks kept there: a later array then reuses
   // pages that are already mapped (the weld table's for the topology's) instead of faulting
-  // in fresh zeroed ones (the kernel's page clearing was 28 % of a 4M-triangle run). glibc
+  // in fresh zeroed ones (bench/PROFILE.md has the measurement). glibc
   // still maps memory when the heap cannot grow.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
