@@ -37,9 +37,13 @@ export function createEditableMesh(getModule) {
     #cache = new Map();
     #disposed = false;
 
-    constructor(entry, session) {
+    constructor(entry, session, source) {
       this.#m = entry;
       this.#session = session;
+      /** As the source mesh's (solids and warnings describe the file it came from). */
+      this.format = source.format || 'unknown';
+      this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
+      this.warnings = source.warnings ? [...source.warnings] : [];
     }
 
     /**
@@ -76,7 +80,7 @@ export function createEditableMesh(getModule) {
         s.delete();
         throw e;
       }
-      return new EditableMesh(entry, s);
+      return new EditableMesh(entry, s, source);
     }
 
     #live() {
@@ -116,6 +120,16 @@ export function createEditableMesh(getModule) {
         /** Triangle id, or kLoopFaceBit | loop id for a boundary half-edge. */
         get face() { return self.#get('face'); },
       };
+    }
+    /** The triangle attributes the file brought, as a Mesh has them (null when absent). */
+    get attributes() { return this.#attr('attribute'); }
+    get colors() { return this.colorConvention === 'none' ? null : this.#attr('color'); }
+    get colorValid() { return this.colorConvention === 'none' ? null : this.#attr('colorValid'); }
+    get normals() { return this.#attr('normal'); }
+    #attr(name) {
+      const key = `attr:${name}`;
+      if (!this.#cache.has(key)) this.#cache.set(key, this.#live().attribute(name, true));
+      return this.#cache.get(key);
     }
     get triangleHalfedge() { return this.#get('triangleHalfedge'); }
     get vertexHalfedge() { return this.#get('vertexHalfedge'); }

@@ -259,6 +259,13 @@ export declare class EditableMesh {
   readonly nHalfedges: number;
   readonly nLiveTriangles: number;
   readonly nLiveVertices: number;
+  readonly format: 'binary' | 'ascii' | 'unknown';
+  readonly colorConvention: 'none' | 'viscam' | 'magics';
+  readonly warnings: Warning[];
+  readonly attributes: Uint16Array | null;
+  readonly colors: Uint8Array | null;
+  readonly colorValid: Uint8Array | null;
+  readonly normals: Float32Array | null;
   readonly positions: Float32Array;
   readonly triangles: Uint32Array;
   readonly halfedges: { readonly next: Uint32Array; readonly prev: Uint32Array; readonly vert: Uint32Array; readonly face: Uint32Array };
