@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo/edit.h"
+#include "stltopo/stltopo.h"
 
 using namespace stltopo;
 using Clock = std::chrono::steady_clock;
