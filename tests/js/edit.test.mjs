@@ -133,6 +133,12 @@ test('attributes: average on split, a JS merge rule on collapse, fail refuses', 
   }
   assert.ok(refusedByLabel);
   assert.ok(em.attributeNames().includes('attribute'));
+  // A rule that throws: its exception comes out of the edit, which changed nothing.
+  em.addAttribute('strict', 'vertex', new Uint8Array(em.nVertices), { split: () => { throw new Error('no splits here'); } });
+  const nv = em.nVertices;
+  assert.throws(() => em.splitEdge(em.triangleHalfedge[3]), /no splits here/);
+  assert.equal(em.nVertices, nv);
+  assert.deepEqual(em.validate(), { ok: true });
   em.dispose();
 });
 

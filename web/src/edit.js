@@ -15,8 +15,20 @@ function check(r) {
   if (r !== null && typeof r === 'object' && typeof r.code === 'string' && typeof r.message === 'string') throw fromStatus(r);
   return r;
 }
+// A JS rule runs inside a wasm call: an exception must not unwind through it, so the wrapper
+// catches it, refuses the edit (null) and keeps it for #edit to throw.
+let ruleError = null;
 function rule(r, what) {
-  if (typeof r === 'function') return [3, r];
+  if (typeof r === 'function') {
+    return [3, (a, b, t) => {
+      try {
+        return r(a, b, t);
+      } catch (e) {
+        ruleError = e;
+        return null;
+      }
+    }];
+  }
   if (r === undefined) return [0, null];
   if (!(r in RULES)) throw invalid(`unknown ${what} rule ${String(r)} (keepFirst, average, fail or a function)`);
   return [RULES[r], null];
@@ -89,6 +101,11 @@ export function createEditableMesh(getModule) {
     }
     #edit(r) {
       this.#cache.clear();
+      if (ruleError !== null) {
+        const e = ruleError;
+        ruleError = null;
+        throw e;
+      }
       return check(r);
     }
     #get(name) {
