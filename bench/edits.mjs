@@ -1,5 +1,5 @@
 // Edits per second through the npm package (wasm), the same sequence as stltopo_edits.
-//   node bench/edits.mjs FILE [N]
+//   node bench/edits.mjs FILE [N] [--json]
 // Times N edits of each kind on random elements (fixed seed): removeTriangle; addTriangle
 // (the removed ones put back); flipEdge, splitEdge, collapseEdge; reverseTriangle; fillHole
 // (fan) on the holes of up to N fresh removals that share no vertex. Refused edits count as attempts. No arrays or
@@ -7,8 +7,10 @@
 // the triangles array per 4096 removals). The rate is per CPU second of the process.
 import { loadStlFile, EditableMesh } from 'stltopo';
 
-const file = process.argv[2];
-const n = Number(process.argv[3] || 100000);
+const args = process.argv.slice(2).filter((a) => a !== '--json');
+const json = process.argv.includes('--json');
+const file = args[0];
+const n = Number(args[1] || 100000);
 const mesh = await loadStlFile(file);
 const em = await EditableMesh.from(mesh);
 em.reserve(2 * n, 4 * n); // no timed edit is the one that doubles an array
@@ -97,6 +99,7 @@ const nHoles = holes.length;
 timed('fillHole', (i) => em.fillHole({ halfedges: [holes[i]] }), nHoles);
 const v = em.validate();
 if (!v.ok) throw new Error(`validate after the edits: ${v.message}`);
-console.log(`${file}: ${mesh.nTriangles} triangles, ${n} edits per kind (wasm)`);
-for (const r of rows) console.log(`  ${r.op.padEnd(16)} ${String(r.attempts).padStart(8)} attempts ${String(r.done).padStart(8)} done ${r.ms.toFixed(1).padStart(9)} ms wall ${r.cpu.toFixed(1).padStart(9)} ms cpu ${String(r.perSecond).padStart(12)} /s cpu`);
+if (json) console.log(JSON.stringify({ triangles: mesh.nTriangles, edits: rows.map((r) => ({ op: r.op, attempts: r.attempts, done: r.done, ms: r.ms, cpuMs: r.cpu, perCpuSecond: r.perSecond })) }));
+else console.log(`${file}: ${mesh.nTriangles} triangles, ${n} edits per kind (wasm)`);
+if (!json) for (const r of rows) console.log(`  ${r.op.padEnd(16)} ${String(r.attempts).padStart(8)} attempts ${String(r.done).padStart(8)} done ${r.ms.toFixed(1).padStart(9)} ms wall ${r.cpu.toFixed(1).padStart(9)} ms cpu ${String(r.perSecond).padStart(12)} /s cpu`);
 em.dispose();
