@@ -5,6 +5,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { loadStlFile, EditableMesh, StlError, kLoopFaceBit } from 'stltopo';
 import { fixture } from './helpers.mjs';
+import { api } from '../../dist/instance.node.js';
 
 const cubeFile = () => fixture('cubeBinary.stl');
 
@@ -152,4 +153,22 @@ test('an indexed mesh: addTriangle pairs with the boundary', async () => {
   assert.equal(t, 3);
   assert.equal(em.stats.watertight, true);
   em.dispose();
+});
+
+test('the wasm heap returns to its baseline after many editable meshes', async () => {
+  const heap = async () => (await api.internal.heap()).inUse;
+  const mesh = await loadStlFile(fixture('test_sphere.stl'));
+  const round = async () => {
+    const em = await EditableMesh.from(mesh);
+    em.removeTriangle(0);
+    em.fillHole(em.holes[0].id, { method: 'ear' });
+    em.addAttribute('w', 'edge', new Float32Array(em.nHalfedges / 2), { merge: 'average' });
+    em.splitEdge(em.triangleHalfedge[5]);
+    void em.stats;
+    em.dispose();
+  };
+  await round();
+  const base = await heap();
+  for (let i = 0; i < 30; ++i) await round();
+  assert.equal(await heap(), base);
 });

@@ -38,6 +38,13 @@ function id(x, what) {
   return x;
 }
 
+// An editable mesh that is dropped without dispose() still frees its wasm memory, eventually.
+const registry = typeof FinalizationRegistry === 'function'
+  ? new FinalizationRegistry(({ entry, session }) => {
+    if (!entry.dead && !session.isDeleted()) session.delete();
+  })
+  : null;
+
 /**
  * Creates the EditableMesh class on a module getter (async () => entry with .module), as
  * index.js and node.js make it for their module.
@@ -56,6 +63,7 @@ export function createEditableMesh(getModule) {
       this.format = source.format || 'unknown';
       this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
       this.warnings = source.warnings ? [...source.warnings] : [];
+      if (registry) registry.register(this, { entry, session }, this);
     }
 
     /**
@@ -243,6 +251,7 @@ export function createEditableMesh(getModule) {
       if (this.#disposed) return;
       this.#disposed = true;
       this.#cache.clear();
+      if (registry) registry.unregister(this);
       if (!this.#m.dead) this.#session.delete();
     }
   }
