@@ -4,7 +4,9 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <cstring>
 #include <string>
+#include <utility>
 
 #include "stltopo/edit.h"
 #include "stltopo/stltopo.h"
@@ -179,6 +181,36 @@ class EditSession {
   }
   val validate() const { return editStatus(em_.validate()); }
 
+  // The STL file of the compacted mesh (toMesh + writeStl), whole: a Uint8Array or a status.
+  // format: "binary" | "ascii"; colors: "as-mesh" | "none" | "viscam" | "magics"; normals:
+  // "stored" | "computed".
+  val toStl(const std::string& format, const std::string& colors, const std::string& normals, val name) const {
+    stltopo::Mesh m;
+    Status s = em_.toMesh(m);
+    if (!s.ok()) return editStatus(s);
+    stltopo::WriteOptions o;
+    o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+    o.colors = colors == "none" ? stltopo::WriteColors::None
+               : colors == "viscam" ? stltopo::WriteColors::VisCam
+               : colors == "magics" ? stltopo::WriteColors::Magics
+                                    : stltopo::WriteColors::AsMesh;
+    o.storedNormals = normals != "computed";
+    if (name.isString()) o.name = name.as<std::string>();
+    Array<uint8_t> out;
+    bool grown = true;
+    auto sink = [](void* user, const uint8_t* data, size_t n) {
+      auto* st = static_cast<std::pair<Array<uint8_t>*, bool*>*>(user);
+      size_t at = st->first->size();
+      if (!st->first->resize(at + n)) return *st->second = false;
+      std::memcpy(st->first->data() + at, data, n);
+      return true;
+    };
+    std::pair<Array<uint8_t>*, bool*> user{&out, &grown};
+    s = stltopo::writeStl(m, sink, &user, o);
+    if (!grown) return editStatus(Status::error(Code::OutOfMemory, "could not allocate the STL bytes"));
+    return s.ok() ? toJs(out, true) : editStatus(s);
+  }
+
   // Attributes. element: 0 vertex, 1 triangle, 2 edge; type: ValueType index; rules:
   // 0 keepFirst, 1 average, 2 fail, 3 custom (with mergeFn / splitFn).
   val addAttribute(const std::string& name, int element, int type, double components, int merge, int split, val mergeFn,
@@ -258,6 +290,7 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("infoJson", &EditSession::infoJson)
       .function("array", &EditSession::array)
       .function("validate", &EditSession::validate)
+      .function("toStl", &EditSession::toStl)
       .function("addAttribute", &EditSession::addAttribute)
       .function("attribute", &EditSession::attribute)
       .function("attributeInfo", &EditSession::attributeInfo)

@@ -22,6 +22,7 @@ const ABSENT = {
   normals: 'null without { normals: true }',
   colors: "null when colorConvention is 'none'",
   topology: 'null with topology: false',
+  indexed: 'null for meshes of loadStl()',
 };
 const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1' : `${d.width > 1 ? d.width : 1} per ${d.element}`);
 const notes = (d) => [

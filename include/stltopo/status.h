@@ -30,7 +30,9 @@ enum class Code : uint8_t {
   TrailingBytes,   // "trailing-bytes": < 84 extra bytes after the last binary triangle
   MissingEndsolid, // "missing-endsolid": ASCII file ends without endsolid
   NameTruncated,   // "name-truncated": a solid name longer than kMaxNameBytes
-  // errors (continued)
+  // errors (after the warnings: the numbering of the codes above stays)
+  InvalidIndex,    // "invalid-index": a vertex id out of range (element: the triangle)
+  WriteFailed,     // "write-failed": the output sink refused the data
   EditRefused,     // "edit-refused": an EditableMesh edit was refused; nothing changed
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };

@@ -18,4 +18,6 @@
 #include "stltopo/read.h"
 #include "stltopo/topology.h"
 #include "stltopo/report.h"
+#include "stltopo/indexed.h"
+#include "stltopo/write.h"
 #include "stltopo/edit.h"

@@ -1,40 +1,13 @@
 // The demo's edit mode: a copy of the loaded mesh as an EditableMesh (main thread). A click on the
 // model removes a triangle, flips a face or flips its shell; the selected hole can be filled (fan
 // or ear); undo goes back one edit (a snapshot of the triangles, fine for the demo's sizes);
-// download writes the edited mesh as binary STL.
+// download writes the edited mesh as binary STL (EditableMesh.toStl: the package's writer).
 //
 // Test hooks: document.body.dataset.edits is the number of edits done; #edit-status says what the
 // last one did (or why it was refused).
 import { EditableMesh } from 'stltopo';
 
 const kMaxUndo = 20;
-
-/** Binary STL of a compacted editable mesh (normals from the winding, attribute words kept). */
-export function binaryStl(em, header = 'stltopo demo edit') {
-  const p = em.positions, tri = em.triangles, words = em.attributes;
-  const n = tri.length / 3;
-  const out = new Uint8Array(84 + 50 * n);
-  const dv = new DataView(out.buffer);
-  for (let i = 0; i < Math.min(80, header.length); ++i) out[i] = header.charCodeAt(i) & 0x7f;
-  dv.setUint32(80, n, true);
-  for (let t = 0; t < n; ++t) {
-    const o = 84 + 50 * t;
-    const a = 3 * tri[3 * t], b = 3 * tri[3 * t + 1], c = 3 * tri[3 * t + 2];
-    const ux = p[b] - p[a], uy = p[b + 1] - p[a + 1], uz = p[b + 2] - p[a + 2];
-    const wx = p[c] - p[a], wy = p[c + 1] - p[a + 1], wz = p[c + 2] - p[a + 2];
-    let nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-    const l = Math.hypot(nx, ny, nz) || 1;
-    nx /= l; ny /= l; nz /= l;
-    dv.setFloat32(o, nx, true); dv.setFloat32(o + 4, ny, true); dv.setFloat32(o + 8, nz, true);
-    for (const [k, v] of [[0, a], [1, b], [2, c]]) {
-      dv.setFloat32(o + 12 + 12 * k, p[v], true);
-      dv.setFloat32(o + 16 + 12 * k, p[v + 1], true);
-      dv.setFloat32(o + 20 + 12 * k, p[v + 2], true);
-    }
-    dv.setUint16(o + 48, words ? words[t] : 0, true);
-  }
-  return out;
-}
 
 export function createEditor({ viewer, show, status }) {
   let em = null; // the EditableMesh, compacted after every edit so that ids match the view
@@ -118,7 +91,7 @@ export function createEditor({ viewer, show, status }) {
     },
     download(name) {
       if (!em) return null;
-      const bytes = binaryStl(em);
+      const bytes = em.toStl({ format: 'binary' });
       const url = URL.createObjectURL(new Blob([bytes], { type: 'model/stl' }));
       const a = document.createElement('a');
       a.href = url;

@@ -4,7 +4,7 @@
 // Test hooks (kept stable): document.body.dataset.state is "loading" | "ready" | "error";
 // every statistic is an element [data-stat="<stltopo info --json key>"] whose text is the value;
 // each hole list entry carries data-hole="<hole id>"; the error code is in [data-error-code].
-import { loadStl } from 'stltopo/worker';
+import { loadStl, toStl } from 'stltopo/worker';
 import { Viewer, holeColor, colors } from './viewer.js';
 import { samples, defaultSampleId } from './samples.js';
 import { createEditor } from './edit.js';
@@ -83,6 +83,8 @@ async function load(source, { name, credit = '' } = {}) {
     await stopEditing();
     const sceneMs = viewer.setMesh(mesh);
     hasModel = true;
+    shown = { mesh, name };
+    $('#download').hidden = false;
     loaded = { mesh, name };
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     hideProgress();
@@ -101,9 +103,35 @@ async function load(source, { name, credit = '' } = {}) {
     viewer.clear();
     clearPanels();
     hasModel = false;
+    shown = null;
+    $('#download').hidden = true;
     setState('error');
   }
 }
+
+// The mesh on screen, for "Download STL": written as STL in the worker (the mesh came from
+// one), then handed to the browser as a download.
+let shown = null;
+$('#download-button').addEventListener('click', async () => {
+  if (!shown) return;
+  const button = $('#download-button');
+  const format = $('#download-format').value;
+  button.disabled = true;
+  try {
+    const blob = await toStl(shown.mesh, { format });
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `${shown.name.replace(/\.stl$/i, '')}${format === 'ascii' ? '-ascii' : ''}.stl`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
+  } catch (error) {
+    showError(shown.name, error);
+  } finally {
+    button.disabled = false;
+  }
+});
 
 /** Lets the page paint (progress text) before a long step; does not hang in a hidden tab. */
 function nextFrame() {
@@ -528,4 +556,4 @@ $('#viewport').addEventListener('pointerup', (e) => {
 $('#fill-fan').addEventListener('click', () => editor.fill('fan'));
 $('#fill-ear').addEventListener('click', () => editor.fill('ear'));
 $('#undo-button').addEventListener('click', () => editor.undo());
-$('#download-button').addEventListener('click', () => editor.download(loaded?.name ?? 'mesh'));
+$('#edit-download').addEventListener('click', () => editor.download(loaded?.name ?? 'mesh'));

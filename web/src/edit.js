@@ -3,6 +3,7 @@
 // edit; the mesh itself lives in wasm until dispose().
 import { stlError, invalid, fromStatus } from './errors.js';
 import { Mesh, kInvalid } from './mesh.js';
+import { normalizeWriteOptions } from './options.js';
 
 /** The face word of a boundary half-edge: kLoopFaceBit | loop id. */
 export const kLoopFaceBit = 0x80000000;
@@ -221,6 +222,15 @@ export function createEditableMesh(getModule) {
       const target = byLoop ? id(h, 'loop') : h && h.halfedges ? h.halfedges[0] : undefined;
       if (target === undefined) throw invalid('fillHole() needs a loop id or a hole');
       return this.#edit(this.#live().fill(target, byLoop, method === 'ear'));
+    }
+    /**
+     * The STL file of the mesh (as compact() would renumber it), as bytes: options as
+     * writeStl's ({ format, colors, normals, name }). Colours and attribute words are the
+     * triangles' attributes.
+     */
+    toStl(options = {}) {
+      const o = normalizeWriteOptions(options);
+      return check(this.#live().toStl(o.format, o.colors, o.normals, o.name === undefined || o.name === null ? null : o.name));
     }
     /** Renumbers densely; returns the old -> new maps { vertices, triangles, halfedges }. */
     compact() { return this.#edit(this.#live().compact()); }

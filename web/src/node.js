@@ -3,8 +3,16 @@ import { api, fileSource } from './instance.node.js';
 import { stlError } from './errors.js';
 import { createEditableMesh } from './edit.js';
 import { normalizeOptions } from './options.js';
+import { concatBytes } from './wasm.js';
 
 export const loadStl = api.loadStl;
+export const fromIndexed = api.fromIndexed;
+export const writeStl = api.writeStl;
+
+/** Node: the STL file of a mesh as one Uint8Array (writeStl() streams it instead). */
+export async function toStl(mesh, options) {
+  return concatBytes(...(await api.stlChunks(mesh, options)));
+}
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
 export const EditableMesh = createEditableMesh(api.internal.getModule);
