@@ -101,6 +101,15 @@ test('split, flip, collapse and reverse on a sphere keep it closed; compact renu
   const fresh = await freshStats(em);
   for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
   assert.deepEqual(em.validate(), { ok: true });
+  // toStl() writes the edited mesh; it reads back with the same figures, binary and ASCII.
+  const { loadStl } = await import('stltopo');
+  for (const format of ['binary', 'ascii']) {
+    const back = await loadStl(em.toStl({ format }));
+    for (const k of TOPO_KEYS) assert.deepEqual(back.stats[k], em.stats[k], `${format} ${k}`);
+    // The same corners bit for bit (a file numbers its vertices by first appearance).
+    const xyz = (m) => { const out = new Float32Array(m.triangles.length * 3); m.triangles.forEach((v, i) => out.set(m.positions.subarray(3 * v, 3 * v + 3), 3 * i)); return out; };
+    assert.deepEqual(xyz(back), xyz(em), `${format} corner positions`);
+  }
   // Navigation works on the editable arrays.
   const e = em.triangleHalfedge[0];
   assert.equal(em.dst(e), em.org(em.lNext(e)));
