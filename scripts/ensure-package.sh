@@ -16,8 +16,8 @@ done
 bash scripts/build-wasm.sh
 BUILD_DIR="${STLTOPO_WASM_BUILD_DIR:-build-wasm}"
 out="$BUILD_DIR/bindings/stltopo-wasm.wasm"
-# bindings.cpp and pre.js always reach the link; the build's output must be newer than them.
-newer=$(find bindings/bindings.cpp bindings/pre.js -newer "$out" 2>/dev/null | head -1)
+# bindings.cpp always reaches the link; the build's output must be newer than it.
+newer=$(find bindings/bindings.cpp -newer "$out" 2>/dev/null | head -1)
 if [ -n "$newer" ] || ! cmp -s "$out" dist/stltopo-wasm.wasm; then
   echo "ensure-package: dist/ is stale after the build (${newer:-dist/stltopo-wasm.wasm differs from $out})" >&2
   exit 1

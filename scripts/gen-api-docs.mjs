@@ -24,6 +24,8 @@ const ABSENT = {
   topology: 'null with topology: false',
   indexed: 'null for meshes of loadStl()',
 };
+// Topology fields are typed by Mesh's parameter: present, null, or either (IfTopology).
+const tsType = (when, type) => (when === 'topology' ? `IfTopology<T, ${type}>` : ABSENT[when] ? `${type} | null` : type);
 const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1' : `${d.width > 1 ? d.width : 1} per ${d.element}`);
 const notes = (d) => [
   d.derived ? 'copies rebuild it in JS on first read' : null,
@@ -37,7 +39,7 @@ function dtsBlock(layout) {
     if (!d.group) {
       const absent = ABSENT[d.when];
       out.push(`  /** ${d.doc} ${per(d)}${absent ? `; ${absent}` : ''}. */`);
-      out.push(`  ${d.key}: ${d.type}${absent ? ' | null' : ''};`);
+      out.push(`  ${d.key}: ${tsType(d.when, d.type)};`);
       continue;
     }
     if (!groups.has(d.group)) {
@@ -50,11 +52,12 @@ function dtsBlock(layout) {
   return out.flatMap((x) => {
     if (typeof x === 'string') return [x];
     const absent = ABSENT[x.when];
+    const [open, close] = x.when === 'topology' ? ['IfTopology<T, {', '}>'] : ['{', absent ? '} | null' : '}'];
     return [
       `  /** ${GROUP_DOC[x.group] || ''}${absent ? ` ${absent[0].toUpperCase()}${absent.slice(1)}.` : ''} */`,
-      `  ${x.group}: {`,
+      `  ${x.group}: ${open}`,
       ...x.members.flatMap((d) => [`    /** ${d.doc} ${per(d)}. */`, `    ${d.key}: ${d.type};`]),
-      `  }${absent ? ' | null' : ''};`,
+      `  ${close};`,
     ];
   });
 }

@@ -33,6 +33,9 @@ enum class Code : uint8_t {
   // errors (after the warnings: the numbering of the codes above stays)
   InvalidIndex,    // "invalid-index": a vertex id out of range (element: the triangle)
   WriteFailed,     // "write-failed": the output sink refused the data
+  // errors of the JS layer (the core never returns them; named here so that JS errors print as the core's)
+  WasmLoad,        // "wasm-load": the npm package could not fetch or compile its wasm, or start its worker
+  // errors (continued)
   EditRefused,     // "edit-refused": an EditableMesh edit was refused; nothing changed
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };

@@ -126,8 +126,9 @@ test('the npm CLI prints the native bytes for a missing file (errorJson from JS)
 
 test('the entry points export the public API only (no _internal, no fileSource), and exports maps no internal file', async () => {
   const pkg = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
-  assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './worker']);
-  const pub = ['EdgeKind', 'Mesh', 'StlError', 'fromIndexed', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
+  // ./worker-thread and ./stltopo-wasm.wasm: the files a bundler is pointed at (README, Bundlers).
+  assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
+  const pub = ['EdgeKind', 'Mesh', 'StlError', 'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
   // The editable mesh lives where it is made: the main entries only.
   assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh', 'kLoopFaceBit'].sort());
   assert.deepEqual(Object.keys(worker).sort(), pub);

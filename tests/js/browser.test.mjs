@@ -44,6 +44,12 @@ before(async () => {
       res.end(PAGE);
       return;
     }
+    if (url.pathname === '/spa/stltopo-wasm.wasm') {
+      // A dev server's SPA fallback: the index page for any unknown path.
+      res.writeHead(200, { 'content-type': 'text/html' });
+      res.end('<!doctype html><html><body>app</body></html>');
+      return;
+    }
     const p = path.join(root, decodeURIComponent(url.pathname));
     const allowed = ['dist/', 'tests/fixtures/', 'node_modules/three/'].some((d) => p.startsWith(path.join(root, d)));
     if (!allowed || !existsSync(p) || !statSync(p).isFile()) {
@@ -179,4 +185,44 @@ test('browser: stltopo/three', { skip }, async () => {
   assert.equal(r.holes, 2 * r.holeEdges);
   assert.equal(r.problems, r.expected);
   assert.ok(r.problems > 0);
+});
+
+test('browser: init() and wasm-load errors: HTML for the .wasm, a 404 worker, both named with what came back', { skip }, async () => {
+  const fresh = await browser.newPage(); // init() changes the page's module state: its own page
+  try {
+    await fresh.goto(`${base}/`);
+    await fresh.waitForFunction(() => window.ready === true, null, { timeout: 30_000 });
+    const r = await fresh.evaluate(async (cube) => {
+      const { loadStl, init, StlError } = window.pkg.stltopo;
+      const w = window.pkg.worker;
+      const bytes = new Uint8Array(await (await fetch(cube)).arrayBuffer());
+      const attempt = async (load) => {
+        try {
+          await load(bytes);
+          return 'loaded';
+        } catch (e) {
+          return { stl: e instanceof StlError, code: e.code, message: e.message };
+        }
+      };
+      init({ wasmUrl: '/spa/stltopo-wasm.wasm' });
+      const html = await attempt(loadStl);
+      const htmlInWorker = await attempt(w.loadStl); // the worker gets the page's init()
+      init({ wasmUrl: null, workerUrl: 'missing-worker.js' });
+      const noWorker = await attempt(w.loadStl);
+      init({ workerUrl: null });
+      return { html, htmlInWorker, noWorker, main: (await loadStl(bytes)).nTriangles, worker: (await w.loadStl(bytes)).nTriangles };
+    }, rel('unit_cube.STL'));
+    const spa = `${base}/spa/stltopo-wasm.wasm`;
+    for (const e of [r.html, r.htmlInWorker]) {
+      assert.equal(e.stl, true);
+      assert.equal(e.code, 'wasm-load');
+      assert.equal(e.message, `wasm-load: ${spa} is not the WebAssembly module: HTTP 200 (text/html), first bytes 3c 21 64 6f 63 74 79 70 "<!doctyp"`);
+    }
+    assert.equal(r.noWorker.code, 'wasm-load');
+    assert.match(r.noWorker.message, new RegExp(`^wasm-load: the worker ${base}/missing-worker\\.js did not start: HTTP 404 \\(no content type\\), no bytes$`));
+    assert.equal(r.main, 12);
+    assert.equal(r.worker, 12);
+  } finally {
+    await fresh.close();
+  }
 });

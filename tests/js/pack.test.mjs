@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readdirSync, copyFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync, readdirSync, copyFileSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fixture, root, nativeCli, haveNativeCli } from './helpers.mjs';
@@ -19,10 +19,16 @@ test('npm pack → install in a fresh folder → import, parse, worker, CLI', { 
     const [info] = JSON.parse(text.slice(text.search(/^\[$/m)));
     const names = info.files.map((f) => f.path).sort();
     for (const must of ['package.json', 'bin/stltopo.mjs', 'dist/index.js', 'dist/node.js', 'dist/index.d.ts', 'dist/worker.js',
-      'dist/worker.node.js', 'dist/worker.d.ts', 'dist/three.js', 'dist/three.d.ts', 'dist/stltopo-wasm.js', 'dist/stltopo-wasm.wasm']) {
+      'dist/worker.node.js', 'dist/worker.d.ts', 'dist/three.js', 'dist/three.d.ts', 'dist/stltopo-wasm.js', 'dist/stltopo-wasm.wasm', 'dist/worker-thread.js', 'docs/JS-API.md', 'README.md']) {
       assert.ok(names.includes(must), `${must} missing from the package: ${names.join(', ')}`);
     }
-    for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/stltopo\.mjs|dist\/.*)$/.test(n), `unexpected ${n}`);
+    for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/stltopo\.mjs|dist\/.*|docs\/JS-API\.md)$/.test(n), `unexpected ${n}`);
+    // The README is the registry's page: its links are absolute, anchors, or files in the package.
+    const readme = readFileSync(path.join(root, 'README.md'), 'utf8');
+    for (const [, link] of readme.matchAll(/\]\(([^)\s]+)\)/g)) {
+      if (/^(https?:|#)/.test(link)) continue;
+      assert.ok(names.includes(link.split('#')[0]), `README links ${link}, which is not in the package`);
+    }
 
     const app = path.join(dir, 'app');
     execFileSync('mkdir', ['-p', app]);
@@ -47,6 +53,20 @@ console.log(JSON.stringify({ n: m.nTriangles, f: f.nTriangles, w: w.nTriangles, 
     assert.equal(out.w, out.n);
     assert.equal(out.valid, true);
     assert.equal(out.code, 'empty');
+
+    // ES modules only: require() loads them where Node's require(esm) is on (20.19+, 22.12+).
+    if (process.features.require_module) {
+      writeFileSync(path.join(app, 'smoke.cjs'), `
+const { loadStl } = require('stltopo');
+const { loadStl: loadInWorker } = require('stltopo/worker');
+const bytes = require('node:fs').readFileSync('bunny.stl');
+Promise.all([loadStl(bytes), loadInWorker(bytes)]).then(([m, w]) => console.log(m.nTriangles, w.nTriangles));
+`);
+      const cjs = spawnSync(process.execPath, ['smoke.cjs'], { cwd: app });
+      assert.equal(cjs.status, 0, cjs.stderr.toString());
+      assert.equal(cjs.stdout.toString().trim(), `${out.n} ${out.n}`);
+      assert.equal(cjs.stderr.toString(), '', 'no warning');
+    }
 
     const cli = spawnSync(npm, ['exec', '--offline', '--', 'stltopo', 'info', '--json', 'bunny.stl'], { cwd: app });
     assert.equal(cli.status, 0, cli.stderr.toString());

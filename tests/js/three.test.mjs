@@ -117,3 +117,26 @@ test('holesToLineSegments: reads neither halfedges.face nor halfedges.vert of a 
     }
   }
 });
+
+test("upAxis: 'z' keeps the file's coordinates, 'y' turns them Y-up in every function", async () => {
+  const mesh = await loadStl(readFileSync(fixture('Spider_binary.stl')));
+  const before = mesh.positions.slice();
+  const turned = (p) => Array.from({ length: p.length }, (_, i) => (i % 3 === 0 ? p[i] : i % 3 === 1 ? p[i + 1] : -p[i - 1]));
+  const zUp = toBufferGeometry(mesh);
+  const yUp = toBufferGeometry(mesh, { upAxis: 'y' });
+  assert.equal(zUp.getAttribute('position').array, mesh.positions, "'z' shares the mesh's positions");
+  assert.deepEqual(Array.from(yUp.getAttribute('position').array), turned(before));
+  assert.deepEqual(mesh.positions, before, "'y' leaves the mesh's positions alone");
+  const colored = toBufferGeometry(mesh, { colors: true, upAxis: 'y' }); // no colours: the indexed path
+  assert.deepEqual(Array.from(colored.getAttribute('position').array), turned(before));
+  for (const make of [holesToLineSegments, problemEdgesToLineSegments]) {
+    const z = make(mesh).geometry.getAttribute('position').array;
+    const y = make(mesh, { upAxis: 'y' }).geometry.getAttribute('position').array;
+    assert.ok(z.length > 0);
+    assert.deepEqual(Array.from(y), turned(z));
+  }
+  // Y-up: the spider's Z extent (its height) becomes the Y extent.
+  yUp.computeBoundingBox();
+  assert.equal(yUp.boundingBox.max.y, Math.fround(mesh.stats.bbox.max[2]));
+  assert.throws(() => toBufferGeometry(mesh, { upAxis: 'x' }), /upAxis must be 'z' or 'y'/);
+});

@@ -8,7 +8,7 @@ export declare const EdgeKind: Readonly<{ Interior: 0; Boundary: 1; Inconsistent
 
 export type ErrorCode =
   | 'empty' | 'not-stl' | 'truncated' | 'unexpected-end' | 'ascii-syntax' | 'non-finite' | 'too-large'
-  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'invalid' | 'invalid-index' | 'write-failed' | 'edit-refused';
+  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'invalid' | 'invalid-index' | 'write-failed' | 'wasm-load' | 'edit-refused';
 export type WarningCode = 'trailing-bytes' | 'missing-endsolid' | 'name-truncated';
 
 /** Every failure of loadStl: the same codes and messages as the C++ core. */
@@ -114,7 +114,14 @@ export interface Stats {
 
 export type ValidateResult = { ok: true } | { ok: false; code: string; message: string; element?: number };
 
-export declare class Mesh {
+/**
+ * The type of a topology field of Mesh<T>: present for Mesh<true> (what loadStl gives by
+ * default and with { topology: true }), null for Mesh<false> ({ topology: false }), either
+ * for Mesh (options only known at run time).
+ */
+export type IfTopology<T extends boolean, X> = [T] extends [true] ? X : [T] extends [false] ? null : X | null;
+
+export declare class Mesh<T extends boolean = boolean> {
   private constructor();
   /** true for { view: true } meshes (borrowed wasm views; dispose() them). */
   readonly view: boolean;
@@ -145,7 +152,7 @@ export declare class Mesh {
   /** Stored facet normals, with { normals: true }. 3 per triangle; null without { normals: true }. */
   normals: Float32Array | null;
   /** Half-edge arrays, length nHalfedges; twin(e) = e ^ 1. Null with topology: false. */
-  halfedges: {
+  halfedges: IfTopology<T, {
     /** Next half-edge around the same face. 1 per halfedge. */
     next: Uint32Array;
     /** Inverse of next. 1 per halfedge. */
@@ -154,17 +161,17 @@ export declare class Mesh {
     vert: Uint32Array;
     /** Left face: the triangle id, or nTriangles + h for boundary loop h. 1 per halfedge. */
     face: Uint32Array;
-  } | null;
+  }>;
   /** Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate. 1 per triangle; null with topology: false. */
-  triangleHalfedge: Uint32Array | null;
+  triangleHalfedge: IfTopology<T, Uint32Array>;
   /** Per vertex: an outgoing half-edge, kInvalid if unused. 1 per vertex; null with topology: false. */
-  vertexHalfedge: Uint32Array | null;
+  vertexHalfedge: IfTopology<T, Uint32Array>;
   /** Per boundary loop: its lowest-id half-edge. 1 per loop; null with topology: false. */
-  loopHalfedge: Uint32Array | null;
+  loopHalfedge: IfTopology<T, Uint32Array>;
   /** Per vertex: the representative vertex the topology uses (identity for exact weld). 1 per vertex; null with topology: false. */
-  vertexWeld: Uint32Array | null;
+  vertexWeld: IfTopology<T, Uint32Array>;
   /** All boundary loops, flat. Null with topology: false. */
-  loops: {
+  loops: IfTopology<T, {
     /** Loop h is halfedges[offsets[h] .. offsets[h+1]). nLoops + 1. */
     offsets: Uint32Array;
     /** The half-edges of every loop in next order, starting at loopHalfedge[h]. 1 per loop entry. */
@@ -173,16 +180,16 @@ export declare class Mesh {
     isSeam: Uint8Array;
     /** Sum of the loop's edge lengths. 1 per loop. */
     perimeter: Float64Array;
-  } | null;
+  }>;
   /** Per-element problems. Null with topology: false. */
-  problems: {
+  problems: IfTopology<T, {
     /** Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold (EdgeKind). 1 per pair. */
     pairKind: Uint8Array;
     /** 1 when two corners of the triangle weld together. 1 per triangle. */
     triangleDegenerate: Uint8Array;
     /** 1 when the vertex's outgoing half-edges form more than one vnext cycle. 1 per vertex. */
     vertexNonManifold: Uint8Array;
-  } | null;
+  }>;
   /** fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it). 1 per input vertex; null for meshes of loadStl(). */
   inputVertexMap: Uint32Array | null;
   // END arrays
@@ -213,10 +220,19 @@ export declare class Mesh {
   dispose(): void;
 }
 
+/** LoadOptions that build the topology (the default): the mesh's topology fields are set. */
+export type WithTopology = LoadOptions & { topology?: true };
+/** LoadOptions with { topology: false }: the mesh's topology fields are null. */
+export type WithoutTopology = LoadOptions & { topology: false };
+
 /** Reads an STL input into a welded mesh and its half-edge topology. Rejects with StlError. */
+export declare function loadStl(input: StlInput, options?: WithTopology): Promise<Mesh<true>>;
+export declare function loadStl(input: StlInput, options: WithoutTopology): Promise<Mesh<false>>;
 export declare function loadStl(input: StlInput, options?: LoadOptions): Promise<Mesh>;
 
 /** Node only: streams a file from disk (rejects in browsers). */
+export declare function loadStlFile(path: string | URL, options?: WithTopology): Promise<Mesh<true>>;
+export declare function loadStlFile(path: string | URL, options: WithoutTopology): Promise<Mesh<false>>;
 export declare function loadStlFile(path: string | URL, options?: LoadOptions): Promise<Mesh>;
 
 export interface IndexedOptions extends Omit<LoadOptions, 'weld' | 'maxTriangles' | 'maxBytes' | 'onProgress'> {
@@ -241,6 +257,16 @@ export interface IndexedOptions extends Omit<LoadOptions, 'weld' | 'maxTriangles
  * vertex ids each). Rejects with StlError: invalid-index (error.triangle), non-finite (the
  * vertex in the message), invalid-argument (lengths, solids), too-large, out-of-memory.
  */
+export declare function fromIndexed(
+  positions: Float32Array | ArrayLike<number>,
+  triangles: Uint32Array | ArrayLike<number>,
+  options?: IndexedOptions & { topology?: true },
+): Promise<Mesh<true>>;
+export declare function fromIndexed(
+  positions: Float32Array | ArrayLike<number>,
+  triangles: Uint32Array | ArrayLike<number>,
+  options: IndexedOptions & { topology: false },
+): Promise<Mesh<false>>;
 export declare function fromIndexed(
   positions: Float32Array | ArrayLike<number>,
   triangles: Uint32Array | ArrayLike<number>,
@@ -270,6 +296,22 @@ export declare function writeStl(mesh: Mesh, options?: WriteOptions): AsyncItera
 
 /** The STL file of a mesh: a Blob (type model/stl) in browsers, one Uint8Array in Node. */
 export declare function toStl(mesh: Mesh, options?: WriteOptions): Promise<Blob | Uint8Array>;
+
+export interface InitOptions {
+  /** URL of stltopo-wasm.wasm (a string is resolved against the page; in Node also a path). */
+  wasmUrl?: string | URL | null;
+  /** The bytes of stltopo-wasm.wasm; wins over wasmUrl. */
+  wasmBinary?: ArrayBuffer | Uint8Array | null;
+  /** URL of the worker script (stltopo's dist/worker-thread.js, or your bundle of it). */
+  workerUrl?: string | URL | null;
+}
+/**
+ * Where the wasm and the worker script come from, when the bundler or server does not serve
+ * them next to the package's files. Call it before the first load; null restores a default.
+ * Failing to fetch or compile the wasm, or to start the worker, rejects loads with
+ * StlError 'wasm-load', whose message names the URL and what came back.
+ */
+export declare function init(options: InitOptions): void;
 
 /** The face word of a boundary half-edge in an EditableMesh: kLoopFaceBit | loop id. */
 export declare const kLoopFaceBit: 2147483648;

@@ -1,7 +1,9 @@
 // stltopo, browser (and default) entry. See index.d.ts and docs/JS-API.md.
-import { api } from './instance.js';
+import { createInstance } from './instance.js';
 import { stlError } from './errors.js';
 import { createEditableMesh } from './edit.js';
+
+const api = createInstance(() => import('./worker.js'));
 
 /** Reads an STL file into a welded mesh and its half-edge topology. */
 export const loadStl = api.loadStl;
@@ -25,6 +27,7 @@ export async function loadStlFile() {
   throw stlError('invalid-argument', 'loadStlFile() needs Node; use loadStl(file) with a File/Blob');
 }
 
+export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
 export { kLoopFaceBit } from './edit.js';

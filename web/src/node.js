@@ -30,6 +30,7 @@ export async function loadStlFile(path, options) {
   return api.loadFromSource(source, o);
 }
 
+export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
 export { kLoopFaceBit } from './edit.js';

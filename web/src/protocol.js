@@ -1,17 +1,21 @@
 // The message protocol between stltopo/worker's main-thread side (worker-client.js) and
 // the worker thread (worker-handler.js). Every message is { type, ...fields }:
 //   main -> worker
-//     load    { input, options }   input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
+//     load    { input, options, wasm }  input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
 //                                  | { kind: 'stream', total } | { kind: 'path', path } (Node);
-//                                  options: plainOptions() of the load
+//                                  options: plainOptions() of the load; wasm: the page's
+//                                  init() { wasmUrl, wasmBinary } (absolute URL, bytes or null)
 //     chunks  { chunks, done, error? }  the answer to a pull: Uint8Arrays (transferred), done at
 //                                  the end, error (errorToMessage) when the producer failed
-//     indexed { positions, triangles, options }  fromIndexed() (arrays transferred copies);
-//                                  options: the caller's, without worker/signal/onProgress
-//     write   { mesh, options }    writeStl() of writeInput(mesh) data (copied); answered by
+//     indexed { positions, triangles, options, wasm }  fromIndexed() (arrays transferred
+//                                  copies); options: the caller's, without worker/signal/onProgress
+//     write   { mesh, options, wasm }  writeStl() of writeInput(mesh) data (copied); answered by
 //                                  one written message per writePull
 //     writePull {}                 asks for the next chunk of the write
 //   worker -> main
+//     ready   {}                   once, when the thread runs (before it, an error is a failed
+//                                  start); the platform wrappers (worker.js, worker.node.js)
+//                                  consume it, the loader never sees it
 //     pull    {}                   asks for the next chunks of a 'stream' input
 //     progress { fraction, bytesRead }
 //     result  { raw }              the mesh's raw data, its arrays transferred (transferList)
@@ -20,18 +24,19 @@
 import { StlError } from './errors.js';
 
 export const Msg = Object.freeze({
-  Load: 'load', Chunks: 'chunks', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
+  Load: 'load', Chunks: 'chunks', Ready: 'ready', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
   Indexed: 'indexed', Write: 'write', WritePull: 'writePull', Written: 'written',
 });
 export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
 
-export const loadMessage = (input, options) => ({ type: Msg.Load, input, options });
+export const loadMessage = (input, options, wasm) => ({ type: Msg.Load, input, options, wasm });
+export const readyMessage = () => ({ type: Msg.Ready });
 export const chunksMessage = (chunks, done, error) => (error ? { type: Msg.Chunks, chunks, done, error } : { type: Msg.Chunks, chunks, done });
 export const pullMessage = () => ({ type: Msg.Pull });
 export const progressMessage = (fraction, bytesRead) => ({ type: Msg.Progress, fraction, bytesRead });
 export const resultMessage = (raw) => ({ type: Msg.Result, raw });
-export const indexedMessage = (positions, triangles, options) => ({ type: Msg.Indexed, positions, triangles, options });
-export const writeMessage = (mesh, options) => ({ type: Msg.Write, mesh, options });
+export const indexedMessage = (positions, triangles, options, wasm) => ({ type: Msg.Indexed, positions, triangles, options, wasm });
+export const writeMessage = (mesh, options, wasm) => ({ type: Msg.Write, mesh, options, wasm });
 export const writePullMessage = () => ({ type: Msg.WritePull });
 export const writtenMessage = (chunk) => ({ type: Msg.Written, chunk });
 export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) });

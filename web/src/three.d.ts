@@ -2,7 +2,17 @@
 import type { BufferGeometry, LineSegments, Material } from 'three';
 import type { Mesh, IndexedOptions } from './index.js';
 
+/**
+ * STL is Z-up, three.js is Y-up. 'z' (the default) keeps the file's coordinates, so a model
+ * lies on its side in a default three.js scene; 'y' turns it upright: (x, y, z) becomes
+ * (x, z, -y), a rotation of -90 degrees about X (the mesh's own positions are not changed).
+ * Give the same upAxis to every function for one model, so that its lines stay on it.
+ */
+export type UpAxis = 'z' | 'y';
+
 export interface ToBufferGeometryOptions {
+  /** 'z' (default): the file's coordinates; 'y': turned Y-up for three.js. */
+  upAxis?: UpAxis;
   /**
    * Per-face colours: a non-indexed geometry with a float `color` attribute (when the mesh has
    * colours): the sRGB colour bytes converted to three.js's working colour space (linear).
@@ -33,13 +43,13 @@ export interface ProblemLines extends LineSegments<BufferGeometry, Material> {
  */
 export declare function holesToLineSegments(
   mesh: Mesh,
-  options?: { color?: number; seams?: boolean; seamColor?: number; material?: Material },
+  options?: { color?: number; seams?: boolean; seamColor?: number; material?: Material; upAxis?: UpAxis },
 ): HoleLines;
 
 /** The non-manifold and inconsistent edges as one LineSegments with vertex colours. */
 export declare function problemEdgesToLineSegments(
   mesh: Mesh,
-  options?: { nonManifoldColor?: number; inconsistentColor?: number; material?: Material },
+  options?: { nonManifoldColor?: number; inconsistentColor?: number; material?: Material; upAxis?: UpAxis },
 ): ProblemLines;
 
 

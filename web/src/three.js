@@ -15,6 +15,22 @@ import { stlError } from './errors.js';
 
 const own = (mesh, a) => (mesh.view ? a.slice() : a);
 
+// STL is Z-up, three.js is Y-up. upAxis 'z' keeps the file's coordinates (the model lies on
+// its side in a default three.js scene); 'y' turns them Y-up: (x, y, z) -> (x, z, -y), a
+// rotation of -90 degrees about X (no mirror: windings and normals keep their sense).
+function checkUpAxis(upAxis) {
+  if (upAxis !== 'z' && upAxis !== 'y') throw new Error(`stltopo/three: upAxis must be 'z' or 'y', not ${String(upAxis)}`);
+  return upAxis === 'y';
+}
+function yUp(p) {
+  for (let i = 0; i < p.length; i += 3) {
+    const y = p[i + 1];
+    p[i + 1] = p[i + 2];
+    p[i + 2] = -y;
+  }
+  return p;
+}
+
 /**
  * The 256 sRGB byte values in three.js's working colour space (linear unless
  * ColorManagement is off): STL colours are sRGB bytes, vertex colours are working-space
@@ -34,7 +50,8 @@ const workingRgb = (hex) => new Color(hex).toArray();
  * with a per-vertex `color` attribute: the sRGB colour bytes converted to the
  * working colour space, as floats (uncoloured triangles get defaultColor, sRGB bytes).
  */
-export function toBufferGeometry(mesh, { colors = false, normals = true, defaultColor = [200, 200, 200] } = {}) {
+export function toBufferGeometry(mesh, { colors = false, normals = true, defaultColor = [200, 200, 200], upAxis = 'z' } = {}) {
+  const turn = checkUpAxis(upAxis);
   const g = new BufferGeometry();
   if (colors && mesh.colors) {
     const nt = mesh.nTriangles;
@@ -62,10 +79,11 @@ export function toBufferGeometry(mesh, { colors = false, normals = true, default
         c[o + 2] = b;
       }
     }
-    g.setAttribute('position', new BufferAttribute(p, 3));
+    g.setAttribute('position', new BufferAttribute(turn ? yUp(p) : p, 3));
     g.setAttribute('color', new BufferAttribute(c, 3));
   } else {
-    g.setAttribute('position', new BufferAttribute(own(mesh, mesh.positions), 3));
+    // Y-up needs its own positions: the mesh's stay as the file has them.
+    g.setAttribute('position', new BufferAttribute(turn ? yUp(mesh.positions.slice()) : own(mesh, mesh.positions), 3));
     g.setIndex(new BufferAttribute(own(mesh, mesh.triangles), 1));
   }
   if (normals && mesh.nTriangles > 0) g.computeVertexNormals();
@@ -75,8 +93,8 @@ export function toBufferGeometry(mesh, { colors = false, normals = true, default
 }
 
 // Segments from vertex a(i) to vertex b(i), i < n, coloured colorOf(i) (working-space RGB)
-// when colorOf is given.
-function segmentsGeometry(mesh, n, a, b, colorOf) {
+// when colorOf is given; Y-up when turn.
+function segmentsGeometry(mesh, n, a, b, colorOf, turn) {
   const pos = mesh.positions;
   const p = new Float32Array(n * 6);
   const c = colorOf ? new Float32Array(n * 6) : null;
@@ -91,7 +109,7 @@ function segmentsGeometry(mesh, n, a, b, colorOf) {
     }
   }
   const g = new BufferGeometry();
-  g.setAttribute('position', new Float32BufferAttribute(p, 3));
+  g.setAttribute('position', new Float32BufferAttribute(turn ? yUp(p) : p, 3));
   if (c) g.setAttribute('color', new Float32BufferAttribute(c, 3));
   return g;
 }
@@ -103,7 +121,8 @@ function segmentsGeometry(mesh, n, a, b, colorOf) {
  * colour depends only on the loop (a hole is `color` with or without seams); the
  * segments come from the loops' vertex lists (no half-edge array is read).
  */
-export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, seamColor = 0xffa000, material } = {}) {
+export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, seamColor = 0xffa000, material, upAxis = 'z' } = {}) {
+  const turn = checkUpAxis(upAxis);
   if (!mesh.halfedges) throw new Error('stltopo/three: the mesh has no topology (loaded with topology: false)');
   const loops = seams ? [...mesh.holes, ...mesh.seams].sort((a, b) => a.id - b.id) : mesh.holes;
   let n = 0;
@@ -125,7 +144,7 @@ export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, sea
   const isSeam = mesh.loops.isSeam;
   const holeRgb = workingRgb(color);
   const seamRgb = workingRgb(seamColor);
-  const g = segmentsGeometry(mesh, n, (k) => from[k], (k) => to[k], seams ? (k) => (isSeam[loopIds[k]] ? seamRgb : holeRgb) : null);
+  const g = segmentsGeometry(mesh, n, (k) => from[k], (k) => to[k], seams ? (k) => (isSeam[loopIds[k]] ? seamRgb : holeRgb) : null, turn);
   const m = material || (seams ? new LineBasicMaterial({ vertexColors: true }) : new LineBasicMaterial({ color }));
   const lines = new LineSegments(g, m);
   lines.name = 'stltopo-holes';
@@ -139,7 +158,8 @@ export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, sea
  * edge. userData.halfedges maps segment i to a half-edge of that edge and
  * userData.kinds to its EdgeKind (2 inconsistent, 3 non-manifold).
  */
-export function problemEdgesToLineSegments(mesh, { nonManifoldColor = 0xff00ff, inconsistentColor = 0xffa000, material } = {}) {
+export function problemEdgesToLineSegments(mesh, { nonManifoldColor = 0xff00ff, inconsistentColor = 0xffa000, material, upAxis = 'z' } = {}) {
+  const turn = checkUpAxis(upAxis);
   if (!mesh.halfedges) throw new Error('stltopo/three: the mesh has no topology (loaded with topology: false)');
   const kind = mesh.problems.pairKind;
   const vert = mesh.halfedges.vert;
@@ -160,7 +180,7 @@ export function problemEdgesToLineSegments(mesh, { nonManifoldColor = 0xff00ff, 
   const nmRgb = workingRgb(nonManifoldColor);
   const icRgb = workingRgb(inconsistentColor);
   const g = segmentsGeometry(mesh, list.length, (i) => vert[list[i]], (i) => vert[(list[i] ^ 1) >>> 0],
-    (i) => (kinds[i] === 3 ? nmRgb : icRgb));
+    (i) => (kinds[i] === 3 ? nmRgb : icRgb), turn);
   const lines = new LineSegments(g, material || new LineBasicMaterial({ vertexColors: true }));
   lines.name = 'stltopo-problem-edges';
   lines.userData = { halfedges, kinds: Uint8Array.from(kinds) };

@@ -9,6 +9,13 @@ import {
   Msg, InputKind, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage,
 } from './protocol.js';
 import { normalizeIndexedOptions, normalizeWriteOptions } from './options.js';
+import { wasmSettings } from './wasm-load.js';
+
+// Where the worker's wasm comes from: the page's init() settings.
+function wasmOf() {
+  const { wasmUrl, wasmBinary } = wasmSettings();
+  return { wasmUrl, wasmBinary };
+}
 
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
 const MAX_IDLE = 2;
@@ -18,7 +25,7 @@ export function createWorkerLoader(spawn) {
 
   function acquire() {
     let w;
-    while ((w = idle.pop()) && !w.alive());
+    while ((w = idle.pop()) && !w.alive()) w.terminate();
     if (!w) w = spawn();
     w.ref();
     return w;
@@ -114,20 +121,20 @@ export function createWorkerLoader(spawn) {
         ? new Uint8Array(input)
         : new Uint8Array(input.buffer, input.byteOffset, input.byteLength);
       const bytes = src.slice(); // the caller keeps its buffer; the copy is transferred
-      return run(loadMessage({ kind: InputKind.Bytes, bytes }, opts), [bytes.buffer], o, null);
+      return run(loadMessage({ kind: InputKind.Bytes, bytes }, opts, wasmOf()), [bytes.buffer], o, null);
     }
     if (input && typeof input.stream === 'function' && typeof input.size === 'number' && typeof input.getReader !== 'function') {
-      return run(loadMessage({ kind: InputKind.Blob, blob: input }, opts), [], o, null);
+      return run(loadMessage({ kind: InputKind.Blob, blob: input }, opts, wasmOf()), [], o, null);
     }
     const source = toSource(input); // streams, Responses, async iterables: pumped from this thread
-    return run(loadMessage({ kind: InputKind.Stream, total: source.total }, opts), [], o, source);
+    return run(loadMessage({ kind: InputKind.Stream, total: source.total }, opts, wasmOf()), [], o, source);
   }
 
   // Node: the worker reads the file at `path` (a string) itself.
   async function loadStlFile(path, options) {
     const o = normalizeOptions(options);
     checkAbort(o.signal);
-    return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o)), [], o, null);
+    return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o), wasmOf()), [], o, null);
   }
 
   // fromIndexed() in a worker: copies of the arrays are transferred there.
@@ -137,7 +144,7 @@ export function createWorkerLoader(spawn) {
     const pos = copy(positions, Float32Array);
     const tri = copy(triangles, Uint32Array);
     const { worker, signal, onProgress, ...plain } = options || {};
-    return run(indexedMessage(pos, tri, plain), [pos.buffer, tri.buffer], o, null);
+    return run(indexedMessage(pos, tri, plain, wasmOf()), [pos.buffer, tri.buffer], o, null);
   }
 
   // writeStl() in a worker: the mesh's arrays are copied there, and each chunk comes back
@@ -162,7 +169,7 @@ export function createWorkerLoader(spawn) {
       w.post(msg);
     });
     try {
-      let msg = await ask(writeMessage(writeInput(mesh), plain));
+      let msg = await ask(writeMessage(writeInput(mesh), plain, wasmOf()));
       for (;;) {
         if (msg.type === Msg.Error) throw errorFromMessage(msg.error);
         if (msg.chunk === null) break;

@@ -1,8 +1,10 @@
 // Worker-thread side of stltopo/worker (shared by the browser and Node threads).
 import { bufferSource, streamSource } from './sources.js';
 import { normalizeOptions } from './options.js';
+import { init } from './wasm-load.js';
 import {
-  Msg, InputKind, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage, writtenMessage,
+  Msg, InputKind, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
+  writtenMessage,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -37,6 +39,7 @@ export function serve(port, internal, { fileSource = null } = {}) {
   let pulled = null;
   let writing = null; // the iterator of the write in progress
   port.onMessage(async (msg) => {
+    if (msg.wasm) init(msg.wasm); // the page's init(), before this thread's instance starts
     if (msg.type === Msg.Chunks) {
       if (pulled) pulled.deliver(msg);
       return;
@@ -82,4 +85,5 @@ export function serve(port, internal, { fileSource = null } = {}) {
       pulled = null;
     }
   });
+  port.post(readyMessage());
 }

@@ -4,6 +4,7 @@ import { Worker } from 'node:worker_threads';
 import { fileURLToPath } from 'node:url';
 import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
+import { Msg } from './protocol.js';
 import { concatBytes } from './wasm.js';
 
 const loader = createWorkerLoader(() => {
@@ -11,7 +12,7 @@ const loader = createWorkerLoader(() => {
   let onMessage = null;
   let onError = null;
   let alive = true;
-  w.on('message', (m) => onMessage && onMessage(m));
+  w.on('message', (m) => m.type !== Msg.Ready && onMessage && onMessage(m));
   w.on('error', (e) => onError && onError(e));
   w.on('exit', (code) => {
     alive = false;
@@ -57,5 +58,6 @@ export async function loadStlFile(path, options) {
   }
   return loader.loadStlFile(p, options);
 }
+export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';

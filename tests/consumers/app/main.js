@@ -1,0 +1,32 @@
+// The consumer app every bundler in the matrix builds (tests/consumers/run.mjs):
+// what a web developer writes, nothing more. It loads the STL named by ?stl=
+// on the main thread and through the worker, and leaves what it saw in
+// window.__result for the test to compare with the native CLI.
+import { loadStl, StlError } from 'stltopo';
+import { loadStl as loadInWorker } from 'stltopo/worker';
+
+const url = new URLSearchParams(location.search).get('stl');
+const describe = (e) => ({ error: `${e && e.name}: ${e && e.message}`, code: e && e.code });
+
+async function load(loader) {
+  try {
+    const mesh = await loader(await fetch(url));
+    return { stats: mesh.stats, valid: mesh.validate().ok };
+  } catch (e) {
+    return describe(e);
+  }
+}
+
+async function run() {
+  const main = await load(loadStl);
+  const worker = await load(loadInWorker);
+  let errorCode = null;
+  try {
+    await loadStl(new Uint8Array(0));
+  } catch (e) {
+    errorCode = e instanceof StlError ? e.code : String(e);
+  }
+  return { main, worker, errorCode };
+}
+
+run().then((r) => { window.__result = r; }, (e) => { window.__result = describe(e); });
