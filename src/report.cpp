@@ -11,13 +11,12 @@
 #include "stltopo.h"
 
 namespace stltopo {
-namespace {
 
 using detail::cLocale;
+using detail::Json;
+using detail::shortest;
 
-// Shortest decimal that reads back as the same value (float32 or double), rendered
-// like JavaScript's Number#toString: fixed notation for exponents in [-7, 21).
-std::string shortest(double x, bool isFloat) {
+std::string detail::shortest(double x, bool isFloat) {
   if (x == 0) return std::signbit(x) ? "-0" : "0";
   char buf[64];
   int maxp = isFloat ? 9 : 17;
@@ -77,27 +76,7 @@ std::string shortest(double x, bool isFloat) {
   return "0";
 }
 
-struct Json {
-  std::string s;
-  bool first = true;
-  void open(char c) { s += c; first = true; }
-  void close(char c) { s += c; first = false; }
-  void key(const char* k) {
-    if (!first) s += ',';
-    first = false;
-    s += '"';
-    s += k;
-    s += "\":";
-  }
-  void sep() {
-    if (!first) s += ',';
-    first = false;
-  }
-  void u(uint64_t v) { s += std::to_string(v); }
-  void i(int64_t v) { s += std::to_string(v); }
-  void str(const std::string& v) { s += jsonString(v); }
-  void b(bool v) { s += v ? "true" : "false"; }
-};
+namespace {
 
 void location(Json& j, const Status& st) {
   if (st.offset != kNoOffset) { j.key("offset"); j.u(st.offset); }

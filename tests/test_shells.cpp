@@ -1,0 +1,512 @@
+// Shells and defects: the per-shell report and the defect lists on hand-built meshes
+// (two cubes one inside out, a flipped face, a soup, a bowtie, a non-manifold fin, two
+// cubes sharing an edge) and on every fixture, where a brute-force count from the
+// triangles alone (maps of edges, no half-edges) is the judge.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "shells.h"
+#include "stl_gen.h"
+
+using namespace stltopo;
+
+namespace {
+
+// Edge-connected components of the non-degenerate triangles (corners welded by
+// vertexWeld), numbered by their lowest triangle id; kInvalid for degenerate triangles.
+std::vector<uint32_t> triangleShellOf(const Mesh& m, const Topology& t) {
+  const uint32_t nt = m.nTriangles();
+  std::vector<uint32_t> parent(nt);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  auto corner = [&](uint32_t tri, int c) { return t.vertexWeld[m.triangles[3 * size_t(tri) + c]]; };
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> firstOnEdge;
+  std::vector<bool> degenerate(nt);
+  for (uint32_t tri = 0; tri < nt; ++tri) {
+    uint32_t v[3] = {corner(tri, 0), corner(tri, 1), corner(tri, 2)};
+    degenerate[tri] = v[0] == v[1] || v[1] == v[2] || v[2] == v[0];
+    if (degenerate[tri]) continue;
+    for (int c = 0; c < 3; ++c) {
+      auto key = std::minmax(v[c], v[(c + 1) % 3]);
+      auto [it, inserted] = firstOnEdge.try_emplace(key, tri);
+      if (inserted) continue;
+      uint32_t a = find(it->second), b = find(tri);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::vector<uint32_t> shell(nt, kInvalid), idOfRoot(nt, kInvalid);
+  uint32_t n = 0;
+  for (uint32_t tri = 0; tri < nt; ++tri) {
+    if (degenerate[tri]) continue;
+    uint32_t r = find(tri);
+    if (idOfRoot[r] == kInvalid) idOfRoot[r] = n++;
+    shell[tri] = idOfRoot[r];
+  }
+  return shell;
+}
+
+struct Analyzed {
+  Mesh mesh;
+  Topology topo;
+  std::vector<uint32_t> triangleShell;
+  Array<Shell> shells;
+  Defects defects;
+};
+
+// Reads `bytes`, builds the full topology, the shells and defects, and checks that the
+// report-only topology (no prev, no face) gives the same report.
+void analyze(const std::string& bytes, Analyzed& a, double tolerance = 0) {
+  Status s = gen::read(bytes, a.mesh);
+  ASSERT_TRUE(s.ok()) << s.message;
+  TopologyOptions o;
+  o.tolerance = tolerance;
+  ASSERT_TRUE(buildTopology(a.mesh, a.topo, o).ok());
+  a.triangleShell = triangleShellOf(a.mesh, a.topo);
+  s = findShellsAndDefects(a.mesh, a.topo, a.triangleShell.data(), &a.shells, &a.defects);
+  ASSERT_TRUE(s.ok()) << s.message;
+  ASSERT_EQ(a.shells.size(), a.topo.nShells);
+  o.prevAndFace = false;
+  Topology lean;
+  ASSERT_TRUE(buildTopology(a.mesh, lean, o).ok());
+  Array<Shell> leanShells;
+  Defects leanDefects;
+  ASSERT_TRUE(findShellsAndDefects(a.mesh, lean, a.triangleShell.data(), &leanShells, &leanDefects).ok());
+  EXPECT_EQ(shellListJson(leanShells), shellListJson(a.shells));
+  EXPECT_EQ(defectsJson(a.mesh, lean, leanDefects, 1000), defectsJson(a.mesh, a.topo, a.defects, 1000));
+}
+
+void analyze(const gen::Soup& soup, Analyzed& a) { analyze(gen::binary(soup), a); }
+
+gen::Soup flipped(gen::Soup s) {
+  for (auto& f : s.f) std::swap(f[1], f[2]);
+  return s;
+}
+
+// A fragment of the JSON must appear as is.
+#define EXPECT_HAS(text, fragment) EXPECT_NE((text).find(fragment), std::string::npos) << (text)
+
+}  // namespace
+
+TEST(Shells, TwoCubesOneInsideOutAreOutwardAndInward) {
+  gen::Soup s = gen::cube();
+  gen::append(s, flipped(gen::cube(3, 0, 0, 2)));
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 2u);
+  for (const Shell& sh : a.shells) {
+    EXPECT_EQ(sh.triangles, 12u);
+    EXPECT_EQ(sh.vertices, 8u);
+    EXPECT_EQ(sh.edges, 18u);
+    EXPECT_EQ(sh.eulerCharacteristic(), 2);
+    EXPECT_TRUE(sh.closed());
+    EXPECT_TRUE(sh.manifold());
+    EXPECT_TRUE(sh.consistent());
+    EXPECT_TRUE(sh.hasGenus());
+    EXPECT_EQ(sh.genus(), 0);
+  }
+  EXPECT_EQ(a.shells[0].orientation(), Orientation::Outward);
+  EXPECT_DOUBLE_EQ(a.shells[0].volume, 1);
+  EXPECT_DOUBLE_EQ(a.shells[0].area, 6);
+  EXPECT_EQ(a.shells[1].orientation(), Orientation::Inward);
+  EXPECT_DOUBLE_EQ(a.shells[1].volume, -8);
+  EXPECT_EQ(a.shells[1].firstTriangle, 12u);
+  EXPECT_EQ(a.shells[1].bboxMin[0], 3);
+  EXPECT_EQ(a.shells[1].bboxMax[0], 5);
+  std::string j = shellListJson(a.shells);
+  EXPECT_EQ(j.substr(0, 13), "\"shellList\":[");
+  EXPECT_HAS(j, "{\"id\":1,\"triangles\":12,\"vertices\":8,\"edges\":18,\"boundaryEdges\":0,\"nonManifoldEdges\":0,"
+                "\"inconsistentEdges\":0,\"nonManifoldVertices\":0,\"holes\":0,\"seams\":0,\"eulerCharacteristic\":2,"
+                "\"genus\":0,\"closed\":true,\"manifold\":true,\"consistent\":true,\"orientation\":\"inward\",\"solid\":0,"
+                "\"bbox\":{\"min\":[3,0,0],\"max\":[5,2,2]},\"area\":");
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_EQ(d, "\"defects\":{\"holes\":{\"count\":0,\"items\":[]},\"seams\":{\"count\":0,\"items\":[]},"
+               "\"nonManifoldEdges\":{\"count\":0,\"items\":[]},\"inconsistentEdges\":{\"count\":0,\"items\":[]},"
+               "\"nonManifoldVertices\":{\"count\":0,\"items\":[]},\"degenerateTriangles\":{\"count\":0,\"items\":[]}}");
+  EXPECT_EQ(defectsText(a.mesh, a.topo, a.defects, 5), "");
+}
+
+TEST(Shells, CubeWithOneFlippedFaceIsInconsistentWithThreeLocatedEdges) {
+  gen::Soup s = gen::cube();
+  std::swap(s.f[5][1], s.f[5][2]);
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 1u);
+  const Shell& sh = a.shells[0];
+  EXPECT_EQ(sh.inconsistentEdges, 3u);
+  EXPECT_EQ(sh.boundaryEdges, 0u);
+  EXPECT_EQ(sh.edges, 18u);
+  EXPECT_EQ(sh.seams, 2u);
+  EXPECT_FALSE(sh.closed());
+  EXPECT_FALSE(sh.consistent());
+  EXPECT_FALSE(sh.hasGenus());
+  EXPECT_EQ(sh.orientation(), Orientation::Inconsistent);
+  ASSERT_EQ(a.defects.inconsistentEdgeVertices.size(), 6u);
+  // Each inconsistent edge joins the flipped triangle 5 and one of its neighbours.
+  std::set<std::pair<uint32_t, uint32_t>> pairs;
+  for (size_t i = 0; i < 3; ++i) {
+    uint32_t x = a.defects.inconsistentEdgeVertices[2 * i], y = a.defects.inconsistentEdgeVertices[2 * i + 1];
+    EXPECT_LT(x, y);
+    if (i > 0) EXPECT_LT(std::make_pair(a.defects.inconsistentEdgeVertices[2 * i - 2],
+                                        a.defects.inconsistentEdgeVertices[2 * i - 1]),
+                         std::make_pair(x, y));
+    uint32_t t0 = a.defects.inconsistentEdgeTriangles[2 * i], t1 = a.defects.inconsistentEdgeTriangles[2 * i + 1];
+    EXPECT_LT(t0, t1);
+    EXPECT_TRUE(t0 == 5 || t1 == 5);
+    pairs.insert({x, y});
+  }
+  EXPECT_EQ(pairs.size(), 3u);
+  std::string j = shellListJson(a.shells);
+  // Its corners are pinched: the flipped triangle's fan is cut off from the rest at each of
+  // them (two vnext cycles), as in the whole report.
+  EXPECT_EQ(sh.nonManifoldVertices, 3u);
+  EXPECT_EQ(a.topo.nNonManifoldVertices, 3u);
+  EXPECT_HAS(j, "\"genus\":null,\"closed\":false,\"manifold\":false,\"consistent\":false,\"orientation\":\"inconsistent\"");
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_HAS(d, "\"seams\":{\"count\":2,\"items\":[{\"id\":0,\"edges\":3,");
+  EXPECT_HAS(d, "\"inconsistentEdges\":{\"count\":3,\"items\":[{\"vertices\":[");
+  // Every side of the seams is cut, so cutEdges repeats the loop.
+  EXPECT_HAS(d, "\"shell\":0,\"cutEdges\":[[");
+  std::string text = defectsText(a.mesh, a.topo, a.defects, 5);
+  EXPECT_HAS(text, "  seam 0: 3 edges (3 cut), perimeter ");
+  EXPECT_HAS(text, "  inconsistent edge ");
+}
+
+TEST(Shells, SoupOfSeparateTrianglesIsOneOpenShellPerTriangle) {
+  gen::Soup s;
+  for (int i = 0; i < 3; ++i) {
+    uint32_t b = uint32_t(s.v.size());
+    s.v.push_back({float(2 * i), 0, 0});
+    s.v.push_back({float(2 * i + 1), 0, 0});
+    s.v.push_back({float(2 * i), 1, 0});
+    s.f.push_back({b, b + 1, b + 2});
+  }
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 3u);
+  for (uint32_t i = 0; i < 3; ++i) {
+    const Shell& sh = a.shells[i];
+    EXPECT_EQ(sh.firstTriangle, i);
+    EXPECT_EQ(sh.triangles, 1u);
+    EXPECT_EQ(sh.vertices, 3u);
+    EXPECT_EQ(sh.edges, 3u);
+    EXPECT_EQ(sh.boundaryEdges, 3u);
+    EXPECT_EQ(sh.holes, 1u);
+    EXPECT_EQ(sh.eulerCharacteristic(), 1);
+    EXPECT_TRUE(sh.consistent());
+    EXPECT_TRUE(sh.manifold());
+    EXPECT_EQ(sh.orientation(), Orientation::Open);
+    EXPECT_EQ(sh.volume, 0);
+    EXPECT_EQ(sh.area, 0.5);
+    EXPECT_EQ(a.defects.loopShell[i], i);
+  }
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 2);
+  // Cut at 2 items, the count says 3; a hole's vertex list is cut at 2, "edges" is 3.
+  EXPECT_HAS(d, "\"holes\":{\"count\":3,\"items\":[{\"id\":0,\"edges\":3,\"perimeter\":3.414213562373095,"
+                "\"vertices\":[1,0],\"bbox\":{\"min\":[0,0,0],\"max\":[1,1,0]},\"shell\":0},{\"id\":1,");
+  EXPECT_HAS(d, "\"shell\":1}]},\"seams\"");
+  std::string text = defectsText(a.mesh, a.topo, a.defects, 2);
+  EXPECT_HAS(text, "  hole 0: 3 edges, perimeter 3.41421356, shell 0, bbox [0, 0, 0] .. [1, 1, 0]\n");
+  EXPECT_HAS(text, "    ... and 1 more holes\n");
+}
+
+TEST(Shells, BowtieIsTwoManifoldShellsAroundANonManifoldVertex) {
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {1, 1, 0}, {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0}};
+  s.f = {{0, 2, 1}, {0, 3, 4}};
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 2u);
+  for (const Shell& sh : a.shells) {
+    EXPECT_EQ(sh.vertices, 3u);  // the pinch vertex counts in both
+    EXPECT_EQ(sh.nonManifoldVertices, 0u);
+    EXPECT_TRUE(sh.manifold());
+    EXPECT_EQ(sh.holes, 1u);
+  }
+  EXPECT_EQ(a.topo.nNonManifoldVertices, 1u);
+  ASSERT_EQ(a.defects.nonManifoldVertices.size(), 1u);
+  EXPECT_EQ(a.defects.nonManifoldVertices[0], 0u);
+  EXPECT_EQ(a.defects.nonManifoldVertexCycles[0], 2u);
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_HAS(d, "\"nonManifoldVertices\":{\"count\":1,\"items\":[{\"vertex\":0,\"position\":[0,0,0],\"cycles\":2}]}");
+  EXPECT_HAS(defectsText(a.mesh, a.topo, a.defects, 5), "  non-manifold vertex 0 at [0, 0, 0]: 2 vertex cycles\n");
+}
+
+TEST(Shells, TwoHolesTouchingAtAVertexMakeTheirShellNonManifold) {
+  // The torus of test_topology's fan-rule case: two removed quads meet at one vertex.
+  gen::Soup s = gen::torus(8, 6, {1 * 6 + 1, 2 * 6 + 2});
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 1u);
+  EXPECT_EQ(a.topo.nNonManifoldVertices, 1u);
+  EXPECT_EQ(a.shells[0].nonManifoldVertices, 1u);
+  EXPECT_FALSE(a.shells[0].manifold());
+  EXPECT_EQ(a.shells[0].vertices, 48u);
+}
+
+TEST(Shells, NonManifoldFinListsItsEdgeWithEveryTriangle) {
+  gen::Soup s = gen::cube();
+  s.v.push_back({0.5f, 0.5f, 3});
+  s.f.push_back({4, 5, 8});
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 1u);
+  const Shell& sh = a.shells[0];
+  EXPECT_EQ(sh.nonManifoldEdges, 1u);
+  EXPECT_EQ(sh.boundaryEdges, 2u);
+  EXPECT_EQ(sh.edges, 20u);
+  EXPECT_EQ(sh.vertices, 9u);
+  EXPECT_FALSE(sh.manifold());
+  EXPECT_FALSE(sh.closed());
+  EXPECT_EQ(sh.orientation(), Orientation::Open);
+  ASSERT_EQ(a.defects.nonManifoldEdgeVertices.size(), 2u);
+  ASSERT_EQ(a.defects.nonManifoldEdgeOffsets.size(), 2u);
+  uint32_t v4 = a.mesh.triangles[3 * 12], v5 = a.mesh.triangles[3 * 12 + 1];
+  EXPECT_EQ(a.defects.nonManifoldEdgeVertices[0], std::min(v4, v5));
+  EXPECT_EQ(a.defects.nonManifoldEdgeVertices[1], std::max(v4, v5));
+  std::vector<uint32_t> tris(a.defects.nonManifoldEdgeTriangles.begin(), a.defects.nonManifoldEdgeTriangles.end());
+  ASSERT_EQ(tris.size(), 3u);
+  EXPECT_EQ(tris[2], 12u);
+  EXPECT_TRUE(std::is_sorted(tris.begin(), tris.end()));
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_HAS(d, "\"nonManifoldEdges\":{\"count\":1,\"items\":[{\"vertices\":[" + std::to_string(std::min(v4, v5)) +
+                    "," + std::to_string(std::max(v4, v5)) + "],\"positions\":[[");
+  EXPECT_HAS(d, "\"triangles\":[" + std::to_string(tris[0]) + "," + std::to_string(tris[1]) + ",12]}]}");
+  EXPECT_HAS(d, "\"seams\":{\"count\":1,");
+}
+
+TEST(Shells, TwoCubesSharingAnEdgeAreOneOutwardShellThatIsNotClosed) {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 0));
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 1u);
+  const Shell& sh = a.shells[0];
+  EXPECT_EQ(sh.triangles, 24u);
+  EXPECT_EQ(sh.vertices, 14u);
+  EXPECT_EQ(sh.edges, 35u);
+  EXPECT_EQ(sh.nonManifoldEdges, 1u);
+  EXPECT_EQ(sh.boundaryEdges, 0u);
+  EXPECT_EQ(sh.nonManifoldVertices, 2u);
+  EXPECT_FALSE(sh.closed());
+  EXPECT_FALSE(sh.manifold());
+  EXPECT_FALSE(sh.hasGenus());
+  EXPECT_TRUE(sh.consistent());
+  EXPECT_EQ(sh.orientation(), Orientation::Outward);
+  EXPECT_DOUBLE_EQ(sh.volume, 2);
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_HAS(d, "\"positions\":[[1,1,0],[1,1,1]],\"triangles\":[");
+  EXPECT_HAS(d, "\"nonManifoldVertices\":{\"count\":2,");
+  ASSERT_EQ(a.defects.nonManifoldEdgeOffsets.size(), 2u);
+  EXPECT_EQ(a.defects.nonManifoldEdgeOffsets[1], 4u);
+  EXPECT_EQ(a.defects.nonManifoldVertexCycles[0], 2u);
+}
+
+TEST(Shells, TwoCubesTouchingAtACornerAreTwoClosedManifoldShells) {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 1));
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 2u);
+  for (const Shell& sh : a.shells) {
+    EXPECT_TRUE(sh.closed());
+    EXPECT_TRUE(sh.manifold());  // on its own; the mesh as a whole is not
+    EXPECT_EQ(sh.eulerCharacteristic(), 2);
+    EXPECT_EQ(sh.genus(), 0);
+    EXPECT_EQ(sh.orientation(), Orientation::Outward);
+  }
+  EXPECT_FALSE(a.topo.manifold());
+  ASSERT_EQ(a.defects.nonManifoldVertices.size(), 1u);
+  EXPECT_EQ(a.defects.nonManifoldVertexCycles[0], 2u);
+}
+
+TEST(Shells, FlatPillowIsClosedAndFlat) {
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.f = {{0, 1, 2}, {0, 2, 1}};
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 1u);
+  EXPECT_TRUE(a.shells[0].closed());
+  EXPECT_EQ(a.shells[0].volume, 0);
+  EXPECT_EQ(a.shells[0].orientation(), Orientation::Flat);
+}
+
+TEST(Shells, DegenerateTrianglesSayWhichCornersCoincide) {
+  gen::Soup s = gen::cube();
+  s.f.push_back({0, 0, 1});  // corners 0 and 1
+  s.f.push_back({0, 1, 1});  // 1 and 2
+  s.f.push_back({1, 0, 1});  // 2 and 0
+  s.f.push_back({2, 2, 2});  // all three
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.defects.degenerateTriangles.size(), 4u);
+  const uint8_t masks[4] = {1, 2, 4, 7};
+  for (uint32_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(a.defects.degenerateTriangles[i], 12 + i);
+    EXPECT_EQ(a.defects.degenerateCorners[i], masks[i]);
+    EXPECT_EQ(a.triangleShell[12 + i], kInvalid);
+  }
+  EXPECT_EQ(a.shells[0].triangles, 12u);
+  std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
+  EXPECT_HAS(d, "\"degenerateTriangles\":{\"count\":4,\"items\":[{\"triangle\":12,\"corners\":[0,1]},"
+                "{\"triangle\":13,\"corners\":[1,2]},{\"triangle\":14,\"corners\":[0,2]},"
+                "{\"triangle\":15,\"corners\":[0,1,2]}]}");
+  std::string text = defectsText(a.mesh, a.topo, a.defects, 5);
+  EXPECT_HAS(text, "  degenerate triangle 13: corners 1 and 2 coincide at [1, 0, 0]\n");
+  EXPECT_HAS(text, "  degenerate triangle 15: corners 0 and 1 and 2 coincide at [0, 1, 0]\n");
+}
+
+TEST(Shells, ShellsKnowTheirSolidOrSayMixed) {
+  gen::Soup a = gen::cube(), b = gen::cube(3, 0, 0);
+  gen::Soup half1 = a, half2 = a;
+  half1.f.resize(6);
+  half2.f.erase(half2.f.begin(), half2.f.begin() + 6);
+  std::string bytes = gen::ascii(b, "one") + gen::ascii(half1, "two") + gen::ascii(half2, "three");
+  Analyzed x;
+  analyze(bytes, x);
+  ASSERT_EQ(x.mesh.solids.size(), 3u);
+  ASSERT_EQ(x.shells.size(), 2u);
+  EXPECT_EQ(x.shells[0].solid, 0u);
+  EXPECT_EQ(x.shells[1].solid, kMixedSolid);
+  std::string j = shellListJson(x.shells);
+  EXPECT_HAS(j, "\"solid\":0,");
+  EXPECT_HAS(j, "\"solid\":\"mixed\",");
+}
+
+TEST(Shells, ToleranceWeldCountsTheWeldedVertices) {
+  gen::Soup s = gen::cube();
+  // A crack: the +z side's triangles use a copy of corner 7 moved by 1e-4.
+  s.v.push_back({s.v[7][0] + 1e-4f, s.v[7][1], s.v[7][2]});
+  for (int t = 2; t < 4; ++t)
+    for (auto& c : s.f[t]) if (c == 7) c = 8;
+  Analyzed exact, welded;
+  analyze(gen::binary(s), exact);
+  analyze(gen::binary(s), welded, 1e-3);
+  ASSERT_EQ(welded.shells.size(), 1u);
+  EXPECT_TRUE(welded.shells[0].closed());
+  EXPECT_EQ(welded.shells[0].vertices, 8u);
+  EXPECT_FALSE(exact.shells[0].closed());
+}
+
+TEST(Shells, RejectsATriangleShellThatDoesNotFit) {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(3, 0, 0));
+  Analyzed a;
+  analyze(s, a);
+  std::vector<uint32_t> bad = a.triangleShell;
+  std::swap(bad[0], bad[12]);  // not numbered by the lowest triangle id
+  Array<Shell> shells;
+  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, bad.data(), &shells, nullptr).code, Code::InvalidArgument);
+  EXPECT_TRUE(shells.empty());
+  bad = a.triangleShell;
+  bad[3] = 7;
+  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, bad.data(), &shells, nullptr).code, Code::InvalidArgument);
+  // The module keeps working after a refused call.
+  EXPECT_TRUE(findShellsAndDefects(a.mesh, a.topo, a.triangleShell.data(), &shells, nullptr).ok());
+}
+
+// ---------------------------------------------------------------------------
+// Every fixture, against a brute-force count from the triangles.
+
+namespace {
+
+struct BruteShell {
+  uint32_t triangles = 0, edges = 0, boundary = 0, nonManifold = 0, inconsistent = 0;
+  std::set<uint32_t> vertices;
+  double volume = 0;
+};
+
+std::vector<BruteShell> bruteForce(const Mesh& m, const Topology& t, const std::vector<uint32_t>& shellOf) {
+  std::vector<BruteShell> out(t.nShells);
+  // Per undirected edge: the sides in each direction.
+  std::map<std::pair<uint32_t, uint32_t>, std::pair<int, int>> sides;
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeShell;
+  for (uint32_t tri = 0; tri < m.nTriangles(); ++tri) {
+    if (shellOf[tri] == kInvalid) continue;
+    BruteShell& b = out[shellOf[tri]];
+    ++b.triangles;
+    const float* p[3];
+    for (int c = 0; c < 3; ++c) {
+      uint32_t u = t.vertexWeld[m.triangles[3 * size_t(tri) + c]], w = t.vertexWeld[m.triangles[3 * size_t(tri) + (c + 1) % 3]];
+      b.vertices.insert(u);
+      auto& d = sides[std::minmax(u, w)];
+      (u < w ? d.first : d.second) += 1;
+      edgeShell[std::minmax(u, w)] = shellOf[tri];
+      p[c] = m.positions.data() + 3 * size_t(m.triangles[3 * size_t(tri) + c]);
+    }
+    b.volume += (double(p[0][0]) * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
+                 double(p[0][1]) * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
+                 double(p[0][2]) * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) / 6.0;
+  }
+  for (auto& [key, d] : sides) {
+    BruteShell& b = out[edgeShell[key]];
+    ++b.edges;
+    int n = d.first + d.second;
+    if (n == 1) ++b.boundary;
+    else if (n == 2 && (d.first == 0 || d.second == 0)) ++b.inconsistent;
+    else if (n > 2) ++b.nonManifold;
+  }
+  return out;
+}
+
+std::vector<std::string> fixtureFiles() {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
+    if (e.is_regular_file() && e.path().extension() != ".md") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST(Shells, EveryFixtureAgreesWithABruteForceCountAndTheWholeReport) {
+  uint32_t checked = 0;
+  for (const std::string& path : fixtureFiles()) {
+    SCOPED_TRACE(path);
+    Analyzed a;
+    if (!gen::read(gen::readFile(path), a.mesh).ok()) continue;
+    analyze(gen::readFile(path), a);
+    ++checked;
+    const Topology& t = a.topo;
+    std::vector<BruteShell> brute = bruteForce(a.mesh, t, a.triangleShell);
+    uint64_t tris = 0, edges = 0, bnd = 0, nme = 0, inc = 0, holes = 0, seams = 0;
+    for (uint32_t i = 0; i < t.nShells; ++i) {
+      const Shell& sh = a.shells[i];
+      const BruteShell& b = brute[i];
+      ASSERT_EQ(sh.triangles, b.triangles) << "shell " << i;
+      ASSERT_EQ(sh.vertices, b.vertices.size()) << "shell " << i;
+      ASSERT_EQ(sh.edges, b.edges) << "shell " << i;
+      ASSERT_EQ(sh.boundaryEdges, b.boundary) << "shell " << i;
+      ASSERT_EQ(sh.nonManifoldEdges, b.nonManifold) << "shell " << i;
+      ASSERT_EQ(sh.inconsistentEdges, b.inconsistent) << "shell " << i;
+      ASSERT_EQ(sh.volume, b.volume) << "shell " << i;
+      ASSERT_LE(sh.nonManifoldVertices, sh.vertices);
+      tris += sh.triangles; edges += sh.edges; bnd += sh.boundaryEdges; nme += sh.nonManifoldEdges;
+      inc += sh.inconsistentEdges; holes += sh.holes; seams += sh.seams;
+    }
+    EXPECT_EQ(tris, t.nTriangles - t.nDegenerate);
+    EXPECT_EQ(edges, t.nEdges);
+    EXPECT_EQ(bnd, t.nBoundaryEdges);
+    EXPECT_EQ(nme, t.nNonManifoldEdges);
+    EXPECT_EQ(inc, t.nInconsistentEdges);
+    EXPECT_EQ(holes, t.nHoles);
+    EXPECT_EQ(seams, t.nSeams);
+    EXPECT_EQ(a.defects.nonManifoldEdgeVertices.size(), 2 * size_t(t.nNonManifoldEdges));
+    EXPECT_EQ(a.defects.inconsistentEdgeVertices.size(), 2 * size_t(t.nInconsistentEdges));
+    EXPECT_EQ(a.defects.nonManifoldVertices.size(), t.nNonManifoldVertices);
+    EXPECT_EQ(a.defects.degenerateTriangles.size(), t.nDegenerate);
+    for (uint32_t v = 0, i = 0; v < t.nVertices; ++v)
+      if (t.vertexNonManifold[v]) ASSERT_EQ(a.defects.nonManifoldVertices[i++], v);
+    for (uint32_t c : a.defects.nonManifoldVertexCycles) ASSERT_GE(c, 2u);
+  }
+  EXPECT_GE(checked, 70u);
+}
