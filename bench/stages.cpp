@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 using Clock = std::chrono::steady_clock;
 

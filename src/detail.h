@@ -5,9 +5,13 @@
 
 #include <cstdarg>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <string>
+#include <utility>
+#include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace stltopo::detail {
 
@@ -26,9 +30,45 @@ locale_t cLocale();
 void appendf(std::string& out, const char* f, ...) __attribute__((format(printf, 2, 3)));
 std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
 
-// A status whose message starts with the code's name: "truncated: ...".
-Status makeStatus(Code c, const std::string& msg, uint64_t offset = kNoOffset, uint64_t line = 0,
-                  uint32_t triangle = kInvalid);
+// Whether malloc can give `bytes` now (the block is freed again). The standard containers
+// throw (natively) or abort (wasm, built without exceptions) when an allocation fails, so
+// every one whose size the input controls grows only after this probe said yes; the probe
+// and the container's own allocation follow each other with nothing in between, so the
+// container gets the block the probe just freed.
+bool canAllocate(size_t bytes);
+
+// Appends `v` to `vec` without a throw or abort: when `vec` is full, its grown buffer is
+// probed first. False (and `vec` unchanged) when the probe fails.
+template <class T>
+bool tryPushBack(std::vector<T>& vec, T&& v) {
+  if (vec.size() == vec.capacity()) {
+    size_t cap = vec.capacity() < 4 ? 4 : vec.capacity() * 2;
+    if (cap > vec.max_size() || !canAllocate(cap * sizeof(T))) return false;
+    vec.reserve(cap);
+  }
+  vec.push_back(std::move(v));
+  return true;
+}
+
+// A T in malloc'ed memory (placement new; T's constructor must not allocate): null when
+// malloc fails. Never a throw, also where operator new would throw or abort.
+template <class T, class... Args>
+T* tryNew(Args&&... args) {
+  void* p = std::malloc(sizeof(T));
+  return p ? new (p) T(std::forward<Args>(args)...) : nullptr;
+}
+// Destroys and frees a tryNew() object; null is allowed.
+template <class T>
+void tryDelete(T* p) {
+  if (!p) return;
+  p->~T();
+  std::free(p);
+}
+
+// s = [p, p + n) without a throw or abort (probed as tryPushBack). False: `s` unchanged.
+bool tryAssign(std::string& s, const char* p, size_t n);
+// Reserves `n` bytes in `s` (probed). After it, appends up to n bytes never allocate.
+bool tryReserve(std::string& s, size_t n);
 
 // Shortest decimal that reads back as the same value (float32 or double), rendered
 // like JavaScript's Number#toString: fixed notation for exponents in [-7, 21).

@@ -8,7 +8,6 @@
 #include <locale.h>
 
 #include "detail.h"
-#include "stltopo.h"
 
 namespace stltopo {
 
@@ -155,6 +154,7 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
   const uint32_t nt = mesh.nTriangles();
   j.key("triangles"); j.u(nt);
   j.key("vertices"); j.u(mesh.nVertices());
+  if (topo && topo->tolerance > 0) { j.key("weldedVertices"); j.u(topo->nWeldedVertices); }
   uint32_t degenerate = 0;
   if (topo) {
     degenerate = topo->nDegenerate;
@@ -219,7 +219,7 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
     int64_t chi = t.eulerCharacteristic();
     j.key("eulerCharacteristic"); j.i(chi);
     j.key("genus");
-    if (t.watertight()) {
+    if (t.watertight() && t.manifold()) {  // a pinched closed mesh is no surface: no genus
       int64_t twice = 2 * int64_t(t.nShells) - chi;  // genus = (2 shells - chi) / 2
       j.s += shortest(double(twice) / 2, false);
     } else {
@@ -236,8 +236,10 @@ using detail::appendf;
 
 std::string infoText(const std::string& file, const Mesh& m, const Topology* t) {
   std::string o;
-  appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices\n", file.c_str(), formatName(m.format),
+  appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format),
           m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
+  if (t && t->tolerance > 0) appendf(o, " (%u after the tolerance weld)", t->nWeldedVertices);
+  o += '\n';
   for (const auto& s : m.solids) appendf(o, "  solid \"%s\": %u triangles\n", s.name.c_str(), s.triangleCount);
   if (m.nVertices() > 0)
     appendf(o, "  bbox [%g, %g, %g] .. [%g, %g, %g]\n", m.bboxMin[0], m.bboxMin[1], m.bboxMin[2], m.bboxMax[0],

@@ -1,6 +1,6 @@
 // The per-shell report and the defect lists, from a mesh, its topology and the shell of
 // each triangle. Uses next, vert, pairKind and the per-element arrays, never prev or face.
-#include "shells.h"
+#include "stltopo/shells.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "detail.h"
-#include "shells.h"
+#include "stltopo/shells.h"
 
 namespace stltopo {
 namespace {

@@ -1,8 +1,8 @@
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "detail.h"
-#include "stltopo.h"
 
 #if defined(__linux__) && !defined(__EMSCRIPTEN__)
 #include <sys/mman.h>
@@ -47,10 +47,6 @@ std::string detail::format(const char* f, ...) {
   return out;
 }
 
-Status detail::makeStatus(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
-  return Status::error(c, msg, offset, line, triangle);
-}
-
 Status Status::error(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
   Status s;
   s.code = c;
@@ -59,6 +55,34 @@ Status Status::error(Code c, const std::string& msg, uint64_t offset, uint64_t l
   s.line = line;
   s.triangle = triangle;
   return s;
+}
+
+namespace {
+// The probe's block is stored here before it is freed, so that the compiler cannot drop
+// the malloc/free pair as unused.
+void* volatile probeSink = nullptr;
+}  // namespace
+
+bool detail::canAllocate(size_t bytes) {
+  void* p = std::malloc(bytes);
+  if (!p) return false;
+  probeSink = p;
+  std::free(probeSink);
+  probeSink = nullptr;
+  return true;
+}
+
+bool detail::tryReserve(std::string& s, size_t n) {
+  if (n <= s.capacity()) return true;
+  if (n >= s.max_size() || !canAllocate(n + 1)) return false;
+  s.reserve(n);
+  return true;
+}
+
+bool detail::tryAssign(std::string& s, const char* p, size_t n) {
+  if (!tryReserve(s, n)) return false;
+  s.assign(p, n);
+  return true;
 }
 
 void detail::adviseHugePages(void* p, size_t bytes) {

@@ -1,17 +1,31 @@
 // validate(): checks every invariant of a Topology against its Mesh.
+#include <algorithm>
 #include <cstdio>
 
 #include "detail.h"
-#include "stltopo.h"
 
 namespace stltopo {
 namespace {
 Status bad(const char* what, uint32_t element) {
-  Status s = detail::makeStatus(Code::Invalid, detail::format("%s (element %u)", what, element));
+  Status s = Status::error(Code::Invalid, detail::format("%s (element %u)", what, element));
   s.element = element;
   return s;
 }
-Status oom() { return detail::makeStatus(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
+Status oom() { return Status::error(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
+Status badCount(const char* what, uint32_t expected) {
+  Status s = Status::error(Code::Invalid, detail::format("%s (expected %u)", what, expected));
+  s.element = expected;
+  return s;
+}
+
+// Triangles joined by union-find with path halving, for the shell count.
+uint32_t findRoot(Array<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
 }  // namespace
 
 Status validate(const Mesh& mesh, const Topology& t) {
@@ -40,7 +54,6 @@ Status validate(const Mesh& mesh, const Topology& t) {
     if (t.face[n] != t.face[e]) return bad("next leaves the face", e);
     if (t.vert[n] != t.vert[e ^ 1u]) return bad("vert[next[e]] != vert[twin(e)]", e);
     if (t.vert[e] == t.vert[e ^ 1u]) return bad("half-edge is a self-loop", e);
-    if (((e ^ 1u) ^ 1u) != e || (e ^ 1u) >= nh) return bad("twin is not an involution", e);
   }
   // vnext stays at the vertex, so its cycles partition each vertex's outgoing half-edges.
   // (A second pass: next[e ^ 1] is known to be in range only now.)
@@ -105,6 +118,131 @@ Status validate(const Mesh& mesh, const Topology& t) {
     }
   }
   if (nUsed != t.nUsedVertices) return bad("used-vertex count differs", nUsed);
+
+  // Degenerate triangles: two corners on one vertex of the weld.
+  uint32_t nDegenerate = 0;
+  for (uint32_t f = 0; f < nt; ++f) {
+    const uint32_t* c = mesh.triangles.data() + 3 * size_t(f);
+    uint32_t a = t.vertexWeld[c[0]], b = t.vertexWeld[c[1]], d = t.vertexWeld[c[2]];
+    if (a >= nv || b >= nv || d >= nv) return bad("vertexWeld out of range", f);
+    bool degen = a == b || b == d || a == d;
+    if (degen != (t.triangleDegenerate[f] != 0)) return bad("triangleDegenerate differs from the welded corners", f);
+    nDegenerate += degen;
+  }
+  if (nDegenerate != t.nDegenerate) return badCount("degenerate-triangle count differs", nDegenerate);
+  uint32_t nReps = 0;
+  for (uint32_t v = 0; v < nv; ++v) {
+    uint32_t r = t.vertexWeld[v];
+    if (r > v || t.vertexWeld[r] != r) return bad("vertexWeld is not a lowest-id representative", v);
+    nReps += r == v;
+  }
+  if (nReps != t.nWeldedVertices) return badCount("welded-vertex count differs", nReps);
+
+  // Undirected edges: pair k joins the smaller and the larger of its two vertices. The
+  // pairs are bucketed by the smaller one, and within a bucket an edge id is given per
+  // larger vertex (stamp[b] = the bucket that last saw b): O(n).
+  const uint32_t np = nh / 2;
+  Array<uint32_t> off, byLow, edgeOf, stamp, edgeAt;
+  if (!off.assign(size_t(nv) + 1, 0) || !byLow.resize(np) || !edgeOf.resize(np) || !stamp.assign(nv, kInvalid) ||
+      !edgeAt.resize(nv))
+    return oom();
+  auto lo = [&](uint32_t k) { return std::min(t.vert[2 * k], t.vert[2 * k + 1]); };
+  auto hi = [&](uint32_t k) { return std::max(t.vert[2 * k], t.vert[2 * k + 1]); };
+  for (uint32_t k = 0; k < np; ++k) ++off[lo(k) + 1];
+  for (uint32_t v = 0; v < nv; ++v) off[v + 1] += off[v];
+  for (uint32_t k = 0; k < np; ++k) byLow[off[lo(k)]++] = k;  // off[v] now ends bucket v
+  uint32_t nEdges = 0;
+  for (uint32_t v = 0, begin = 0; v < nv; begin = off[v++]) {
+    for (uint32_t i = begin; i < off[v]; ++i) {
+      uint32_t k = byLow[i], b = hi(k);
+      if (stamp[b] != v) {
+        stamp[b] = v;
+        edgeAt[b] = nEdges++;
+      }
+      edgeOf[k] = edgeAt[b];
+    }
+  }
+  // Per edge: its triangle sides and whether a side of it is cut (unpaired).
+  Array<uint32_t> sides;
+  Array<uint8_t> cut;
+  if (!sides.assign(nEdges, 0) || !cut.assign(nEdges, 0)) return oom();
+  for (uint32_t k = 0; k < np; ++k) {
+    bool left = t.face[2 * k] < nt, right = t.face[2 * k + 1] < nt;
+    if (!left && !right) return bad("pair has no triangle side", 2 * k);
+    sides[edgeOf[k]] += uint32_t(left) + uint32_t(right);
+    if (!left || !right) cut[edgeOf[k]] = 1;
+  }
+  uint32_t nBoundary = 0, nInconsistent = 0, nNonManifold = 0;
+  for (uint32_t g = 0; g < nEdges; ++g) {
+    if (sides[g] == 1) ++nBoundary;
+    else if (sides[g] == 2 && cut[g]) ++nInconsistent;
+    else if (sides[g] >= 3) ++nNonManifold;
+  }
+  for (uint32_t k = 0; k < np; ++k) {
+    uint32_t m = sides[edgeOf[k]];
+    bool paired = t.face[2 * k] < nt && t.face[2 * k + 1] < nt;
+    EdgeKind want = m == 1   ? EdgeKind::Boundary
+                    : m == 2 ? (paired ? EdgeKind::Interior : EdgeKind::Inconsistent)
+                             : EdgeKind::NonManifold;
+    if (t.pairKind[k] != uint8_t(want)) return bad("pairKind differs from the sides of its edge", k);
+  }
+  if (nEdges != t.nEdges) return badCount("edge count differs", nEdges);
+  if (nBoundary != t.nBoundaryEdges) return badCount("boundary-edge count differs", nBoundary);
+  if (nInconsistent != t.nInconsistentEdges) return badCount("inconsistent-edge count differs", nInconsistent);
+  if (nNonManifold != t.nNonManifoldEdges) return badCount("non-manifold-edge count differs", nNonManifold);
+
+  // Loops: a seam holds a cut side of an inconsistent or non-manifold edge.
+  uint32_t nSeams = 0;
+  for (uint32_t l = 0; l < nl; ++l) {
+    bool seam = false;
+    for (uint32_t i = t.loopOffsets[l]; i < t.loopOffsets[l + 1]; ++i)
+      seam |= t.pairKind[t.loopHalfedges[i] >> 1] != uint8_t(EdgeKind::Boundary);
+    if (seam != (t.loopIsSeam[l] != 0)) return bad("loopIsSeam differs from the loop's edges", nt + l);
+    nSeams += seam;
+  }
+  if (nSeams != t.nSeams || nl - nSeams != t.nHoles) return badCount("hole or seam count differs", nl - nSeams);
+
+  // Vertices: non-manifold when the vnext cycle through vertexHalfedge misses an outgoing
+  // half-edge (vnext is a permutation: next is one, checked above).
+  Array<uint32_t> degree;
+  if (!degree.assign(nv, 0)) return oom();
+  for (uint32_t e = 0; e < nh; ++e) ++degree[t.vert[e]];
+  uint32_t nNonManifoldVertices = 0;
+  for (uint32_t v = 0; v < nv; ++v) {
+    uint32_t e0 = t.vertexHalfedge[v];
+    bool nm = false;
+    if (e0 != kInvalid) {
+      uint32_t x = e0, steps = 0;
+      do {
+        x = t.next[x ^ 1u];
+        ++steps;
+      } while (x != e0 && steps <= degree[v]);
+      nm = steps != degree[v];
+    }
+    if (nm != (t.vertexNonManifold[v] != 0)) return bad("vertexNonManifold differs from the vertex's cycles", v);
+    nNonManifoldVertices += nm;
+  }
+  if (nNonManifoldVertices != t.nNonManifoldVertices)
+    return badCount("non-manifold-vertex count differs", nNonManifoldVertices);
+
+  // Shells: the triangles that share an undirected edge are one shell.
+  Array<uint32_t> parent, firstTriangle;
+  if (!parent.resize(nt) || !firstTriangle.assign(nEdges, kInvalid)) return oom();
+  for (uint32_t f = 0; f < nt; ++f) parent[f] = f;
+  for (uint32_t e = 0; e < nh; ++e) {
+    uint32_t f = t.face[e];
+    if (f >= nt) continue;
+    uint32_t& first = firstTriangle[edgeOf[e >> 1]];
+    if (first == kInvalid) {
+      first = f;
+      continue;
+    }
+    uint32_t a = findRoot(parent, first), b = findRoot(parent, f);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  uint32_t nShells = 0;
+  for (uint32_t f = 0; f < nt; ++f) nShells += !t.triangleDegenerate[f] && findRoot(parent, f) == f;
+  if (nShells != t.nShells) return badCount("shell count differs", nShells);
   return Status{};
 }
 

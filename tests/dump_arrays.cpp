@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace {
 template <class A>

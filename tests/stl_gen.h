@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace gen {
 

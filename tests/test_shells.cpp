@@ -10,7 +10,7 @@
 #include <numeric>
 #include <set>
 
-#include "shells.h"
+#include "stltopo/shells.h"
 #include "stl_gen.h"
 
 using namespace stltopo;

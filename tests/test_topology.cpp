@@ -184,8 +184,9 @@ TEST(Topology, TwoCubesTouchingAtACorner) {
   EXPECT_EQ(t.vertexNonManifold[vid(b.mesh, {1, 1, 1})], 1u);
   EXPECT_EQ(t.nShells, 2u);
   std::string j = infoJson("c", b.mesh, &t);
-  // chi = 15 - 36 + 24 = 3; watertight (no bad edges) but not manifold; genus = (4 - 3) / 2.
-  EXPECT_NE(j.find("\"eulerCharacteristic\":3,\"genus\":0.5,\"watertight\":true,\"manifold\":false"), std::string::npos) << j;
+  // chi = 15 - 36 + 24 = 3; watertight (no bad edges) but not manifold: a pinched closed mesh
+  // is no surface, so it has no genus ((4 - 3) / 2 = 0.5 would mislead).
+  EXPECT_NE(j.find("\"eulerCharacteristic\":3,\"genus\":null,\"watertight\":true,\"manifold\":false"), std::string::npos) << j;
 }
 
 TEST(Topology, FlippedTriangleGivesThreeInconsistentEdgesAndSeamsNotHoles) {
@@ -287,6 +288,14 @@ TEST(Topology, ToleranceWeldClosesCracksWithoutMovingPositions) {
   EXPECT_EQ(welded.topo.vertexWeld[8], vid(welded.mesh, {1, 1, 1}));
   EXPECT_EQ(welded.mesh.positions[3 * 8], 1.000001f);
   EXPECT_EQ(welded.mesh.nVertices(), 9u);
+  // The report counts positions as `vertices` and the weld's representatives apart.
+  EXPECT_EQ(welded.topo.nWeldedVertices, 8u);
+  std::string j = infoJson("c", welded.mesh, &welded.topo);
+  EXPECT_NE(j.find("\"vertices\":9,\"weldedVertices\":8,"), std::string::npos) << j;
+  EXPECT_NE(infoText("c", welded.mesh, &welded.topo).find("9 vertices (8 after the tolerance weld)"), std::string::npos);
+  // The exact weld prints no weldedVertices.
+  EXPECT_EQ(exact.topo.nWeldedVertices, 9u);
+  EXPECT_EQ(infoJson("c", exact.mesh, &exact.topo).find("weldedVertices"), std::string::npos);
 }
 
 TEST(Validate, DetectsABrokenInvariant) {
@@ -295,6 +304,87 @@ TEST(Validate, DetectsABrokenInvariant) {
   Status s = validate(b.mesh, b.topo);
   EXPECT_EQ(s.code, Code::Invalid);
   EXPECT_NE(s.element, kInvalid);
+}
+
+// Each check of validate() on its own: one array entry or count of a valid topology is
+// corrupted, and validate() must name that check. The meshes: a cube with a flipped
+// triangle (seams), an open cube (a hole), a grid with two holes touching at a vertex
+// (a non-manifold vertex) and two cubes sharing an edge (a non-manifold edge).
+namespace {
+
+struct Corruption {
+  const char* name;
+  Built (*mesh)();
+  void (*corrupt)(Topology&);
+  const char* message;
+};
+
+Built openCubeBuilt() { return build(openCube()); }
+Built flippedCube() {
+  gen::Soup s = gen::cube();
+  std::swap(s.f[5][1], s.f[5][2]);
+  return build(s);
+}
+Built cubesSharingAnEdge() {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 0));
+  return build(s);
+}
+Built cubesSharingACorner() {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 1));
+  return build(s);
+}
+Built cubeWithDegenerate() {
+  gen::Soup s = gen::cube();
+  s.f.push_back({0, 0, 1});
+  return build(s);
+}
+
+// The pair whose kind is `k` (the first one).
+uint32_t pairOfKind(const Topology& t, EdgeKind k) {
+  for (uint32_t p = 0; p < t.pairKind.size(); ++p)
+    if (t.pairKind[p] == uint8_t(k)) return p;
+  ADD_FAILURE() << "no pair of that kind";
+  return 0;
+}
+
+}  // namespace
+
+TEST(Validate, EachCheckCatchesItsCorruption) {
+  const Corruption cases[] = {
+      {"pairKind interior->boundary", +[] { return build(gen::cube()); },
+       [](Topology& t) { t.pairKind[0] = uint8_t(EdgeKind::Boundary); }, "pairKind differs"},
+      {"pairKind boundary->inconsistent", openCubeBuilt,
+       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::Boundary)] = uint8_t(EdgeKind::Inconsistent); }, "pairKind differs"},
+      {"pairKind non-manifold->interior", cubesSharingAnEdge,
+       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::NonManifold)] = uint8_t(EdgeKind::Interior); }, "pairKind differs"},
+      {"loopIsSeam hole->seam", openCubeBuilt, [](Topology& t) { t.loopIsSeam[0] = 1; }, "loopIsSeam differs"},
+      {"loopIsSeam seam->hole", flippedCube, [](Topology& t) { t.loopIsSeam[0] = 0; }, "loopIsSeam differs"},
+      {"vertexNonManifold set", openCubeBuilt, [](Topology& t) { t.vertexNonManifold[0] = 1; }, "vertexNonManifold differs"},
+      {"vertexNonManifold cleared", cubesSharingACorner,
+       [](Topology& t) { for (auto& f : t.vertexNonManifold) f = 0; }, "vertexNonManifold differs"},
+      {"nNonManifoldVertices", cubesSharingACorner, [](Topology& t) { t.nNonManifoldVertices = 0; }, "non-manifold-vertex count differs"},
+      {"nEdges", openCubeBuilt, [](Topology& t) { ++t.nEdges; }, "edge count differs"},
+      {"nBoundaryEdges", openCubeBuilt, [](Topology& t) { --t.nBoundaryEdges; }, "boundary-edge count differs"},
+      {"nInconsistentEdges", flippedCube, [](Topology& t) { t.nInconsistentEdges = 0; }, "inconsistent-edge count differs"},
+      {"nNonManifoldEdges", cubesSharingAnEdge, [](Topology& t) { t.nNonManifoldEdges = 2; }, "non-manifold-edge count differs"},
+      {"nHoles/nSeams swapped", flippedCube, [](Topology& t) { std::swap(t.nHoles, t.nSeams); }, "hole or seam count differs"},
+      {"nUsedVertices", openCubeBuilt, [](Topology& t) { ++t.nUsedVertices; }, "used-vertex count differs"},
+      {"nDegenerate", cubeWithDegenerate, [](Topology& t) { t.nDegenerate = 0; }, "degenerate-triangle count differs"},
+      {"nWeldedVertices", openCubeBuilt, [](Topology& t) { --t.nWeldedVertices; }, "welded-vertex count differs"},
+      {"nShells", cubesSharingACorner, [](Topology& t) { t.nShells = 1; }, "shell count differs"},
+      {"nShells of one cube", openCubeBuilt, [](Topology& t) { t.nShells = 2; }, "shell count differs"},
+  };
+  for (const Corruption& c : cases) {
+    SCOPED_TRACE(c.name);
+    Built b = c.mesh();
+    ASSERT_TRUE(validate(b.mesh, b.topo).ok());
+    c.corrupt(b.topo);
+    Status s = validate(b.mesh, b.topo);
+    EXPECT_EQ(s.code, Code::Invalid);
+    EXPECT_NE(s.message.find(c.message), std::string::npos) << s.message;
+  }
 }
 
 TEST(Report, JsonEscapesAndNumbers) {

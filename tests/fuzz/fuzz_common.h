@@ -9,7 +9,7 @@
 #include <string>
 
 #include "../stl_gen.h"
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace fuzz {
 

@@ -157,7 +157,7 @@ def cases():
         defectCounts={'nonManifoldEdges': 1, 'nonManifoldVertices': 2})
     # two cubes touching at the corner (1,1,1)
     add('two_cubes_shared_corner', binary(cb + cube((1, 1, 1))), nonManifoldVertices=1,
-        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3,
+        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3, genus=None,
         closed=[True, True], shellManifold=[True, True], orientations=['outward', 'outward'])
     add('torus', binary(torus()), eulerCharacteristic=0, genus=1, watertight=True, manifold=True)
     add('torus_two_holes', binary(torus(removed=((0, 0), (6, 4)))), holes=2, holeSizes=[4, 4],

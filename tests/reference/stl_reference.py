@@ -608,7 +608,8 @@ def build_topology(mesh, self_check=False):
     E = len(edges)
     chi = len(used) - E + F
     watertight = F > 0 and n_bnd == 0 and n_nm == 0 and n_inc == 0
-    if watertight:
+    manifold = n_nm == 0 and n_nmv == 0
+    if watertight and manifold:  # a pinched closed mesh (cubes touching at a corner) has no genus
         g2 = 2 * shells - chi
         genus = g2 // 2 if g2 % 2 == 0 else g2 / 2
     else:
@@ -627,7 +628,7 @@ def build_topology(mesh, self_check=False):
     tp.eulerCharacteristic = chi
     tp.genus = genus
     tp.watertight = watertight
-    tp.manifold = n_nm == 0 and n_nmv == 0
+    tp.manifold = manifold
     tp.usedVertices = len(used)
     tp.halfedges = H
     # kept for the shell list and the defect lists

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "stltopo.h"
+#include "stltopo/stltopo.h"
 
 namespace {
 
@@ -37,12 +37,7 @@ struct Args {
 // (no copy through a buffer), anything else is read 1 MiB at a time.
 stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& base, stltopo::Mesh& mesh) {
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
-  if (!f) {
-    stltopo::Status s;
-    s.code = stltopo::Code::InvalidArgument;
-    s.message = "invalid-argument: cannot open " + path + ": " + std::strerror(errno);
-    return s;
-  }
+  if (!f) return stltopo::Status::error(stltopo::Code::InvalidArgument, "cannot open " + path + ": " + std::strerror(errno));
   stltopo::ReadOptions opt = base;
   struct stat st;
   if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode)) opt.sizeHint = uint64_t(st.st_size);
@@ -72,10 +67,8 @@ stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& ba
         if (!s.ok()) break;
       }
       if (n < buf.size()) {
-        if (std::ferror(f)) {
-          s.code = stltopo::Code::InvalidArgument;
-          s.message = "invalid-argument: read error on " + path + ": " + std::strerror(errno);
-        }
+        if (std::ferror(f))
+          s = stltopo::Status::error(stltopo::Code::InvalidArgument, "read error on " + path + ": " + std::strerror(errno));
         break;
       }
     }

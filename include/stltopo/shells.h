@@ -8,7 +8,10 @@
 // (TopologyOptions::prevAndFace = false) is enough.
 #pragma once
 
-#include "stltopo.h"
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
 
 namespace stltopo {
 

@@ -1,0 +1,57 @@
+// stltopo/read.h: reading STL bytes (whole or streamed) into a Mesh.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+
+namespace stltopo {
+
+inline constexpr size_t kMaxNumberChars = 4096;    // longer ASCII numbers are an error
+
+struct ReadOptions {
+  uint32_t maxTriangles = 1u << 28;  // more gives Code::TooLarge
+  uint64_t maxBytes = 0;             // 0 = unlimited; more gives Code::TooLarge
+  uint64_t sizeHint = 0;             // total input size if known (lets the reader reserve
+                                     // and fail early); 0 = unknown. Never trusted beyond
+                                     // what arrives.
+  bool keepNormals = false;          // store the facet normals in Mesh::normals
+};
+
+// Streaming reader. Feed bytes in chunks of any size (down to 1 byte), then call
+// finish(). The result is identical for every chunking.
+//
+// Contract. feed() returns Ok, or the first error of the input: too-large (maxBytes or
+// maxTriangles passed), out-of-memory, or an error of the format (truncated, ascii-syntax,
+// non-finite, not-stl, ...) as soon as neither format can still be the answer. finish()
+// returns Ok and moves the mesh into `out` (warnings in out.warnings), or an error (empty,
+// not-stl, truncated, unexpected-end, ascii-syntax, non-finite, too-large, out-of-memory)
+// and leaves `out` untouched. After an error, feed() and finish() keep returning it;
+// feed() after finish() and a second finish() give invalid-argument. reset() starts a new
+// read with the same options. `data` may be null when `size` is 0. If the reader's state
+// could not be allocated, feed() and finish() return out-of-memory.
+class Reader {
+ public:
+  explicit Reader(const ReadOptions& options = {});
+  ~Reader();
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  Status feed(const uint8_t* data, size_t size);
+  // Completes the read and moves the mesh into `out` on success.
+  Status finish(Mesh& out);
+  void reset();
+  uint64_t bytesRead() const;
+
+  struct Impl;
+ private:
+  Impl* impl_;
+};
+
+// Whole-buffer convenience: one feed() plus finish(), with sizeHint = size unless set; the
+// same codes, and `out` is untouched on failure.
+Status readStl(const uint8_t* data, size_t size, Mesh& out, const ReadOptions& options = {});
+
+}  // namespace stltopo

@@ -1,0 +1,21 @@
+// stltopo: read STL files into an indexed triangle mesh and libstl-style topology.
+//
+// The umbrella header: includes every public header of the library. Everything is plain
+// data plus a few functions; the core never prints, never touches files and never starts
+// threads. Allocation
+// failure is reported as Code::OutOfMemory, never thrown across the API.
+//
+// Layout (all indices are uint32, kInvalid = ~0u means "none"):
+//   positions[3*v + k]     coordinate k of vertex v            (Mesh)
+//   triangles[3*t + c]     vertex of corner c of triangle t     (Mesh)
+//   next[e], vert[e], face[e]  half-edge arrays                 (Topology)
+//   twin(e) = e ^ 1;  vnext(e) = next[e ^ 1]
+#pragma once
+
+#include "stltopo/status.h"
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/read.h"
+#include "stltopo/topology.h"
+#include "stltopo/report.h"
+#include "stltopo/shells.h"

@@ -1,0 +1,235 @@
+// The mesh builder: collects the parsers' triangles into a welded Mesh (the exact weld
+// table), gathers the figures (area, volume, bounding box, normal mismatches) and decodes
+// the colours at the end. Both parsers feed it; its per-corner work is inline here.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "detail.h"
+
+namespace stltopo::detail {
+
+// out-of-memory: "could not allocate <what>".
+Status oom(const char* what);
+
+inline uint32_t bitsOf(float f) { return detail::bitCast<uint32_t>(f); }
+inline bool finiteBits(uint32_t b) { return (b & 0x7f800000u) != 0x7f800000u; }
+
+inline uint32_t hash3(uint32_t x, uint32_t y, uint32_t z) {
+  uint32_t h = x * 0x9E3779B1u;
+  h ^= y * 0x85EBCA77u + (h << 6) + (h >> 2);
+  h ^= z * 0xC2B2AE3Du + (h << 6) + (h >> 2);
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  return h;
+}
+
+// Removes leading and trailing ASCII whitespace from [b, e).
+void trim(const char*& b, const char*& e);
+
+// Per binary part: the header's colour information.
+struct PartColor {
+  bool magics = false;
+  uint8_t rgb[3] = {0, 0, 0};
+};
+
+// Builder: collects triangles into a welded Mesh.
+struct Builder {
+  ReadOptions opt;
+  Mesh mesh;
+  // Weld table: open addressing, each slot holds the normalised coordinate bits and the
+  // vertex id, so a probe never touches the positions array. In front of it sits a small
+  // direct-mapped cache of recent vertices: STL files list neighbouring triangles close
+  // together, so most corners are found there without a cache miss.
+  struct Slot {
+    uint32_t x, y, z, id;  // id == kInvalid: empty
+  };
+  static constexpr uint32_t kRecent = 4096;
+  Array<Slot> table;
+  Array<Slot> recent;
+  uint32_t mask = 0;
+  std::vector<PartColor> partColors;  // parallel to mesh.solids (binary only)
+  bool anyVisCamBit = false;
+  bool solidOpen = false;
+  Status error;  // sticky
+
+  explicit Builder(const ReadOptions& o) : opt(o) {}
+
+  bool failed() const { return !error.ok(); }
+
+  bool reserveTriangles(uint64_t n);
+
+  void releaseWeld() {
+    table.release();
+    recent.release();
+  }
+  void dropArrays();
+
+  static inline uint32_t slotHash(const Slot& k) { return hash3(k.x, k.y, k.z); }
+
+  bool growTable(uint32_t forVertices);
+
+  // Batches of binary records: their corner hashes are computed once, up front, and used
+  // to start loading the weld-table slots, so that the cache misses of a batch overlap
+  // instead of running one after another. Native code prefetches; wasm has no prefetch
+  // instruction, so there each slot's id is loaded (independent loads that out-of-order
+  // execution overlaps) and folded into touchSink, which keeps the loads alive.
+  static constexpr uint32_t kBatchRecords = 32;
+  uint32_t batchHash[3 * kBatchRecords];
+  uint32_t touchSink = 0;
+
+  static inline Slot keyOf(float x, float y, float z) {
+    // -0 and +0 are the same vertex: compare the bits of x + 0.0f (which maps -0 to +0).
+    return Slot{bitsOf(x + 0.0f), bitsOf(y + 0.0f), bitsOf(z + 0.0f), 0};
+  }
+  static inline float floatLE(const uint8_t* p) {
+    uint32_t w;
+    std::memcpy(&w, p, 4);
+    if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap32(w);
+    return detail::bitCast<float>(w);
+  }
+  // Fills batchHash for `count` (<= kBatchRecords) records at rec; the table must exist.
+  void prepareBatch(const uint8_t* rec, uint32_t count) {
+    uint32_t acc = 0;
+    for (uint32_t r = 0; r < count; ++r, rec += 50) {
+      for (int c = 0; c < 3; ++c) {
+        const uint8_t* q = rec + 12 + 12 * c;
+        uint32_t h = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
+        batchHash[3 * r + c] = h;
+#if !defined(__EMSCRIPTEN__)
+        __builtin_prefetch(&table[h & mask]);
+#endif
+      }
+    }
+#if defined(__EMSCRIPTEN__)
+    // The loads in a loop of their own: a few instructions each, so that many more of them
+    // fit in the out-of-order window (and miss at the same time) than between the hashes.
+    const Slot* tb = table.data();
+    for (uint32_t i = 0; i < 3 * count; ++i) acc |= tb[batchHash[i] & mask].id;
+#endif
+    touchSink += acc;
+  }
+
+  // Returns the welded vertex id; kInvalid on allocation failure, kNonFinite for NaN/Inf.
+  static constexpr uint32_t kNonFinite = kInvalid - 1;
+  // hash: slotHash of the key when already known (a batch), else null.
+  inline uint32_t weld(float x, float y, float z, const uint32_t* hash) {
+    Slot k = keyOf(x, y, z);
+    uint32_t h = hash ? *hash : slotHash(k);
+    Slot& r = recent[h & (kRecent - 1)];
+    if (r.x == k.x && r.y == k.y && r.z == k.z && r.id != kInvalid) return r.id;
+    uint32_t i = h & mask;
+    for (;;) {
+      const Slot& slot = table[i];
+      if (slot.id == kInvalid) break;
+      if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
+        r = slot;
+        return slot.id;
+      }
+      i = (i + 1) & mask;
+    }
+    // A new vertex. Only here can a coordinate be NaN or Inf (such a key never matches a
+    // stored vertex), and only here can the bounding box grow.
+    if (!finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z)) return kNonFinite;
+    uint32_t id = mesh.nVertices();
+    size_t n = mesh.positions.size();
+    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
+      return kInvalid;
+    (void)mesh.positions.resize(n + 3);  // capacity checked above
+    float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
+    q[0] = x; q[1] = y; q[2] = z;
+    if (id == 0) {
+      for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        if (q[c] < mesh.bboxMin[c]) mesh.bboxMin[c] = q[c];
+        if (q[c] > mesh.bboxMax[c]) mesh.bboxMax[c] = q[c];
+      }
+    }
+    k.id = id;
+    table[i] = k;
+    r = k;
+    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
+    return id;
+  }
+
+  // Opens a solid named [name, name + nameBytes) at the next triangle; color: its binary
+  // header's colour (null for ASCII). False (error set to out-of-memory) when the name or
+  // the lists cannot grow.
+  bool beginSolid(const char* name, size_t nameBytes, const PartColor* color);
+  void endSolid();
+
+  // v: 9 floats (3 corners). n: 3 floats. Returns false on error (sticky).
+  // hashes: the corners' key hashes when already computed (binary batches), else null.
+  inline bool add(const float* n, const float* v, uint16_t attr, uint64_t offset, uint64_t line,
+                  const uint32_t* hashes = nullptr) {
+    uint32_t t = mesh.nTriangles();
+    if (t >= opt.maxTriangles) {
+      error = Status::error(Code::TooLarge, format("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
+      return false;
+    }
+    if (mesh.triangles.size() + 3 > mesh.triangles.capacity()) {
+      size_t cap = std::max<size_t>(64, mesh.triangles.capacity() / 3 * 2);
+      if (!mesh.triangles.reserve(cap * 3) || !mesh.attributes.reserve(cap) ||
+          (opt.keepNormals && !mesh.normals.reserve(cap * 3))) {
+        error = oom("the triangle array");
+        return false;
+      }
+    }
+    if (table.empty() && !growTable(64)) {
+      error = oom("the weld table");
+      return false;
+    }
+    uint32_t ids[3];
+    for (int c = 0; c < 3; ++c) {
+      ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
+      if (ids[c] >= kNonFinite) {
+        if (ids[c] == kInvalid) {
+          error = oom("the vertex array");
+          return false;
+        }
+        int k = 3 * c;
+        while (finiteBits(bitsOf(v[k]))) ++k;
+        error = Status::error(Code::NonFinite,
+                           format("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
+                           offset, line, t);
+        return false;
+      }
+    }
+    size_t tn = mesh.triangles.size();
+    (void)mesh.triangles.resize(tn + 3);
+    std::memcpy(mesh.triangles.data() + tn, ids, sizeof ids);
+    (void)mesh.attributes.push_back(attr);
+    if (opt.keepNormals) {
+      size_t nn = mesh.normals.size();
+      (void)mesh.normals.resize(nn + 3);
+      std::memcpy(mesh.normals.data() + nn, n, 3 * sizeof(float));
+    }
+    // Figures: area, volume, normal mismatch (the bounding box grows in weld()).
+    double ax = v[0], ay = v[1], az = v[2], bx = v[3], by = v[4], bz = v[5], cx = v[6], cy = v[7], cz = v[8];
+    double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
+    double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+    mesh.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
+    mesh.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+    if (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) {
+      double d = double(n[0]) * nx + double(n[1]) * ny + double(n[2]) * nz;
+      if (d < 0) ++mesh.normalMismatches;
+    }
+    if (attr & 0x8000u) anyVisCamBit = true;
+    return true;
+  }
+
+  static uint8_t c5(unsigned v) { return uint8_t((v * 255u + 15u) / 31u); }
+
+  bool decodeColors();
+
+  // Appends a warning; false (error set to out-of-memory) when the list cannot grow.
+  bool addWarning(Code c, const std::string& msg, uint64_t offset = kNoOffset, uint64_t line = 0);
+};
+}  // namespace stltopo::detail
