@@ -102,4 +102,8 @@ struct Json {
   void f64(double v) { s += shortest(v, false); }
 };
 
+// The report's "shellList" and "defects" keys with their values (shells_report.cpp).
+void writeShellList(Json& j, const Array<Shell>& shells);
+void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind);
+
 }  // namespace stltopo::detail

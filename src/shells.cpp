@@ -10,8 +10,8 @@
 namespace stltopo {
 namespace {
 
-Status bad(const char* msg) { return detail::makeStatus(Code::InvalidArgument, msg); }
-Status oom() { return detail::makeStatus(Code::OutOfMemory, "could not allocate the shell and defect lists"); }
+Status bad(const char* msg) { return Status::error(Code::InvalidArgument, msg); }
+Status oom() { return Status::error(Code::OutOfMemory, "could not allocate the shell and defect lists"); }
 
 // A triangle side on a cut (inconsistent or non-manifold) edge.
 struct CutSide {
@@ -71,8 +71,7 @@ Orientation Shell::orientation() const {
   return Orientation::Flat;
 }
 
-Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, const uint32_t* triangleShell,
-                            Array<Shell>* shellsOut, Defects* defectsOut) {
+Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>* shellsOut, Defects* defectsOut) {
   if (shellsOut) *shellsOut = Array<Shell>{};
   if (defectsOut) *defectsOut = Defects{};
   const uint32_t nt = mesh.nTriangles(), nv = mesh.nVertices(), nh = topo.nHalfedges(), nl = topo.nLoops();
@@ -82,7 +81,9 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, const uint32
       topo.vert.size() != nh || topo.pairKind.size() != nh / 2 || topo.loopOffsets.size() != size_t(nl) + 1 ||
       topo.loopIsSeam.size() != nl)
     return bad("the topology was not built from this mesh");
-  if (nt > 0 && !triangleShell) return bad("no triangleShell");
+  if (topo.triangleShell.size() != nt)
+    return bad("the topology has no triangleShell (TopologyOptions::triangleShell = false)");
+  const uint32_t* triangleShell = topo.triangleShell.data();
 
   Array<Shell> shells;
   Defects d;

@@ -107,8 +107,7 @@ void appendPoint(std::string& o, const float* p) { appendf(o, "[%g, %g, %g]", p[
 
 }  // namespace
 
-std::string shellListJson(const Array<Shell>& shells) {
-  Json j;
+void detail::writeShellList(Json& j, const Array<Shell>& shells) {
   j.key("shellList");
   j.open('[');
   for (size_t i = 0; i < shells.size(); ++i) {
@@ -142,11 +141,15 @@ std::string shellListJson(const Array<Shell>& shells) {
     j.close('}');
   }
   j.close(']');
+}
+
+std::string shellListJson(const Array<Shell>& shells) {
+  Json j;
+  detail::writeShellList(j, shells);
   return j.s;
 }
 
-std::string defectsJson(const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {
-  Json j;
+void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {
   j.key("defects");
   j.open('{');
   j.key("holes"); loops(j, mesh, t, d, false, max);
@@ -210,6 +213,11 @@ std::string defectsJson(const Mesh& mesh, const Topology& t, const Defects& d, u
   j.close(']');
   j.close('}');
   j.close('}');
+}
+
+std::string defectsJson(const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {
+  Json j;
+  detail::writeDefects(j, mesh, t, d, max);
   return j.s;
 }
 
@@ -270,7 +278,8 @@ std::string defectsText(const Mesh& mesh, const Topology& t, const Defects& d, u
   for (size_t i = 0; i < std::min<size_t>(nDeg, max); ++i) {
     uint32_t tri = d.degenerateTriangles[i];
     uint8_t mask = d.degenerateCorners[i];
-    appendf(o, "  degenerate triangle %u: corners %s coincide at ", tri, cornerList(mask, " and ").c_str());
+    appendf(o, "  degenerate triangle %u: corners %s coincide at ", tri,
+            mask == 7 ? "0, 1 and 2" : cornerList(mask, " and ").c_str());
     appendPoint(o, position(mesh, mesh.triangles[size_t(tri) * 3 + (mask == 2 ? 1 : 0)]));
     o += '\n';
   }

@@ -10,6 +10,8 @@
 #include <numeric>
 #include <set>
 
+#include <sys/wait.h>
+
 #include "stltopo/shells.h"
 #include "stl_gen.h"
 
@@ -61,16 +63,21 @@ struct Analyzed {
   Defects defects;
 };
 
-// Reads `bytes`, builds the full topology, the shells and defects, and checks that the
-// report-only topology (no prev, no face) gives the same report.
+// Reads `bytes`, builds the full topology with triangleShell, checks triangleShell
+// against an independent union-find and validate(), builds the shells and defects, and
+// checks that the report-only topology (no prev, no face) gives the same report.
 void analyze(const std::string& bytes, Analyzed& a, double tolerance = 0) {
   Status s = gen::read(bytes, a.mesh);
   ASSERT_TRUE(s.ok()) << s.message;
   TopologyOptions o;
   o.tolerance = tolerance;
+  o.triangleShell = true;
   ASSERT_TRUE(buildTopology(a.mesh, a.topo, o).ok());
   a.triangleShell = triangleShellOf(a.mesh, a.topo);
-  s = findShellsAndDefects(a.mesh, a.topo, a.triangleShell.data(), &a.shells, &a.defects);
+  ASSERT_EQ(std::vector<uint32_t>(a.topo.triangleShell.begin(), a.topo.triangleShell.end()), a.triangleShell);
+  s = validate(a.mesh, a.topo);
+  ASSERT_TRUE(s.ok()) << s.message;
+  s = findShellsAndDefects(a.mesh, a.topo, &a.shells, &a.defects);
   ASSERT_TRUE(s.ok()) << s.message;
   ASSERT_EQ(a.shells.size(), a.topo.nShells);
   o.prevAndFace = false;
@@ -78,7 +85,7 @@ void analyze(const std::string& bytes, Analyzed& a, double tolerance = 0) {
   ASSERT_TRUE(buildTopology(a.mesh, lean, o).ok());
   Array<Shell> leanShells;
   Defects leanDefects;
-  ASSERT_TRUE(findShellsAndDefects(a.mesh, lean, a.triangleShell.data(), &leanShells, &leanDefects).ok());
+  ASSERT_TRUE(findShellsAndDefects(a.mesh, lean, &leanShells, &leanDefects).ok());
   EXPECT_EQ(shellListJson(leanShells), shellListJson(a.shells));
   EXPECT_EQ(defectsJson(a.mesh, lean, leanDefects, 1000), defectsJson(a.mesh, a.topo, a.defects, 1000));
 }
@@ -361,7 +368,7 @@ TEST(Shells, DegenerateTrianglesSayWhichCornersCoincide) {
                 "{\"triangle\":15,\"corners\":[0,1,2]}]}");
   std::string text = defectsText(a.mesh, a.topo, a.defects, 5);
   EXPECT_HAS(text, "  degenerate triangle 13: corners 1 and 2 coincide at [1, 0, 0]\n");
-  EXPECT_HAS(text, "  degenerate triangle 15: corners 0 and 1 and 2 coincide at [0, 1, 0]\n");
+  EXPECT_HAS(text, "  degenerate triangle 15: corners 0, 1 and 2 coincide at [0, 1, 0]\n");
 }
 
 TEST(Shells, ShellsKnowTheirSolidOrSayMixed) {
@@ -401,16 +408,27 @@ TEST(Shells, RejectsATriangleShellThatDoesNotFit) {
   gen::append(s, gen::cube(3, 0, 0));
   Analyzed a;
   analyze(s, a);
-  std::vector<uint32_t> bad = a.triangleShell;
-  std::swap(bad[0], bad[12]);  // not numbered by the lowest triangle id
+  Array<uint32_t>& ts = a.topo.triangleShell;
   Array<Shell> shells;
-  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, bad.data(), &shells, nullptr).code, Code::InvalidArgument);
+  std::swap(ts[0], ts[12]);  // not numbered by the lowest triangle id
+  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, &shells, nullptr).code, Code::InvalidArgument);
   EXPECT_TRUE(shells.empty());
-  bad = a.triangleShell;
-  bad[3] = 7;
-  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, bad.data(), &shells, nullptr).code, Code::InvalidArgument);
+  Status v = validate(a.mesh, a.topo);
+  EXPECT_EQ(v.code, Code::Invalid);
+  EXPECT_NE(v.message.find("triangleShell differs from the shells"), std::string::npos) << v.message;
+  std::swap(ts[0], ts[12]);
+  ts[3] = 7;  // out of range
+  EXPECT_EQ(findShellsAndDefects(a.mesh, a.topo, &shells, nullptr).code, Code::InvalidArgument);
+  ts[3] = 0;
   // The module keeps working after a refused call.
-  EXPECT_TRUE(findShellsAndDefects(a.mesh, a.topo, a.triangleShell.data(), &shells, nullptr).ok());
+  EXPECT_TRUE(findShellsAndDefects(a.mesh, a.topo, &shells, nullptr).ok());
+  EXPECT_EQ(shells.size(), 2u);
+  // Without TopologyOptions::triangleShell there is nothing to report from.
+  Topology plain;
+  ASSERT_TRUE(buildTopology(a.mesh, plain).ok());
+  EXPECT_TRUE(plain.triangleShell.empty());
+  EXPECT_EQ(plain.nShells, 2u);
+  EXPECT_EQ(findShellsAndDefects(a.mesh, plain, &shells, nullptr).code, Code::InvalidArgument);
 }
 
 // ---------------------------------------------------------------------------
@@ -509,4 +527,57 @@ TEST(Shells, EveryFixtureAgreesWithABruteForceCountAndTheWholeReport) {
     for (uint32_t c : a.defects.nonManifoldVertexCycles) ASSERT_GE(c, 2u);
   }
   EXPECT_GE(checked, 70u);
+}
+
+// ---------------------------------------------------------------------------
+// The CLI: `info --shells --defects [--max-defects N]`.
+
+namespace {
+
+// Runs the CLI with `args`; returns the exit status and stdout.
+int cli(const std::string& args, std::string& out) {
+  std::string cmd = std::string("'") + STLTOPO_CLI + "' " + args + " 2>/dev/null";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return -1;
+  out.clear();
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  int rc = ::pclose(p);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+}  // namespace
+
+TEST(ShellsCli, JsonAddsTheShellListAndTheDefectsOnlyWhenAsked) {
+  const std::string f = std::string("'") + STLTOPO_FIXTURES + "/mikedh_trimesh/models/shared.STL'";
+  std::string plain, both, cut;
+  ASSERT_EQ(cli("info --json " + f, plain), 0);
+  ASSERT_EQ(cli("info --json --shells --defects " + f, both), 0);
+  ASSERT_EQ(cli("info --json --defects --max-defects 0 " + f, cut), 0);
+  EXPECT_EQ(plain.find("shellList"), std::string::npos);
+  EXPECT_EQ(plain.find("\"defects\""), std::string::npos);
+  // The same object with the two keys last.
+  ASSERT_GT(both.size(), plain.size());
+  EXPECT_EQ(both.substr(0, plain.size() - 2), plain.substr(0, plain.size() - 2));
+  EXPECT_HAS(both, ",\"shellList\":[{\"id\":0,\"triangles\":24,");
+  EXPECT_HAS(both, "\"orientation\":\"outward\"");
+  EXPECT_HAS(both, "\"nonManifoldEdges\":{\"count\":1,\"items\":[{\"vertices\":[0,2],\"positions\":[[0.5,0.5,0.5],"
+                   "[0.5,0.5,-0.5]],\"triangles\":[0,1,21,23]}]}");
+  EXPECT_EQ(cut.find("shellList"), std::string::npos);
+  EXPECT_HAS(cut, "\"nonManifoldEdges\":{\"count\":1,\"items\":[]}");
+  std::string text;
+  ASSERT_EQ(cli("info --shells --defects " + f, text), 0);
+  EXPECT_HAS(text, "  shell 0: 24 triangles, not closed, non-manifold, outward, volume 2");
+  EXPECT_HAS(text, "  non-manifold edge 0-2: [0.5, 0.5, 0.5] - [0.5, 0.5, -0.5], 4 triangles: 0 1 21 23\n");
+}
+
+TEST(ShellsCli, UsageErrors) {
+  const std::string f = std::string("'") + STLTOPO_FIXTURES + "/mikedh_trimesh/models/shared.STL'";
+  std::string out;
+  EXPECT_EQ(cli("info --shells --no-topology " + f, out), 2);
+  EXPECT_EQ(cli("info --defects --no-topology " + f, out), 2);
+  EXPECT_EQ(cli("info --defects --max-defects -1 " + f, out), 2);
+  EXPECT_EQ(cli("info --defects --max-defects x " + f, out), 2);
+  EXPECT_EQ(cli("info --defects --max-defects", out), 2);
 }

@@ -2,10 +2,10 @@
 //
 // A shell is an edge-connected component of the non-degenerate triangles (every shared
 // edge counts, cut or not). Shells are numbered in the order of their lowest triangle id;
-// triangleShell[t] is the shell of triangle t, kInvalid for a degenerate triangle.
+// Topology::triangleShell[t] is the shell of triangle t, kInvalid for a degenerate one.
 //
-// Nothing here needs Topology::prev or Topology::face: the report-only topology
-// (TopologyOptions::prevAndFace = false) is enough.
+// Needs Topology::triangleShell (TopologyOptions::triangleShell = true), never prev or
+// face: the report-only topology (TopologyOptions::prevAndFace = false) is enough.
 #pragma once
 
 #include "stltopo/array.h"
@@ -86,15 +86,14 @@ struct Defects {
   Array<uint32_t> loopShell;
 };
 
-// Builds the per-shell report and the defect lists of `mesh` and its topology `topo`
-// (built from this mesh, with or without prev and face). `triangleShell` has
-// mesh.nTriangles() entries: the shell of each triangle as defined above (kInvalid for the
-// degenerate ones), with shells 0 .. topo.nShells - 1.
-// Returns Ok, InvalidArgument (topology not of this mesh, or a triangleShell entry out of
-// range or not kInvalid exactly for the degenerate triangles) or OutOfMemory; on failure
-// `shells` and `defects` are left empty. Either output may be null when not wanted.
-Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, const uint32_t* triangleShell,
-                            Array<Shell>* shells, Defects* defects);
+// Builds the per-shell report and the defect lists of `mesh` and its topology `topo`,
+// built from this mesh with TopologyOptions::triangleShell (prev and face are not needed).
+// Returns Ok, InvalidArgument (no triangleShell, or a topology that is not this mesh's:
+// sizes, or a triangleShell not numbered as above) or OutOfMemory; on failure `shells` and
+// `defects` are left empty. Either output may be null when not wanted. Allocates only
+// through Array (no throw); O(n) plus a sort of the cut sides, of the half-edges leaving
+// non-manifold vertices and of the loops.
+Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>* shells, Defects* defects);
 
 // ---------------------------------------------------------------------------
 // Report fragments, in the format of infoJson / infoText.
