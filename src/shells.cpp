@@ -139,15 +139,12 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     }
     ++S.triangles;
 
-    // The reader's figures (Mesh::area, Mesh::volume), term for term.
     const float* A = P + size_t(corner[0]) * 3;
     const float* B = P + size_t(corner[1]) * 3;
     const float* C = P + size_t(corner[2]) * 3;
-    double ax = A[0], ay = A[1], az = A[2], bx = B[0], by = B[1], bz = B[2], cx = C[0], cy = C[1], cz = C[2];
-    double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
-    double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-    S.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
-    S.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+    detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
+    S.area += fig.area;
+    S.volume += fig.volume;
     for (const float* Q : {A, B, C})
       for (int k = 0; k < 3; ++k) {
         S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);

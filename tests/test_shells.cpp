@@ -581,3 +581,89 @@ TEST(ShellsCli, UsageErrors) {
   EXPECT_EQ(cli("info --defects --max-defects x " + f, out), 2);
   EXPECT_EQ(cli("info --defects --max-defects", out), 2);
 }
+
+// ---------------------------------------------------------------------------
+// extractShell: each shell as a mesh of its own.
+
+TEST(ExtractShell, EveryShellOfEveryFixtureReportsAsItDidInItsMesh) {
+  uint32_t checked = 0;
+  for (const std::string& path : fixtureFiles()) {
+    SCOPED_TRACE(path);
+    std::string bytes = gen::readFile(path);
+    Analyzed a;
+    if (!gen::read(bytes, a.mesh).ok()) continue;
+    analyze(bytes, a);
+    for (uint32_t s = 0; s < a.shells.size(); ++s) {
+      Mesh m;
+      ASSERT_TRUE(extractShell(a.mesh, a.topo, s, m).ok());
+      const Shell& sh = a.shells[s];
+      ASSERT_EQ(m.nTriangles(), sh.triangles);
+      ASSERT_EQ(m.nVertices(), sh.vertices);
+      ASSERT_EQ(m.attributes.size(), sh.triangles);
+      ASSERT_EQ(m.colorConvention, a.mesh.colorConvention);
+      ASSERT_EQ(m.colors.size(), a.mesh.colors.empty() ? 0 : 3 * size_t(sh.triangles));
+      EXPECT_EQ(m.area, sh.area);
+      EXPECT_EQ(m.volume, sh.volume);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(m.bboxMin[k], sh.bboxMin[k]);
+        EXPECT_EQ(m.bboxMax[k], sh.bboxMax[k]);
+      }
+      uint32_t inSolids = 0;
+      for (const Solid& so : m.solids) inSolids += so.triangleCount;
+      EXPECT_EQ(inSolids, sh.triangles);
+      if (sh.solid < a.mesh.solids.size()) {
+        ASSERT_EQ(m.solids.size(), 1u);
+        EXPECT_EQ(m.solids[0].name, a.mesh.solids[sh.solid].name);
+      }
+      // On its own it is one shell with the same report (its vertices are its own now).
+      Topology t;
+      TopologyOptions o;
+      o.triangleShell = true;
+      ASSERT_TRUE(buildTopology(m, t, o).ok());
+      ASSERT_TRUE(validate(m, t).ok());
+      Array<Shell> own;
+      ASSERT_TRUE(findShellsAndDefects(m, t, &own, nullptr).ok());
+      ASSERT_EQ(own.size(), 1u);
+      own[0].solid = sh.solid;
+      Array<Shell> one;
+      ASSERT_TRUE(one.push_back(sh));
+      EXPECT_EQ(shellListJson(own), shellListJson(one)) << "shell " << s;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 300u);
+}
+
+TEST(ExtractShell, KeepsAttributesColoursAndSolidsAndRefusesBadShells) {
+  gen::Soup s = gen::cube(), b = gen::cube(3, 0, 0);
+  gen::append(s, b);
+  s.attr.assign(24, 0);
+  for (int t = 12; t < 24; ++t) s.attr[t] = uint16_t(0x8000 | (t << 5));  // VisCAM colours on the second cube
+  Analyzed a;
+  analyze(gen::binary(s), a);
+  ASSERT_EQ(a.mesh.colorConvention, ColorConvention::VisCam);
+  Mesh m;
+  ASSERT_TRUE(extractShell(a.mesh, a.topo, 1, m).ok());
+  ASSERT_EQ(m.nTriangles(), 12u);
+  EXPECT_EQ(m.nVertices(), 8u);
+  for (uint32_t t = 0; t < 12; ++t) {
+    EXPECT_EQ(m.attributes[t], a.mesh.attributes[12 + t]);
+    EXPECT_EQ(m.colorValid[t], a.mesh.colorValid[12 + t]);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(m.colors[3 * t + k], a.mesh.colors[3 * (12 + t) + k]);
+      // The same corner positions, through the compacted ids.
+      for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(m.positions[3 * m.triangles[3 * t + k] + i],
+                  a.mesh.positions[3 * a.mesh.triangles[3 * (12 + t) + k] + i]);
+    }
+  }
+  // Ids by first appearance: the first triangle's corners are 0, 1, 2.
+  EXPECT_EQ(m.triangles[0], 0u);
+  EXPECT_EQ(m.triangles[1], 1u);
+  EXPECT_EQ(m.triangles[2], 2u);
+  EXPECT_EQ(extractShell(a.mesh, a.topo, 2, m).code, Code::InvalidArgument);
+  Topology plain;
+  ASSERT_TRUE(buildTopology(a.mesh, plain).ok());
+  EXPECT_EQ(extractShell(a.mesh, plain, 0, m).code, Code::InvalidArgument);
+  EXPECT_TRUE(extractShell(a.mesh, a.topo, 0, m).ok());
+}

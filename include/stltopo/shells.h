@@ -95,6 +95,17 @@ struct Defects {
 // non-manifold vertices and of the loops.
 Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>* shells, Defects* defects);
 
+// The mesh of one shell, as a file of its own would read: its triangles in file order
+// (the degenerate ones belong to no shell), its vertices compacted and numbered by first
+// appearance in corner order (as the reader numbers them: writing `out` and reading it back
+// gives the same arrays), the attribute words, kept normals and colours of its triangles,
+// the solids it has triangles in (names kept, counts of its triangles), and its figures
+// (area, volume, bbox; normalMismatches when the mesh kept its normals, else 0)
+// recomputed. format and colorConvention are the mesh's; no warnings. Needs
+// Topology::triangleShell. Returns Ok, InvalidArgument (no triangleShell, or no shell
+// `shell`) or OutOfMemory; `out` is reset first and holds a partial mesh on failure.
+Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh& out);
+
 // ---------------------------------------------------------------------------
 // Report fragments, in the format of infoJson / infoText.
 
