@@ -80,6 +80,11 @@ inline std::string AsciiParser::show(const char* t, size_t n) {
   return s;
 }
 
+inline void AsciiParser::unexpected(const char* expected, const char* t, size_t n) {
+  fail(Code::AsciiSyntax, format("expected %s but found '%s' at line %llu", expected, show(t, n).c_str(), (unsigned long long)tokenLine),
+       tokenLine, tokenOffset);
+}
+
 inline void AsciiParser::token(const char* t, size_t n) {
   switch (state) {
     case ExpectSolid:
@@ -92,7 +97,7 @@ inline void AsciiParser::token(const char* t, size_t n) {
         return;
       }
       if (!decided) { decided = true; isSolid = false; return; }
-      fail(Code::AsciiSyntax, format("expected 'solid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'solid'", t, n);
       return;
     case ExpectFacetOrEnd:
       if (ieq(t, n, "facet")) {
@@ -109,12 +114,12 @@ inline void AsciiParser::token(const char* t, size_t n) {
         afterSkip = ExpectSolid;
         return;
       }
-      fail(Code::AsciiSyntax, format("expected 'facet' or 'endsolid' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'facet' or 'endsolid'", t, n);
       return;
     case AfterFacet:
       if (ieq(t, n, "normal")) { state = NormalNums; numIndex = 0; return; }
       if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
-      fail(Code::AsciiSyntax, format("expected 'normal' or 'outer' after 'facet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'normal' or 'outer' after 'facet'", t, n);
       return;
     case NormalNums:
     case VertexNums: {
@@ -124,11 +129,11 @@ inline void AsciiParser::token(const char* t, size_t n) {
     }
     case ExpectOuter:
       if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
-      fail(Code::AsciiSyntax, format("expected 'outer' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'outer'", t, n);
       return;
     case ExpectLoop:
       if (ieq(t, n, "loop")) { state = ExpectVertexOrEndloop; return; }
-      fail(Code::AsciiSyntax, format("expected 'loop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'loop'", t, n);
       return;
     case ExpectVertexOrEndloop:
       if (ieq(t, n, "vertex")) {
@@ -149,7 +154,7 @@ inline void AsciiParser::token(const char* t, size_t n) {
         afterSkip = ExpectEndfacet;
         return;
       }
-      fail(Code::AsciiSyntax, format("expected 'vertex' or 'endloop' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'vertex' or 'endloop'", t, n);
       return;
     case ExpectEndfacet:
       if (ieq(t, n, "endfacet")) {
@@ -158,7 +163,7 @@ inline void AsciiParser::token(const char* t, size_t n) {
         afterSkip = ExpectFacetOrEnd;
         return;
       }
-      fail(Code::AsciiSyntax, format("expected 'endfacet' but found '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+      unexpected("'endfacet'", t, n);
       return;
     case SolidName:
     case SkipLine:

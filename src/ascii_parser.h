@@ -55,6 +55,8 @@ struct AsciiParser {
 
   std::string show(const char* t, size_t n);
 
+  // ascii-syntax at the current token: "expected <expected> but found '<token>' at line N".
+  void unexpected(const char* expected, const char* t, size_t n);
   void token(const char* t, size_t n);
 
   // A number of the current facet (in state NormalNums or VertexNums).

@@ -27,8 +27,10 @@ constexpr To bitCast(const From& from) noexcept {
 // The "C" locale, for strtof_l/strtod_l: numbers never depend on the process locale.
 locale_t cLocale();
 
-// printf into a std::string, of any length.
+// printf appended to a std::string, of any length (the report's text; may throw natively).
 void appendf(std::string& out, const char* f, ...) __attribute__((format(printf, 2, 3)));
+// printf into a new std::string, for status messages: never throws or aborts; when memory
+// runs out the message is cut to what fits in the string itself.
 std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
 
 // Whether malloc can give `bytes` now (the block is freed again). The standard containers
@@ -68,6 +70,9 @@ void tryDelete(T* p) {
 
 // s = [p, p + n) without a throw or abort (probed as tryPushBack). False: `s` unchanged.
 bool tryAssign(std::string& s, const char* p, size_t n);
+// s = [p, p + n) or, when the probe fails, as much of it as fits in s without allocating:
+// for messages, which would rather be cut than throw.
+void assignOrCut(std::string& s, const char* p, size_t n);
 // Reserves `n` bytes in `s` (probed). After it, appends up to n bytes never allocate.
 bool tryReserve(std::string& s, size_t n);
 

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -39,18 +40,35 @@ void detail::appendf(std::string& out, const char* f, ...) {
 }
 
 std::string detail::format(const char* f, ...) {
-  std::string out;
-  va_list ap;
+  char buf[512];
+  va_list ap, again;
   va_start(ap, f);
-  vappendf(out, f, ap);
+  va_copy(again, ap);
+  int n = std::vsnprintf(buf, sizeof buf, f, ap);
   va_end(ap);
+  std::string out;
+  if (n >= 0 && size_t(n) < sizeof buf) {
+    assignOrCut(out, buf, size_t(n));
+  } else if (n >= 0 && tryReserve(out, size_t(n))) {
+    out.resize(size_t(n));  // within the capacity reserved
+    std::vsnprintf(out.data(), size_t(n) + 1, f, again);
+  } else {
+    assignOrCut(out, buf, sizeof buf - 1);
+  }
+  va_end(again);
   return out;
 }
 
 Status Status::error(Code c, const std::string& msg, uint64_t offset, uint64_t line, uint32_t triangle) {
   Status s;
   s.code = c;
-  s.message = std::string(codeName(c)) + ": " + msg;
+  const char* name = codeName(c);
+  size_t nameBytes = std::strlen(name);
+  if (detail::tryReserve(s.message, nameBytes + 2 + msg.size())) {
+    s.message.append(name, nameBytes).append(": ", 2).append(msg);
+  } else {
+    detail::assignOrCut(s.message, name, nameBytes);
+  }
   s.offset = offset;
   s.line = line;
   s.triangle = triangle;
@@ -74,9 +92,16 @@ bool detail::canAllocate(size_t bytes) {
 
 bool detail::tryReserve(std::string& s, size_t n) {
   if (n <= s.capacity()) return true;
-  if (n >= s.max_size() || !canAllocate(n + 1)) return false;
+  // The string library grows to at least twice the old capacity: probe what it will take.
+  size_t grown = std::max(n, 2 * s.capacity());
+  if (n >= s.max_size() || !canAllocate(grown + 1)) return false;
   s.reserve(n);
   return true;
+}
+
+void detail::assignOrCut(std::string& s, const char* p, size_t n) {
+  if (tryAssign(s, p, n)) return;
+  s.assign(p, std::min(n, s.capacity()));  // what fits without allocating
 }
 
 bool detail::tryAssign(std::string& s, const char* p, size_t n) {

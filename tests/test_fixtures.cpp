@@ -192,7 +192,7 @@ TEST(Fixtures, AllSeventyOneFixturesArePresent) {
 
 // ---------------------------------------------------------------------------
 // Every fixture: reads as the MANIFEST says (or fails with the expected code),
-// and its topology passes validate() and the navigation identities of issue 4.
+// and its topology passes validate() and the navigation identities of the topology contract.
 
 TEST(Fixtures, EveryReadableFixtureValidatesAndOnlyTheTwoBrokenOnesFail) {
   size_t readable = 0;
@@ -605,7 +605,7 @@ TEST(Fixtures, DracoBunnyHasFiveHoles) {
 
 TEST(Fixtures, AssimpSphereWithHoleHasOneBoundaryOfNineEdges) {
   // The MANIFEST finds 9 boundary edges in one component with 2 pinch vertices;
-  // under the fan rule (issue 4) that is one loop through both, and both are
+  // under the fan rule that is one loop through both, and both are
   // non-manifold vertices.
   Loaded l = load("assimp_assimp/test/models/STL/sphereWithHole.stl");
   ASSERT_LOADED(l, "sphereWithHole.stl");

@@ -427,7 +427,7 @@ TEST(ReadStl, ReaderIsCleanAfterAnError) {
   EXPECT_EQ(m.nTriangles(), 12u);
 }
 
-TEST(ReadStl, PeerChokers) {
+TEST(ReadStl, PeerChokersInTheReader) {
   // A count of 0 with a body: the body is trailing data (< 84 bytes) or a further part.
   std::string zero = gen::binary(gen::Soup{}, "zero") + std::string(50, '\1');
   Mesh m;

@@ -143,7 +143,10 @@ TEST(Regress, EveryRegressionFileReadsOrFailsCleanly) {
 }
 
 // The inputs that crashed or misled other readers (admesh, three.js, numpy-stl, ...).
-TEST(Regress, PeerChokers) {
+TEST(Regress, PeerChokersThroughTheCli) {
+#if defined(__EMSCRIPTEN__)
+  GTEST_SKIP() << "spawns the native CLI";
+#endif
   const gen::Soup cube = gen::cube();
   const std::string good = gen::binary(cube);
   float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

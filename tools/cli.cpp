@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Large arrays from the heap, and freed blocks kept there: a later array then reuses
   // pages that are already mapped (the weld table's for the topology's) instead of faulting
-  // in fresh zeroed ones (the kernel's page clearing was 28 % of a 4M-triangle run). glibc
+  // in fresh zeroed ones (bench/PROFILE.md has the measurement). glibc
   // still maps memory when the heap cannot grow.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);

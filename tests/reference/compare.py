@@ -39,7 +39,7 @@ The MANIFEST's `loops` counts connected components of the boundary-edge graph.
 That equals holes + seams only when the mesh has no pinch vertices on its
 boundary and no cut (inconsistent or non-manifold) sides, so `loops` is only
 compared in that case. Where the MANIFEST lists pinch vertices, the fan rule of
-issue 4 must give at least one hole per boundary component.
+the topology contract must give at least one hole per boundary component.
 """
 
 import json

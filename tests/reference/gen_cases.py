@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Generated STL cases with the results that issues 3 and 4 state for them.
+"""Generated STL cases with the results that the reader and topology specifications state for them.
 
   gen_cases.py DIR        writes every case to DIR/<name>.stl (for check-reference.sh)
   gen_cases.py --check    runs the Python reference on every case and checks the
                           expectations below (a self-test of the reference)
 
-Every expectation here comes from the issue texts or from reasoning about the
+Every expectation here comes from the specification texts or from reasoning about the
 construction, never from a program's output.
 """
 
@@ -241,7 +241,7 @@ def cases():
     add('flipped_cube_after_cube', binary(cb + [(t[0], t[2], t[1]) for t in cb]),
         nonManifoldEdges=18)
 
-    # reading corner cases (policies the issues leave partly open)
+    # reading corner cases (policies the specification leaves partly open)
     txt = ascii_stl([('x', cb[:2])]).decode()
     add('ascii_tokens_across_lines', txt.replace('facet normal', 'facet\nnormal')
         .replace('outer loop', 'outer\n\tloop').encode(), triangles=2)

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Independent reference implementation of `stltopo info --json`.
 
-Written from the specification in the issue tracker (issue 3 "Core, part 1: read
-every real-world STL file" and issue 4 "Core, part 2: half-edges, dual loops,
+Written from the specification of the reader ("Core, part 1: read
+every real-world STL file") and of the topology ("Core, part 2: half-edges, dual loops,
 holes as faces"), NOT from the C++ sources, so that it is a genuine second
 opinion. Standard library only; simple and slow on purpose (dicts, lists).
 
@@ -201,7 +201,7 @@ def read_binary(data):
         body = off + 84
         need = 50 * n
         have = size - body
-        # Policy (the issues leave the order open): a count the bytes cannot back is
+        # Policy (the specification leaves the order open): a count the bytes cannot back is
         # `truncated`; `too-large` is for data that really holds more triangles than
         # the limit.
         if tri + min(n, have // 50) > MAX_TRIANGLES:
@@ -442,7 +442,7 @@ def weld(raw):
 
 
 # ---------------------------------------------------------------------------
-# Topology (issue 4)
+# Topology
 
 BOUNDARY, INTERIOR, INCONSISTENT, NONMANIFOLD = 'boundary', 'interior', 'inconsistent', 'nonmanifold'
 

@@ -1,0 +1,164 @@
+// Allocation failure: this test binary replaces malloc, calloc and realloc (glibc; not in
+// sanitizer builds, whose allocator owns them) so that a chosen allocation fails. Every
+// read and topology must then return out-of-memory (or succeed, when the failed
+// allocation had a fallback) and never throw, abort or crash, and the next read must work.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "stl_gen.h"
+
+extern "C" void* __libc_malloc(size_t);
+extern "C" void* __libc_calloc(size_t, size_t);
+extern "C" void* __libc_realloc(void*, size_t);
+extern "C" void __libc_free(void*);
+
+namespace {
+bool armed = false;
+long countdown = 0;   // while armed: the allocation that sees 1 fails
+long seen = 0;        // allocations while armed
+size_t failAbove = ~size_t(0);  // while armed: every allocation larger than this fails
+
+// The core probes a standard container's growth with malloc + free (detail::canAllocate)
+// right before the container allocates the same size: a real allocator then hands back
+// the block just freed. So an allocation that follows such a probe does not fail here; the
+// failure moves on to the next one.
+void* lastBlock = nullptr;
+size_t lastSize = 0;
+bool lastFreed = false;
+
+bool failNow(size_t n) {
+  if (!armed) return false;
+  ++seen;
+  bool afterProbe = lastFreed && n <= lastSize;
+  lastFreed = false;
+  if (n > failAbove) return true;
+  if (countdown == 1 && afterProbe) return false;
+  return countdown > 0 && --countdown == 0;
+}
+void* track(void* p, size_t n) {
+  if (armed) {
+    lastBlock = p;
+    lastSize = n;
+  }
+  return p;
+}
+}  // namespace
+
+extern "C" void* malloc(size_t n) { return failNow(n) ? nullptr : track(__libc_malloc(n), n); }
+extern "C" void* calloc(size_t a, size_t b) { return failNow(a * b) ? nullptr : track(__libc_calloc(a, b), a * b); }
+extern "C" void* realloc(void* p, size_t n) { return failNow(n) ? nullptr : track(__libc_realloc(p, n), n); }
+extern "C" void free(void* p) {
+  if (armed && p && p == lastBlock) lastFreed = true;
+  __libc_free(p);
+}
+
+using namespace stltopo;
+
+namespace {
+
+struct Outcome {
+  Status read, topo;
+  std::string json;
+};
+
+// One read + topology of `bytes`, with allocation `k` (1-based) failing when k > 0.
+Outcome run(const std::string& bytes, const TopologyOptions& to, long k, size_t chunk = 0) {
+  Outcome r;
+  Mesh m;
+  Topology t;
+  seen = 0;
+  countdown = k;
+  armed = true;
+  if (chunk == 0) {
+    r.read = readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m);
+  } else {
+    Reader reader;
+    for (size_t i = 0; i < bytes.size() && r.read.ok(); i += chunk)
+      r.read = reader.feed(reinterpret_cast<const uint8_t*>(bytes.data()) + i, std::min(chunk, bytes.size() - i));
+    if (r.read.ok()) r.read = reader.finish(m);
+  }
+  if (r.read.ok()) r.topo = buildTopology(m, t, to);
+  armed = false;
+  countdown = 0;
+  if (r.read.ok() && r.topo.ok()) r.json = infoJson("f", m, &t);
+  return r;
+}
+
+// Fails each allocation of the read + topology of `bytes` in turn.
+void sweep(const std::string& bytes, const TopologyOptions& to, size_t chunk = 0) {
+  Outcome good = run(bytes, to, 0, chunk);
+  ASSERT_TRUE(good.read.ok() && good.topo.ok()) << good.read.message << good.topo.message;
+  const long n = seen;
+  ASSERT_GT(n, 5);
+  long failures = 0;
+  for (long k = 1; k <= n; ++k) {
+    SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+    Outcome r = run(bytes, to, k, chunk);
+    const Status& s = r.read.ok() ? r.topo : r.read;
+    if (!s.ok()) {
+      EXPECT_EQ(s.code, Code::OutOfMemory) << s.message;
+      ++failures;
+    } else {
+      EXPECT_EQ(r.json, good.json);
+    }
+    // The module keeps working: the next read is the good one.
+    Outcome again = run(bytes, to, 0, chunk);
+    EXPECT_EQ(again.json, good.json);
+  }
+  EXPECT_GT(failures, n / 2);  // most allocations have no fallback
+}
+
+gen::Soup cubesSharingAnEdge() {
+  gen::Soup s = gen::cube();
+  gen::append(s, gen::cube(1, 1, 0));
+  gen::append(s, gen::cube(1, 0, 0));  // three cubes on one edge: non-manifold queues
+  return s;
+}
+
+}  // namespace
+
+TEST(AllocFail, BinaryReadAndTopology) {
+  sweep(gen::binary(cubesSharingAnEdge(), "a header name longer than the short-string buffer"), {});
+}
+
+TEST(AllocFail, BinaryReadAndToleranceWeld) {
+  TopologyOptions to;
+  to.tolerance = 1e-3;
+  sweep(gen::binary(cubesSharingAnEdge(), "tolerance"), to);
+}
+
+TEST(AllocFail, AsciiSolidsStreamed) {
+  std::string two = gen::ascii(gen::cube(), "first solid with a long enough name") +
+                    gen::ascii(gen::cube(2, 0, 0), "second solid with a long enough name");
+  sweep(two, {}, 7);
+}
+
+TEST(AllocFail, ConcatenatedBinaryParts) {
+  std::string parts;
+  for (int i = 0; i < 6; ++i) parts += gen::binary(gen::cube(float(2 * i), 0, 0), "part number " + std::to_string(i) + " of many");
+  sweep(parts, {});
+}
+
+TEST(AllocFail, LargeAllocationsFailAtEverySize) {
+  // Every allocation above `limit` fails, for limits from 127 up (a status's message is a
+  // short string): out-of-memory or success.
+  std::string bytes = gen::binary(gen::torus(40, 30), "torus");
+  TopologyOptions tol;
+  tol.tolerance = 1e-4;
+  for (const TopologyOptions& to : {TopologyOptions{}, tol}) {
+    Outcome good = run(bytes, to, 0);
+    ASSERT_TRUE(good.read.ok() && good.topo.ok());
+    for (size_t limit = 127; limit < (size_t(1) << 22); limit = limit * 2 + 1) {
+      SCOPED_TRACE("limit " + std::to_string(limit));
+      failAbove = limit;
+      Outcome r = run(bytes, to, 0);
+      failAbove = ~size_t(0);
+      const Status& s = r.read.ok() ? r.topo : r.read;
+      if (!s.ok()) EXPECT_EQ(s.code, Code::OutOfMemory) << s.message;
+      else EXPECT_EQ(r.json, good.json);
+      EXPECT_EQ(run(bytes, to, 0).json, good.json);
+    }
+  }
+}
