@@ -63,7 +63,8 @@ async function run(setup, call, check, release = () => {}) {
 if (mode === 'wasm-read' || mode === 'wasm-full' || mode === 'wasm-view') {
   const topology = mode !== 'wasm-read';
   const view = mode === 'wasm-view';
-  const { loadStl, _internal } = await import('stltopo');
+  const { loadStl } = await import('stltopo');
+  const _internal = (await import('../dist/instance.node.js')).api.internal;
   await run(
     async () => {
       await _internal.getModule();

@@ -3,7 +3,10 @@
 // Mirrors the native CLI (src/cli.cpp): the same usage text, options, exit codes
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
-import { _internal, fileSource } from '../dist/node.js';
+import { api, fileSource } from '../dist/instance.node.js';
+import { DEFAULTS } from '../dist/options.js';
+
+const _internal = api.internal;
 
 const USAGE =
   "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
@@ -65,7 +68,10 @@ async function main(argv) {
   if (cmd === '--version') return write(process.stdout, 'stltopo 0.1.0\n');
   if (cmd !== 'info') return usageError(`stltopo: unknown command '${cmd}'\n${USAGE}`);
 
-  const a = { json: false, topology: true, tolerance: 0, maxTriangles: 2 ** 28, maxBytes: 0, files: [] };
+  const a = {
+    json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
+    maxBytes: DEFAULTS.maxBytes, files: [],
+  };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
     const s = argv[i];

@@ -3,6 +3,9 @@
 // failure comes back as a status object ({code, message, offset?, line?,
 // triangle?, element?}) or null for success.
 //
+// The arrays that cross to JS are listed once, in STLTOPO_JS_ARRAYS below; the
+// JS layer (web/src/mesh.js), index.d.ts and docs/JS-API.md follow that table.
+//
 // Typed arrays leave wasm memory in one of two ways (see array()):
 //   copy = true : a view is taken and slice()d in the same expression, so the JS
 //                 array owns its bytes and never detaches;
@@ -42,11 +45,93 @@ val statusToJs(const Status& s) {
   return o;
 }
 
-Status makeStatus(Code c, const char* message) {
-  Status s;
-  s.code = c;
-  s.message = std::string(stltopo::codeName(c)) + ": " + message;
-  return s;
+// The result arrays that cross to JS, one line each:
+//   X(name, part, group, key, element, width, when, flags, doc)
+//   name     the member of stltopo::Mesh or stltopo::Topology (`part`), and the name
+//            session.array()/upload() take;
+//   group    the mesh property that holds it in JS ("" = the mesh itself), key its name there;
+//   element  what its entries are indexed by, width entries per element;
+//   when     when it exists: "mesh" always, "normals" with { normals: true }, "colors" when the
+//            file has colours, "topology" unless { topology: false }; otherwise JS sets null;
+//   flags    kCopied: copied out even for { view: true } meshes (small, so holes never dangle);
+//            kDerived: not copied out of wasm for copies, rebuilt in JS on first read
+//            (web/src/mesh.js deriveArray) and not built by the core for them (prevAndFace);
+//   doc      one line for index.d.ts and docs/JS-API.md (scripts/gen-api-docs.mjs writes them).
+// A new array is one line here, then `node scripts/gen-api-docs.mjs`.
+#define STLTOPO_JS_ARRAYS(X)                                                                                        \
+  X(positions, Mesh, "", "positions", "vertex", 3, "mesh", 0, "x,y,z of vertex v at 3v..3v+2.")                     \
+  X(triangles, Mesh, "", "triangles", "triangle", 3, "mesh", 0, "Vertex ids of corner c of triangle t at 3t+c.")      \
+  X(attributes, Mesh, "", "attributes", "triangle", 1, "mesh", 0, "Binary attribute word per triangle (0 for ASCII).") \
+  X(colors, Mesh, "", "colors", "triangle", 3, "colors", 0, "sRGB bytes per triangle when colorConvention !== 'none'.") \
+  X(colorValid, Mesh, "", "colorValid", "triangle", 1, "colors", 0, "1 per triangle that has a colour.")             \
+  X(normals, Mesh, "", "normals", "triangle", 3, "normals", 0, "Stored facet normals, with { normals: true }.")      \
+  X(next, Topology, "halfedges", "next", "halfedge", 1, "topology", 0, "Next half-edge around the same face.")        \
+  X(prev, Topology, "halfedges", "prev", "halfedge", 1, "topology", kDerived, "Inverse of next.")                    \
+  X(vert, Topology, "halfedges", "vert", "halfedge", 1, "topology", kDerived, "Origin vertex (org).")                 \
+  X(face, Topology, "halfedges", "face", "halfedge", 1, "topology", kDerived,                                         \
+    "Left face: the triangle id, or nTriangles + h for boundary loop h.")                                            \
+  X(triangleHalfedge, Topology, "", "triangleHalfedge", "triangle", 1, "topology", 0,                                 \
+    "Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate.")                                     \
+  X(vertexHalfedge, Topology, "", "vertexHalfedge", "vertex", 1, "topology", 0,                                       \
+    "Per vertex: an outgoing half-edge, kInvalid if unused.")                                                        \
+  X(loopHalfedge, Topology, "", "loopHalfedge", "loop", 1, "topology", 0, "Per boundary loop: its lowest-id half-edge.") \
+  X(vertexWeld, Topology, "", "vertexWeld", "vertex", 1, "topology", 0,                                               \
+    "Per vertex: the representative vertex the topology uses (identity for exact weld).")                            \
+  X(loopOffsets, Topology, "loops", "offsets", "loop+1", 1, "topology", kCopied,                                      \
+    "Loop h is halfedges[offsets[h] .. offsets[h+1]).")                                                              \
+  X(loopHalfedges, Topology, "loops", "halfedges", "loop entry", 1, "topology", kCopied,                              \
+    "The half-edges of every loop in next order, starting at loopHalfedge[h].")                                      \
+  X(loopIsSeam, Topology, "loops", "isSeam", "loop", 1, "topology", kCopied,                                          \
+    "1 when the loop contains a cut (inconsistent or non-manifold) side.")                                           \
+  X(loopPerimeter, Topology, "loops", "perimeter", "loop", 1, "topology", kCopied, "Sum of the loop's edge lengths.")  \
+  X(pairKind, Topology, "problems", "pairKind", "pair", 1, "topology", 0,                                             \
+    "Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold (EdgeKind).")                       \
+  X(triangleDegenerate, Topology, "problems", "triangleDegenerate", "triangle", 1, "topology", 0,                     \
+    "1 when two corners of the triangle weld together.")                                                             \
+  X(vertexNonManifold, Topology, "problems", "vertexNonManifold", "vertex", 1, "topology", 0,                         \
+    "1 when the vertex's outgoing half-edges form more than one vnext cycle.")
+
+constexpr int kCopied = 1;
+constexpr int kDerived = 2;
+
+template <class A>
+struct JsType;
+template <> struct JsType<Array<float>> { static constexpr const char* js = "Float32Array"; };
+template <> struct JsType<Array<double>> { static constexpr const char* js = "Float64Array"; };
+template <> struct JsType<Array<uint32_t>> { static constexpr const char* js = "Uint32Array"; };
+template <> struct JsType<Array<uint16_t>> { static constexpr const char* js = "Uint16Array"; };
+template <> struct JsType<Array<uint8_t>> { static constexpr const char* js = "Uint8Array"; };
+
+struct JsArray {
+  const char *name, *group, *key, *element;
+  int width;
+  const char* when;
+  int flags;
+  const char *type, *doc;
+};
+#define STLTOPO_ROW(name, part, group, key, element, width, when, flags, doc) \
+  {#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, doc},
+constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
+#undef STLTOPO_ROW
+
+// The table as JS objects: [{ name, group, key, element, width, when, copied, derived, type, doc }].
+val arrayLayout() {
+  val list = val::array();
+  for (const JsArray& a : kJsArrays) {
+    val d = val::object();
+    d.set("name", val(a.name));
+    d.set("group", val(a.group));
+    d.set("key", val(a.key));
+    d.set("element", val(a.element));
+    d.set("width", val(a.width));
+    d.set("when", val(a.when));
+    d.set("copied", val((a.flags & kCopied) != 0));
+    d.set("derived", val((a.flags & kDerived) != 0));
+    d.set("type", val(a.type));
+    d.set("doc", val(a.doc));
+    list.call<void>("push", d);
+  }
+  return list;
 }
 
 template <class T>
@@ -86,15 +171,15 @@ class Session {
 
   // Feeds the first n bytes of the input buffer.
   val feed(size_t n) {
-    if (!reader_) return statusToJs(makeStatus(Code::OutOfMemory, "could not allocate the reader"));
-    if (n > inputCap_) return statusToJs(makeStatus(Code::InvalidArgument, "feed() larger than buffer()"));
+    if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
+    if (n > inputCap_) return statusToJs(Status::error(Code::InvalidArgument, "feed() larger than buffer()"));
     return remember(reader_->feed(input_, n));
   }
 
   // Completes the read, frees the reader and builds the topology when asked
   // (prevAndFace false: without the prev and face arrays, see TopologyOptions).
   val finish(bool topology, double tolerance, bool prevAndFace) {
-    if (!reader_) return statusToJs(makeStatus(Code::OutOfMemory, "could not allocate the reader"));
+    if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
     std::free(input_);
     input_ = nullptr;
     inputCap_ = 0;
@@ -169,7 +254,7 @@ class Session {
   // prints messages raw; a JS string would replace invalid UTF-8).
   val messageBytes() const { return bytesToJs(last_.message); }
 
-  // A named result array (see withArray for the names); null for an unknown name.
+  // A named result array (a name of STLTOPO_JS_ARRAYS); null for an unknown name.
   val array(const std::string& name, bool copy) {
     val out = val::null();
     withArray(name, [&](auto& a) { out = arrayToJs(a, copy); });
@@ -197,7 +282,7 @@ class Session {
   }
 
   val validate() const {
-    if (!hasTopology_) return statusToJs(makeStatus(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
+    if (!hasTopology_) return statusToJs(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
     return statusToJs(stltopo::validate(mesh_, topo_));
   }
 
@@ -211,31 +296,15 @@ class Session {
     return statusToJs(s);
   }
 
+  stltopo::Mesh& part(stltopo::Mesh*) { return mesh_; }
+  stltopo::Topology& part(stltopo::Topology*) { return topo_; }
+
   template <class F>
   void withArray(const std::string& n, F&& f) {
-    stltopo::Mesh& m = mesh_;
-    stltopo::Topology& t = topo_;
-    if (n == "positions") f(m.positions);
-    else if (n == "triangles") f(m.triangles);
-    else if (n == "attributes") f(m.attributes);
-    else if (n == "normals") f(m.normals);
-    else if (n == "colors") f(m.colors);
-    else if (n == "colorValid") f(m.colorValid);
-    else if (n == "next") f(t.next);
-    else if (n == "prev") f(t.prev);
-    else if (n == "vert") f(t.vert);
-    else if (n == "face") f(t.face);
-    else if (n == "pairKind") f(t.pairKind);
-    else if (n == "triangleHalfedge") f(t.triangleHalfedge);
-    else if (n == "vertexHalfedge") f(t.vertexHalfedge);
-    else if (n == "vertexWeld") f(t.vertexWeld);
-    else if (n == "loopHalfedge") f(t.loopHalfedge);
-    else if (n == "loopOffsets") f(t.loopOffsets);
-    else if (n == "loopHalfedges") f(t.loopHalfedges);
-    else if (n == "loopIsSeam") f(t.loopIsSeam);
-    else if (n == "loopPerimeter") f(t.loopPerimeter);
-    else if (n == "triangleDegenerate") f(t.triangleDegenerate);
-    else if (n == "vertexNonManifold") f(t.vertexNonManifold);
+#define STLTOPO_CASE(name, part_, ...) \
+  if (n == #name) return f(part(static_cast<stltopo::part_*>(nullptr)).name);
+    STLTOPO_JS_ARRAYS(STLTOPO_CASE)
+#undef STLTOPO_CASE
   }
 
   stltopo::ReadOptions options_;
@@ -253,19 +322,24 @@ std::string Session::infoTextString(const std::string& file) const {
   return stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr);
 }
 
-// errorJson for a status made in JS (e.g. the npm CLI's "cannot open").
+// errorJson for a status made in JS (e.g. the npm CLI's "cannot open"). A code
+// name that the core does not know gives an invalid-argument report that says so.
 std::string errorJson(const std::string& file, const std::string& code, const std::string& message, double offset,
                       double line, double triangle) {
   Status s;
-  s.code = Code::InvalidArgument;
-  for (int c = 0; c <= int(Code::NameTruncated); ++c)
-    if (code == stltopo::codeName(Code(c))) s.code = Code(c);
+  if (!stltopo::codeFromName(code.c_str(), s.code)) {
+    return stltopo::errorJson(file, Status::error(Code::InvalidArgument, "unknown error code '" + code + "' (message: " + message + ")"));
+  }
   s.message = message;
   s.offset = offset >= 0 ? uint64_t(offset) : stltopo::kNoOffset;
   s.line = line > 0 ? uint64_t(line) : 0;
   s.triangle = triangle >= 0 ? uint32_t(triangle) : stltopo::kInvalid;
   return stltopo::errorJson(file, s);
 }
+
+// The stable name of code c (0 <= c < codeCount()), for the tests.
+std::string codeNameAt(int c) { return stltopo::codeName(Code(c)); }
+int codeCount() { return stltopo::kCodeCount; }
 
 // The allocator's in-use bytes (dlmalloc mallinfo), for the heap-baseline tests.
 double heapInUse() { return double(mallinfo().uordblks); }
@@ -327,7 +401,10 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("upload", &Session::upload)
       .function("setCounts", &Session::setCounts)
       .function("validate", &Session::validate);
+  function("_arrayLayout", &arrayLayout);
   function("_errorJson", &errorJson);
+  function("_codeName", &codeNameAt);
+  function("_codeCount", &codeCount);
   function("_heapInUse", &heapInUse);
   function("_heapSize", &heapSize);
   function("_heapMax", &heapMax);

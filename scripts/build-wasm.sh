@@ -38,7 +38,7 @@ for f in dist/* dist/.[!.]*; do
   case " ${keep[*]} " in *" $b "*) ;; *) rm -rf "$f" ;; esac
 done
 
-touch "$BUILD_DIR/dist.stamp"  # scripts/test-node.sh: dist/ is stale when a source is newer
+
 
 # Size report: what a browser downloads (gzip -9), .wasm + glue.
 w=$(gzip -9c dist/stltopo-wasm.wasm | wc -c)

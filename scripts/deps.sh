@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian machine lacks. Usage: scripts/deps.sh native|wasm|browser|bench|fuzz ...
 # Each group is checked first and installed only when something is missing.
+# A top-level command (scripts/test.sh, start.sh, bench.sh, ...) installs the union of what it
+# needs once and exports STLTOPO_DEPS_INSTALLED=1; the scripts it runs then skip this check.
 set -euo pipefail
+[ "${STLTOPO_DEPS_INSTALLED:-0}" = 1 ] && exit 0
 need=()
 want() { dpkg -s "$1" >/dev/null 2>&1 || need+=("$1"); }
 for group in "$@"; do

@@ -1,24 +1,24 @@
 #!/usr/bin/env bash
-# Installs the npm dev dependencies when node_modules lacks them, and builds the package
-# (scripts/build-wasm.sh) when a file that package.json "exports" is missing from dist/.
-# Used by start.sh, build-demo.sh and test-browser.sh.
+# Makes dist/ current: the one way that every entry point (npm start, build:demo, the Node,
+# browser and bench tests) gets the package. Installs the npm dev dependencies when one is
+# missing, then always runs the incremental build (scripts/build-wasm.sh: CMake rebuilds only
+# what changed, the copy step leaves unchanged files alone), then checks that dist/ holds what
+# that build made from the current sources (a C++ edit cannot leave a stale wasm in dist/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [ ! -f node_modules/vite/bin/vite.js ] || [ ! -f node_modules/three/package.json ] \
-   || [ ! -f node_modules/playwright-core/package.json ]; then
-  npm install --no-audit --no-fund
-fi
-missing=$(node -e '
-  const fs = require("fs");
-  const pkg = JSON.parse(fs.readFileSync("package.json", "utf8"));
-  const files = [];
-  const walk = (e) => typeof e === "string" ? files.push(e) : e && Object.values(e).forEach(walk);
-  walk(pkg.exports);
-  const missing = files.filter((f) => !f.includes("*") && !fs.existsSync(f));
-  if (!files.length && !fs.existsSync("dist")) missing.push("dist/");
-  console.log(missing.join(" "));
-')
-if [ -n "$missing" ]; then
-  echo "ensure-package: building the package (missing: $missing)" >&2
-  bash scripts/build-wasm.sh
+for m in vite/bin/vite.js three/package.json playwright-core/package.json typescript/package.json \
+         @types/three/package.json three-mesh-halfedge/package.json; do
+  if [ ! -f "node_modules/$m" ]; then
+    npm install --no-audit --no-fund
+    break
+  fi
+done
+bash scripts/build-wasm.sh
+BUILD_DIR="${STLTOPO_WASM_BUILD_DIR:-build-wasm}"
+out="$BUILD_DIR/bindings/stltopo-wasm.wasm"
+# bindings.cpp and pre.js always reach the link; the build's output must be newer than them.
+newer=$(find bindings/bindings.cpp bindings/pre.js -newer "$out" 2>/dev/null | head -1)
+if [ -n "$newer" ] || ! cmp -s "$out" dist/stltopo-wasm.wasm; then
+  echo "ensure-package: dist/ is stale after the build (${newer:-dist/stltopo-wasm.wasm differs from $out})" >&2
+  exit 1
 fi

@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # Browser test of the demo page (tests/browser/*.test.mjs): real Chromium (Debian `chromium`,
 # driven by npm playwright-core) against a fresh static build of the demo. Builds what it needs:
-# chromium, node_modules, the package in dist/, the native CLI (the reference for the stats).
-# Screenshots land in test-artifacts/.
+# chromium, node_modules, the package in dist/ (scripts/ensure-package.sh), the native CLI (the
+# reference for the stats). Screenshots land in test-artifacts/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/deps.sh browser
+bash scripts/deps.sh native wasm browser
+export STLTOPO_DEPS_INSTALLED=1
 bash scripts/ensure-package.sh
 if [ ! -x build/stltopo ]; then
-  bash scripts/deps.sh native
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j"$(nproc)" >/dev/null
+  cmake --build build -j2 >/dev/null
 fi
-bash scripts/build-demo.sh >/dev/null
+STLTOPO_PACKAGE_READY=1 bash scripts/build-demo.sh >/dev/null
 mkdir -p test-artifacts
 node --test --test-concurrency=1 tests/browser/

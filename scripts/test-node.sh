@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Node half of `npm test` (scripts/test.sh builds build/stltopo first).
-#   1. builds dist/ (scripts/build-wasm.sh) when it is missing or older than its sources
+#   1. brings dist/ up to date (scripts/ensure-package.sh: incremental build, every time)
 #   2. installs the npm devDependencies when they are missing, and chromium (deps.sh browser)
 #   3. type-checks tests/js/types/api-usage.ts against the package's .d.ts (tsc --noEmit)
 #   4. runs the Node tests in tests/js (node:test), including the npm pack smoke test
@@ -17,27 +17,11 @@ if [ ! -x "$STLTOPO_NATIVE_CLI" ]; then
   exit 1
 fi
 
-# 1. dist/: rebuilt when missing or stale.
-stale=0
-for f in stltopo-wasm.js stltopo-wasm.wasm index.js node.js index.d.ts; do
-  [ -f "dist/$f" ] || stale=1
-done
-[ -f "$BUILD_DIR/dist.stamp" ] || stale=1
-if [ "$stale" = 0 ] && [ -n "$(find src bindings web/src CMakeLists.txt scripts/build-wasm.sh -newer "$BUILD_DIR/dist.stamp" -type f 2>/dev/null | head -1)" ]; then
-  stale=1
-fi
-if [ "$stale" = 1 ]; then
-  bash scripts/build-wasm.sh
-else
-  echo "test-node: dist/ is up to date"
-fi
-
-# 2. npm devDependencies (typescript, three, @types/three).
-if [ ! -x node_modules/.bin/tsc ] || [ ! -f node_modules/three/package.json ] || [ ! -f node_modules/@types/three/package.json ]; then
-  npm install --no-audit --no-fund
-fi
-# Chromium for tests/js/browser.test.mjs (the package in a real browser; skipped without it).
-bash scripts/deps.sh browser
+# 1-2. dist/ and the npm devDependencies (the one rule: scripts/ensure-package.sh), and chromium
+# for tests/js/browser.test.mjs (the package in a real browser; skipped without it).
+bash scripts/deps.sh wasm browser
+export STLTOPO_DEPS_INSTALLED=1
+bash scripts/ensure-package.sh
 
 # 3. Types.
 echo "test-node: tsc --noEmit (tests/js/types)"

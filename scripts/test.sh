@@ -4,6 +4,9 @@
 # Installs what a fresh Debian machine lacks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Every system package of every suite, once; the suites' own deps.sh calls are then no-ops.
+bash scripts/deps.sh native wasm browser bench fuzz
+export STLTOPO_DEPS_INSTALLED=1
 step() {
   local name=$1; shift
   local t0=$SECONDS

@@ -3,8 +3,11 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { loadStl, loadStlFile, StlError, _internal } from 'stltopo';
+import { loadStl, loadStlFile, StlError } from 'stltopo';
+import { api } from '../../dist/instance.node.js';
 import { fixture, gridStl, chunkedStream } from './helpers.mjs';
+
+const _internal = api.internal; // the test hooks (not public)
 
 const enc = (s) => new TextEncoder().encode(s);
 const cube = readFileSync(fixture('Cube.stl'));

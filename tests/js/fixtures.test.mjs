@@ -2,7 +2,7 @@
 // native JSON, validate() passes, and the navigation identities hold.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { readFileSync, existsSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 import path from 'node:path';
 import { loadStl, loadStlFile, StlError, kInvalid } from 'stltopo';
@@ -163,3 +163,64 @@ test('options: topology false, normals, tolerance weld', async () => {
   assert.deepEqual(welded.validate(), { ok: true });
   assert.equal(welded.positions.length, bare.positions.length); // coordinates never move
 });
+
+// The FNV-1a-style 64-bit hash of an array's bytes that tests/dump_arrays.cpp prints (its
+// offset basis is 1469598103934665603 = 0x14650fb0739d0383; the prime is 2^40 + 0x1b3),
+// in two 32-bit halves.
+function fnv64(a) {
+  const bytes = new Uint8Array(a.buffer, a.byteOffset, a.byteLength);
+  let lo = 0x739d0383;
+  let hi = 0x14650fb0;
+  for (let i = 0; i < bytes.length; ++i) {
+    lo = (lo ^ bytes[i]) >>> 0;
+    const l = lo * 0x1b3;
+    const carry = Math.floor(l / 4294967296);
+    hi = (hi * 0x1b3 + carry + ((lo << 8) >>> 0)) % 4294967296;
+    lo = l % 4294967296;
+  }
+  return hi.toString(16).padStart(8, '0') + lo.toString(16).padStart(8, '0');
+}
+
+const dumpArrays = process.env.STLTOPO_DUMP_ARRAYS || path.join(root, 'build/tests/dump_arrays');
+test('every fixture: every array of the mesh equals the native core\'s (tests/dump_arrays), exact and tolerance weld, copies and views',
+  { skip: !existsSync(dumpArrays) && `no ${dumpArrays}` }, async () => {
+    const { api } = await import('../../dist/instance.node.js');
+    const { layout } = await api.internal.getModule();
+    const lines = execFileSync(dumpArrays, files, { maxBuffer: 1 << 26 }).toString().trimEnd().split('\n');
+    assert.equal(lines.length, files.length);
+    let compared = 0;
+    for (let i = 0; i < files.length; ++i) {
+      // "<file> read:ok name=len:hash ... exact:ok name=... lean:ok ... tol:ok ..."
+      const parts = lines[i].slice(files[i].length + 1).split(' ');
+      const sections = {};
+      let cur = null;
+      for (const p of parts) {
+        const m = /^(read|exact|lean|tol):(.*)$/.exec(p);
+        if (m) sections[cur = m[1]] = { status: m[2] };
+        else if (cur && p.includes('=')) sections[cur][p.slice(0, p.indexOf('='))] = p.slice(p.indexOf('=') + 1);
+      }
+      if (sections.read.status !== 'ok') continue;
+      const bytes = readFileSync(files[i]);
+      for (const [section, weld] of [['exact', 'exact'], ['tol', { tolerance: 1e-3 }]]) {
+        for (const view of [false, true]) {
+          let m;
+          try {
+            m = await loadStl(bytes, { weld, view, normals: true });
+          } catch (e) {
+            assert.notEqual(sections[section].status, 'ok', `${files[i]}: ${e.message}`);
+            continue;
+          }
+          for (const d of layout) {
+            const a = d.group ? m[d.group][d.key] : m[d.key];
+            const want = sections[d.when === 'topology' ? section : 'read'][d.name];
+            assert.ok(want, `${d.name} missing from dump_arrays`);
+            if (a === null) assert.match(want, /^0:/, `${files[i]} ${d.name}`);
+            else assert.equal(`${a.length}:${fnv64(a)}`, want, `${files[i]} ${section} ${d.name} view ${view}`);
+          }
+          m.dispose();
+          ++compared;
+        }
+      }
+    }
+    assert.ok(compared >= 80, `only ${compared} comparisons`);
+  });

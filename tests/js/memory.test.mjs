@@ -4,8 +4,11 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { loadStl, StlError, _internal } from 'stltopo';
+import { loadStl, StlError } from 'stltopo';
+import { api } from '../../dist/instance.node.js';
 import { fixture, gridStl } from './helpers.mjs';
+
+const _internal = api.internal; // the test hooks (not public)
 
 const bunny = readFileSync(fixture('bunny.stl'));
 

@@ -6,6 +6,7 @@ import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { LineSegments2 } from 'three/examples/jsm/lines/LineSegments2.js';
 import { LineSegmentsGeometry } from 'three/examples/jsm/lines/LineSegmentsGeometry.js';
 import { LineMaterial } from 'three/examples/jsm/lines/LineMaterial.js';
+import { toBufferGeometry } from 'stltopo/three';
 
 export const colors = {
   front: '#aab4c0',
@@ -29,48 +30,14 @@ const kPairInconsistent = 2;
 const kPairNonManifold = 3;
 
 /**
- * Converts the mesh arrays into a BufferGeometry.
- * Without colours the geometry is indexed and shares `mesh.positions` and `mesh.triangles` (no
- * copy); flat shading comes from the material. With per-face colours (`mesh.colors`, RGB per
- * triangle, `mesh.colorValid` 0/1) each triangle gets its own three corners so that the colour
- * does not bleed across vertices; triangles without a valid colour get `fallback`.
+ * Converts the mesh arrays into a BufferGeometry (stltopo/three's toBufferGeometry: indexed and
+ * sharing `mesh.positions` and `mesh.triangles`, or with per-face colours one triangle per three
+ * corners, the sRGB colour bytes converted to linear; triangles without a valid colour get
+ * `fallback`). Flat shading comes from the material, so no vertex normals.
  */
 export function meshToGeometry(mesh, { useColors = true, fallback = colors.front } = {}) {
-  const geometry = new THREE.BufferGeometry();
-  const { positions, triangles } = mesh;
-  if (useColors && mesh.colors) {
-    const nT = mesh.nTriangles;
-    const corners = new Float32Array(nT * 9);
-    const rgb = new Float32Array(nT * 9);
-    const base = new THREE.Color(fallback); // linear
-    // STL colours are sRGB bytes; three.js works in linear space.
-    const c = new THREE.Color();
-    const linear = new Float32Array(256).map((_, i) => c.setRGB(i / 255, 0, 0, THREE.SRGBColorSpace).r);
-    for (let t = 0; t < nT; t++) {
-      const valid = !mesh.colorValid || mesh.colorValid[t];
-      const r = valid ? linear[mesh.colors[3 * t]] : base.r;
-      const g = valid ? linear[mesh.colors[3 * t + 1]] : base.g;
-      const b = valid ? linear[mesh.colors[3 * t + 2]] : base.b;
-      for (let c = 0; c < 3; c++) {
-        const v = triangles[3 * t + c];
-        const o = 9 * t + 3 * c;
-        corners[o] = positions[3 * v];
-        corners[o + 1] = positions[3 * v + 1];
-        corners[o + 2] = positions[3 * v + 2];
-        rgb[o] = r;
-        rgb[o + 1] = g;
-        rgb[o + 2] = b;
-      }
-    }
-    geometry.setAttribute('position', new THREE.BufferAttribute(corners, 3));
-    geometry.setAttribute('color', new THREE.BufferAttribute(rgb, 3));
-  } else {
-    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    geometry.setIndex(new THREE.BufferAttribute(triangles, 1));
-  }
-  geometry.computeBoundingSphere();
-  geometry.computeBoundingBox();
-  return geometry;
+  const n = parseInt(fallback.slice(1), 16); // '#rrggbb'
+  return toBufferGeometry(mesh, { colors: useColors, normals: false, defaultColor: [(n >> 16) & 255, (n >> 8) & 255, n & 255] });
 }
 
 /** Segment list (6 floats per segment) along closed vertex loops, and a matching colour list. */

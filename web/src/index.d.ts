@@ -25,14 +25,14 @@ export declare class StlError extends Error {
   triangle?: number;
 }
 
-export type StlInput = ArrayBuffer | ArrayBufferView | Blob | Response | ReadableStream<Uint8Array>;
+export type StlInput = ArrayBuffer | ArrayBufferView | Blob | Response | ReadableStream<Uint8Array> | AsyncIterable<Uint8Array>;
 
 export interface LoadOptions {
   /** Build the half-edge topology (default true). */
   topology?: boolean;
   /** 'exact' (default) or a tolerance weld for the topology only (positions are never moved). */
   weld?: 'exact' | { tolerance: number };
-  /** More triangles give 'too-large' (default 2^28). */
+  /** More triangles give 'too-large' (default 2^28); an integer in [1, 2^32), as the CLIs' --max-triangles. */
   maxTriangles?: number;
   /** More input bytes give 'too-large' (default 0 = unlimited). */
   maxBytes?: number;
@@ -84,6 +84,7 @@ export interface Stats {
   format: 'binary' | 'ascii';
   solids: { name: string; triangles: number }[];
   triangles: number;
+  /** Vertex positions (welded exactly); the topology of a tolerance weld uses weldedVertices of them. */
   vertices: number;
   degenerateTriangles: number;
   colors: 'none' | 'viscam' | 'magics';
@@ -103,7 +104,10 @@ export interface Stats {
   holeSizes?: number[];
   shells?: number;
   eulerCharacteristic?: number;
+  /** null unless the mesh is watertight and manifold. */
   genus?: number | null;
+  /** With a tolerance weld: the representatives the topology uses. */
+  weldedVertices?: number;
   watertight?: boolean;
   manifold?: boolean;
 }
@@ -119,44 +123,66 @@ export declare class Mesh {
   nTriangles: number;
   /** Half-edge count (2 per pair); 0 without topology. */
   nHalfedges: number;
-  /** x,y,z of vertex v at 3v..3v+2. */
-  positions: Float32Array;
-  /** Vertex ids of corner c of triangle t at 3t+c. */
-  triangles: Uint32Array;
-  /** Binary attribute word per triangle (0 for ASCII). */
-  attributes: Uint16Array;
-  /** RGB per triangle when colorConvention !== 'none', else null. */
-  colors: Uint8Array | null;
-  /** 1 per triangle that has a colour; null without colours. */
-  colorValid: Uint8Array | null;
   colorConvention: 'none' | 'viscam' | 'magics';
-  /** Stored facet normals (3 per triangle) with { normals: true }, else null. */
-  normals: Float32Array | null;
   solids: Solid[];
   warnings: Warning[];
-  /** Half-edge arrays, length nHalfedges; twin(e) = e ^ 1. null with topology: false. */
-  halfedges: { next: Uint32Array; prev: Uint32Array; vert: Uint32Array; face: Uint32Array } | null;
-  /** Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate. */
-  triangleHalfedge: Uint32Array | null;
-  /** Per vertex: an outgoing half-edge, kInvalid if unused. */
-  vertexHalfedge: Uint32Array | null;
-  /** Per boundary loop: its lowest-id half-edge. */
-  loopHalfedge: Uint32Array | null;
-  /** Per vertex: the representative vertex the topology uses (identity for exact weld). */
-  vertexWeld: Uint32Array | null;
-  /** All boundary loops, flat: loop h is halfedges[offsets[h]..offsets[h+1]). */
-  loops: { offsets: Uint32Array; halfedges: Uint32Array; isSeam: Uint8Array; perimeter: Float64Array } | null;
   /** Boundary loops made only of boundary-edge sides. */
   holes: BoundaryLoop[];
   /** Boundary loops that contain cut (inconsistent or non-manifold) sides. */
   seams: BoundaryLoop[];
-  /** Per-element problems; null with topology: false. */
+  // BEGIN arrays: written by scripts/gen-api-docs.mjs from the bindings' array table
+  /** x,y,z of vertex v at 3v..3v+2. 3 per vertex. */
+  positions: Float32Array;
+  /** Vertex ids of corner c of triangle t at 3t+c. 3 per triangle. */
+  triangles: Uint32Array;
+  /** Binary attribute word per triangle (0 for ASCII). 1 per triangle. */
+  attributes: Uint16Array;
+  /** sRGB bytes per triangle when colorConvention !== 'none'. 3 per triangle; null when colorConvention is 'none'. */
+  colors: Uint8Array | null;
+  /** 1 per triangle that has a colour. 1 per triangle; null when colorConvention is 'none'. */
+  colorValid: Uint8Array | null;
+  /** Stored facet normals, with { normals: true }. 3 per triangle; null without { normals: true }. */
+  normals: Float32Array | null;
+  /** Half-edge arrays, length nHalfedges; twin(e) = e ^ 1. Null with topology: false. */
+  halfedges: {
+    /** Next half-edge around the same face. 1 per halfedge. */
+    next: Uint32Array;
+    /** Inverse of next. 1 per halfedge. */
+    prev: Uint32Array;
+    /** Origin vertex (org). 1 per halfedge. */
+    vert: Uint32Array;
+    /** Left face: the triangle id, or nTriangles + h for boundary loop h. 1 per halfedge. */
+    face: Uint32Array;
+  } | null;
+  /** Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate. 1 per triangle; null with topology: false. */
+  triangleHalfedge: Uint32Array | null;
+  /** Per vertex: an outgoing half-edge, kInvalid if unused. 1 per vertex; null with topology: false. */
+  vertexHalfedge: Uint32Array | null;
+  /** Per boundary loop: its lowest-id half-edge. 1 per loop; null with topology: false. */
+  loopHalfedge: Uint32Array | null;
+  /** Per vertex: the representative vertex the topology uses (identity for exact weld). 1 per vertex; null with topology: false. */
+  vertexWeld: Uint32Array | null;
+  /** All boundary loops, flat. Null with topology: false. */
+  loops: {
+    /** Loop h is halfedges[offsets[h] .. offsets[h+1]). nLoops + 1. */
+    offsets: Uint32Array;
+    /** The half-edges of every loop in next order, starting at loopHalfedge[h]. 1 per loop entry. */
+    halfedges: Uint32Array;
+    /** 1 when the loop contains a cut (inconsistent or non-manifold) side. 1 per loop. */
+    isSeam: Uint8Array;
+    /** Sum of the loop's edge lengths. 1 per loop. */
+    perimeter: Float64Array;
+  } | null;
+  /** Per-element problems. Null with topology: false. */
   problems: {
-    /** Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold. */
+    /** Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold (EdgeKind). 1 per pair. */
     pairKind: Uint8Array;
+    /** 1 when two corners of the triangle weld together. 1 per triangle. */
     triangleDegenerate: Uint8Array;
+    /** 1 when the vertex's outgoing half-edges form more than one vnext cycle. 1 per vertex. */
     vertexNonManifold: Uint8Array;
   } | null;
+  // END arrays
   stats: Stats;
 
   sym(e: number): number;

@@ -3,13 +3,19 @@ import type { BufferGeometry, LineSegments, Material } from 'three';
 import type { Mesh } from './index.js';
 
 export interface ToBufferGeometryOptions {
-  /** Per-face colours: a non-indexed geometry with a `color` attribute (when the mesh has colours). */
+  /**
+   * Per-face colours: a non-indexed geometry with a float `color` attribute (when the mesh has
+   * colours): the sRGB colour bytes converted to three.js's working colour space (linear).
+   */
   colors?: boolean;
   /** Compute vertex normals (default true). Use a flatShading material for crisp STL facets. */
   normals?: boolean;
-  /** RGB 0..255 for triangles without a colour (default [200, 200, 200]). */
+  /** sRGB bytes 0..255 for triangles without a colour (default [200, 200, 200]). */
   defaultColor?: [number, number, number];
 }
+
+/** The 256 sRGB byte values in three.js's working colour space (what toBufferGeometry uses). */
+export declare function srgbByteTable(): Float32Array;
 
 /** An indexed BufferGeometry, or non-indexed with per-face colours. */
 export declare function toBufferGeometry(mesh: Mesh, options?: ToBufferGeometryOptions): BufferGeometry;
@@ -21,7 +27,10 @@ export interface ProblemLines extends LineSegments<BufferGeometry, Material> {
   userData: { halfedges: Uint32Array; kinds: Uint8Array };
 }
 
-/** The holes' edges (and with { seams: true } the seams') as one LineSegments. */
+/**
+ * The holes' edges (and with { seams: true } the seams') as one LineSegments; a loop's colour
+ * depends only on whether it is a hole or a seam. Reads only the loops (no half-edge array).
+ */
 export declare function holesToLineSegments(
   mesh: Mesh,
   options?: { color?: number; seams?: boolean; seamColor?: number; material?: Material },

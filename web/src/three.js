@@ -5,17 +5,33 @@
 import {
   BufferAttribute,
   BufferGeometry,
+  Color,
   Float32BufferAttribute,
   LineBasicMaterial,
   LineSegments,
+  SRGBColorSpace,
 } from 'three';
 
 const own = (mesh, a) => (mesh.view ? a.slice() : a);
 
 /**
+ * The 256 sRGB byte values in three.js's working colour space (linear unless
+ * ColorManagement is off): STL colours are sRGB bytes, vertex colours are working-space
+ * floats.
+ */
+export function srgbByteTable() {
+  const c = new Color();
+  return Float32Array.from({ length: 256 }, (_, i) => c.setRGB(i / 255, 0, 0, SRGBColorSpace).r);
+}
+
+// A 0xRRGGBB colour (sRGB, as THREE.Color takes it) in the working colour space.
+const workingRgb = (hex) => new Color(hex).toArray();
+
+/**
  * An indexed BufferGeometry (position + index, vertex normals), or, with
  * { colors: true } on a mesh that has per-triangle colours, a non-indexed one
- * with a per-vertex `color` attribute (uncoloured triangles get defaultColor).
+ * with a per-vertex `color` attribute: the sRGB colour bytes converted to the
+ * working colour space, as floats (uncoloured triangles get defaultColor, sRGB bytes).
  */
 export function toBufferGeometry(mesh, { colors = false, normals = true, defaultColor = [200, 200, 200] } = {}) {
   const g = new BufferGeometry();
@@ -26,22 +42,27 @@ export function toBufferGeometry(mesh, { colors = false, normals = true, default
     const rgb = mesh.colors;
     const valid = mesh.colorValid;
     const p = new Float32Array(nt * 9);
-    const c = new Uint8Array(nt * 9);
+    const c = new Float32Array(nt * 9);
+    const lin = srgbByteTable();
+    const fallback = defaultColor.map((x) => lin[Math.max(0, Math.min(255, Math.round(x)))]);
     for (let t = 0; t < nt; ++t) {
       const has = !valid || valid[t] !== 0;
+      const r = has ? lin[rgb[3 * t]] : fallback[0];
+      const gr = has ? lin[rgb[3 * t + 1]] : fallback[1];
+      const b = has ? lin[rgb[3 * t + 2]] : fallback[2];
       for (let k = 0; k < 3; ++k) {
         const v = tri[3 * t + k];
         const o = 9 * t + 3 * k;
         p[o] = pos[3 * v];
         p[o + 1] = pos[3 * v + 1];
         p[o + 2] = pos[3 * v + 2];
-        c[o] = has ? rgb[3 * t] : defaultColor[0];
-        c[o + 1] = has ? rgb[3 * t + 1] : defaultColor[1];
-        c[o + 2] = has ? rgb[3 * t + 2] : defaultColor[2];
+        c[o] = r;
+        c[o + 1] = gr;
+        c[o + 2] = b;
       }
     }
     g.setAttribute('position', new BufferAttribute(p, 3));
-    g.setAttribute('color', new BufferAttribute(c, 3, true));
+    g.setAttribute('color', new BufferAttribute(c, 3));
   } else {
     g.setAttribute('position', new BufferAttribute(own(mesh, mesh.positions), 3));
     g.setIndex(new BufferAttribute(own(mesh, mesh.triangles), 1));
@@ -52,19 +73,18 @@ export function toBufferGeometry(mesh, { colors = false, normals = true, default
   return g;
 }
 
-// Segments for a list of half-edges: one per half-edge e, from org(e) to dst(e).
-function segmentsGeometry(mesh, halfedges, colorOf) {
-  const vert = mesh.halfedges.vert;
+// Segments from vertex a(i) to vertex b(i), i < n, coloured colorOf(i) (working-space RGB)
+// when colorOf is given.
+function segmentsGeometry(mesh, n, a, b, colorOf) {
   const pos = mesh.positions;
-  const p = new Float32Array(halfedges.length * 6);
-  const c = colorOf ? new Float32Array(halfedges.length * 6) : null;
-  for (let i = 0; i < halfedges.length; ++i) {
-    const e = halfedges[i];
-    const a = vert[e];
-    const b = vert[(e ^ 1) >>> 0];
-    p.set([pos[3 * a], pos[3 * a + 1], pos[3 * a + 2], pos[3 * b], pos[3 * b + 1], pos[3 * b + 2]], 6 * i);
+  const p = new Float32Array(n * 6);
+  const c = colorOf ? new Float32Array(n * 6) : null;
+  for (let i = 0; i < n; ++i) {
+    const u = a(i);
+    const v = b(i);
+    p.set([pos[3 * u], pos[3 * u + 1], pos[3 * u + 2], pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]], 6 * i);
     if (c) {
-      const col = colorOf(e);
+      const col = colorOf(i);
       c.set(col, 6 * i);
       c.set(col, 6 * i + 3);
     }
@@ -75,14 +95,12 @@ function segmentsGeometry(mesh, halfedges, colorOf) {
   return g;
 }
 
-function toRgb(color) {
-  return [((color >> 16) & 255) / 255, ((color >> 8) & 255) / 255, (color & 255) / 255];
-}
-
 /**
  * The boundary loops that are holes as one LineSegments (one segment per hole
  * edge). { seams: true } adds the seam loops in seamColor. userData.halfedges
- * maps segment i to its boundary half-edge; userData.loops to its loop id.
+ * maps segment i to its boundary half-edge; userData.loops to its loop id. A loop's
+ * colour depends only on the loop (a hole is `color` with or without seams); the
+ * segments come from the loops' vertex lists (no half-edge array is read).
  */
 export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, seamColor = 0xffa000, material } = {}) {
   if (!mesh.halfedges) throw new Error('stltopo/three: the mesh has no topology (loaded with topology: false)');
@@ -91,17 +109,22 @@ export function holesToLineSegments(mesh, { color = 0xff2040, seams = false, sea
   for (const l of loops) n += l.halfedges.length;
   const halfedges = new Uint32Array(n);
   const loopIds = new Uint32Array(n);
+  const from = new Uint32Array(n); // org and dst of segment i, from the loops' vertex lists
+  const to = new Uint32Array(n);
   let i = 0;
   for (const l of loops) {
+    const len = l.halfedges.length;
     halfedges.set(l.halfedges, i);
-    loopIds.fill(l.id, i, i + l.halfedges.length);
-    i += l.halfedges.length;
+    loopIds.fill(l.id, i, i + len);
+    from.set(l.vertices, i);
+    to.set(l.vertices.subarray(1), i);
+    if (len) to[i + len - 1] = l.vertices[0];
+    i += len;
   }
   const isSeam = mesh.loops.isSeam;
-  const holeRgb = toRgb(color);
-  const seamRgb = toRgb(seamColor);
-  const face = mesh.halfedges.face;
-  const g = segmentsGeometry(mesh, halfedges, seams ? (e) => (isSeam[face[e] - mesh.nTriangles] ? seamRgb : holeRgb) : null);
+  const holeRgb = workingRgb(color);
+  const seamRgb = workingRgb(seamColor);
+  const g = segmentsGeometry(mesh, n, (k) => from[k], (k) => to[k], seams ? (k) => (isSeam[loopIds[k]] ? seamRgb : holeRgb) : null);
   const m = material || (seams ? new LineBasicMaterial({ vertexColors: true }) : new LineBasicMaterial({ color }));
   const lines = new LineSegments(g, m);
   lines.name = 'stltopo-holes';
@@ -133,9 +156,10 @@ export function problemEdgesToLineSegments(mesh, { nonManifoldColor = 0xff00ff, 
     kinds.push(kind[k]);
   }
   const halfedges = Uint32Array.from(list);
-  const nmRgb = toRgb(nonManifoldColor);
-  const icRgb = toRgb(inconsistentColor);
-  const g = segmentsGeometry(mesh, halfedges, (e) => (kind[e >>> 1] === 3 ? nmRgb : icRgb));
+  const nmRgb = workingRgb(nonManifoldColor);
+  const icRgb = workingRgb(inconsistentColor);
+  const g = segmentsGeometry(mesh, list.length, (i) => vert[list[i]], (i) => vert[(list[i] ^ 1) >>> 0],
+    (i) => (kinds[i] === 3 ? nmRgb : icRgb));
   const lines = new LineSegments(g, material || new LineBasicMaterial({ vertexColors: true }));
   lines.name = 'stltopo-problem-edges';
   lines.userData = { halfedges, kinds: Uint8Array.from(kinds) };

@@ -1,25 +1,14 @@
 // Main-thread side of stltopo/worker: runs loadStl in a worker (one per load
 // in flight, idle ones reused), reports progress, cancels by terminating the
 // worker, and receives the result arrays as transferred ArrayBuffers.
-import { Mesh, StlError, normalizeOptions, toSource, errorToMessage, errorFromMessage } from './core.js';
+import { abortError, checkAbort } from './errors.js';
+import { normalizeOptions, plainOptions } from './options.js';
+import { toSource } from './sources.js';
+import { Mesh } from './mesh.js';
+import { Msg, InputKind, loadMessage, chunksMessage, errorFromMessage } from './protocol.js';
 
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
 const MAX_IDLE = 2;
-
-function abortError() {
-  return new StlError('aborted', 'aborted: the load was cancelled (AbortSignal)');
-}
-
-// What the worker thread gets: plain, cloneable options.
-function workerOptions(o) {
-  return {
-    topology: o.topology,
-    weld: o.tolerance > 0 ? { tolerance: o.tolerance } : 'exact',
-    maxTriangles: o.maxTriangles,
-    maxBytes: o.maxBytes,
-    normals: o.normals,
-  };
-}
 
 export function createWorkerLoader(spawn) {
   const idle = [];
@@ -71,16 +60,16 @@ export function createWorkerLoader(spawn) {
             bytes += copy.length;
           }
         } catch (e) {
-          if (!settled) w.post({ type: 'chunks', chunks: [], done: true, error: errorToMessage(e) });
+          if (!settled) w.post(chunksMessage([], true, e));
           return;
         }
-        if (!settled) w.post({ type: 'chunks', chunks, done }, transferChunks);
+        if (!settled) w.post(chunksMessage(chunks, done), transferChunks);
       };
       w.listen(
         (msg) => {
           if (settled) return;
           switch (msg.type) {
-            case 'progress':
+            case Msg.Progress:
               if (o.onProgress) {
                 try {
                   o.onProgress(msg.fraction, msg.bytesRead);
@@ -89,13 +78,13 @@ export function createWorkerLoader(spawn) {
                 }
               }
               break;
-            case 'pull':
+            case Msg.Pull:
               pump();
               break;
-            case 'result':
+            case Msg.Result:
               settle(resolve, new Mesh(msg.raw), true);
               break;
-            case 'error':
+            case Msg.Error:
               settle(reject, errorFromMessage(msg.error), true);
               break;
             default:
@@ -111,29 +100,30 @@ export function createWorkerLoader(spawn) {
 
   async function loadStl(input, options) {
     const o = normalizeOptions(options);
-    if (o.signal && o.signal.aborted) throw abortError();
-    const opts = workerOptions(o);
+    checkAbort(o.signal);
+    const opts = plainOptions(o);
     if (input instanceof ArrayBuffer || ArrayBuffer.isView(input) ||
         (typeof SharedArrayBuffer !== 'undefined' && input instanceof SharedArrayBuffer)) {
       const src = input instanceof ArrayBuffer || input instanceof (globalThis.SharedArrayBuffer || ArrayBuffer)
         ? new Uint8Array(input)
         : new Uint8Array(input.buffer, input.byteOffset, input.byteLength);
       const bytes = src.slice(); // the caller keeps its buffer; the copy is transferred
-      return run({ type: 'load', input: { kind: 'bytes', bytes }, options: opts }, [bytes.buffer], o, null);
+      return run(loadMessage({ kind: InputKind.Bytes, bytes }, opts), [bytes.buffer], o, null);
     }
     if (input && typeof input.stream === 'function' && typeof input.size === 'number' && typeof input.getReader !== 'function') {
-      return run({ type: 'load', input: { kind: 'blob', blob: input }, options: opts }, [], o, null);
+      return run(loadMessage({ kind: InputKind.Blob, blob: input }, opts), [], o, null);
     }
     const source = toSource(input); // streams, Responses, async iterables: pumped from this thread
-    return run({ type: 'load', input: { kind: 'stream', total: source.total }, options: opts }, [], o, source);
+    return run(loadMessage({ kind: InputKind.Stream, total: source.total }, opts), [], o, source);
   }
 
+  // Node: the worker reads the file at `path` (a string) itself.
   async function loadStlFile(path, options) {
     const o = normalizeOptions(options);
-    if (o.signal && o.signal.aborted) throw abortError();
-    const p = path instanceof URL ? decodeURIComponent(path.pathname) : String(path);
-    return run({ type: 'load', input: { kind: 'path', path: p }, options: workerOptions(o) }, [], o, null);
+    checkAbort(o.signal);
+    return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o)), [], o, null);
   }
 
   return { loadStl, loadStlFile };
 }
+

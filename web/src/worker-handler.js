@@ -1,5 +1,9 @@
 // Worker-thread side of stltopo/worker (shared by the browser and Node threads).
-import { bufferSource, streamSource, normalizeOptions, transferList, errorToMessage, errorFromMessage } from './core.js';
+import { bufferSource, streamSource } from './sources.js';
+import { normalizeOptions } from './options.js';
+import {
+  Msg, InputKind, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
+} from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
 function pulledSource(port, total) {
@@ -12,7 +16,7 @@ function pulledSource(port, total) {
       for (;;) {
         if (queue.length) return queue.shift();
         if (done) return null;
-        port.post({ type: 'pull' });
+        port.post(pullMessage());
         const msg = await new Promise((r) => { waiting = r; });
         if (msg.error) throw errorFromMessage(msg.error);
         queue = msg.chunks;
@@ -32,25 +36,25 @@ function pulledSource(port, total) {
 export function serve(port, internal, { fileSource = null } = {}) {
   let pulled = null;
   port.onMessage(async (msg) => {
-    if (msg.type === 'chunks') {
+    if (msg.type === Msg.Chunks) {
       if (pulled) pulled.deliver(msg);
       return;
     }
-    if (msg.type !== 'load') return;
+    if (msg.type !== Msg.Load) return;
     try {
       const input = msg.input;
       let source;
-      if (input.kind === 'bytes') source = bufferSource(input.bytes);
-      else if (input.kind === 'blob') source = streamSource(input.blob.stream(), input.blob.size);
-      else if (input.kind === 'stream') source = pulled = pulledSource(port, input.total);
-      else if (input.kind === 'path' && fileSource) source = await fileSource(input.path);
+      if (input.kind === InputKind.Bytes) source = bufferSource(input.bytes);
+      else if (input.kind === InputKind.Blob) source = streamSource(input.blob.stream(), input.blob.size);
+      else if (input.kind === InputKind.Stream) source = pulled = pulledSource(port, input.total);
+      else if (input.kind === InputKind.Path && fileSource) source = await fileSource(input.path);
       else throw new Error(`stltopo worker: unknown input kind ${input.kind}`);
       const o = normalizeOptions(msg.options);
-      o.onProgress = (fraction, bytesRead) => port.post({ type: 'progress', fraction, bytesRead });
+      o.onProgress = (fraction, bytesRead) => port.post(progressMessage(fraction, bytesRead));
       const raw = await internal.loadRaw(source, o, { validate: true });
-      port.post({ type: 'result', raw }, transferList(raw));
+      port.post(resultMessage(raw), transferList(raw));
     } catch (e) {
-      port.post({ type: 'error', error: errorToMessage(e) });
+      port.post(errorMessage(e));
     } finally {
       pulled = null;
     }

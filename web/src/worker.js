@@ -20,4 +20,5 @@ const loader = createWorkerLoader(() => {
 });
 
 export const loadStl = loader.loadStl;
-export { StlError, Mesh, kInvalid, EdgeKind } from './core.js';
+export { StlError } from './errors.js';
+export { Mesh, kInvalid, EdgeKind } from './mesh.js';

@@ -1,6 +1,8 @@
 // stltopo/worker (Node): the same API on worker_threads, plus loadStlFile(path)
 // which reads the file inside the worker.
 import { Worker } from 'node:worker_threads';
+import { fileURLToPath } from 'node:url';
+import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
 
 const loader = createWorkerLoader(() => {
@@ -32,5 +34,18 @@ const loader = createWorkerLoader(() => {
 });
 
 export const loadStl = loader.loadStl;
-export const loadStlFile = loader.loadStlFile;
-export { StlError, Mesh, kInvalid, EdgeKind } from './core.js';
+
+/** Reads the file at `path` (a path, or a file: URL object) in the worker. */
+export async function loadStlFile(path, options) {
+  let p = String(path);
+  if (path instanceof URL) {
+    try {
+      p = fileURLToPath(path);
+    } catch (e) {
+      throw stlError('invalid-argument', `cannot open ${path}: ${e.message}`);
+    }
+  }
+  return loader.loadStlFile(p, options);
+}
+export { StlError } from './errors.js';
+export { Mesh, kInvalid, EdgeKind } from './mesh.js';

@@ -6,7 +6,7 @@ import {
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
 import * as worker from 'stltopo/worker';
-import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments } from 'stltopo/three';
+import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments, srgbByteTable } from 'stltopo/three';
 import type { BufferGeometry, LineSegments } from 'three';
 
 export async function useEverything(input: StlInput, blob: Blob, response: Response, stream: ReadableStream<Uint8Array>): Promise<number> {
@@ -22,8 +22,13 @@ export async function useEverything(input: StlInput, blob: Blob, response: Respo
     view: false,
     worker: false,
   };
-  const inputs: StlInput[] = [new ArrayBuffer(84), new Uint8Array(84), new DataView(new ArrayBuffer(84)), blob, response, stream, input];
+  async function* chunks(): AsyncGenerator<Uint8Array> {
+    yield new Uint8Array(84);
+  }
+  const inputs: StlInput[] = [new ArrayBuffer(84), new Uint8Array(84), new DataView(new ArrayBuffer(84)), blob, response, stream, chunks(), input];
   let total = inputs.length;
+  const fromIterable: Mesh = await loadStl(chunks());
+  total += fromIterable.nTriangles;
 
   const mesh: Mesh = await loadStl(new Uint8Array(84), options);
   const exact = await loadStl(blob, { weld: 'exact', view: true });
@@ -70,6 +75,8 @@ export async function useEverything(input: StlInput, blob: Blob, response: Respo
 
   const stats: Stats = mesh.stats;
   total += stats.triangles + stats.vertices + stats.area + stats.volume + (stats.edges ?? 0) + (stats.genus ?? 0);
+  const genus: number | null | undefined = stats.genus;
+  total += (genus === null ? 1 : 0) + (stats.weldedVertices ?? stats.vertices);
   if (stats.bbox) total += stats.bbox.min[0] + stats.bbox.max[2];
 
   const v: ValidateResult = mesh.validate();
@@ -97,6 +104,8 @@ export async function useEverything(input: StlInput, blob: Blob, response: Respo
   const problems = problemEdgesToLineSegments(mesh, { nonManifoldColor: 0xff00ff, inconsistentColor: 0xffa000 });
   total += geometry.attributes.position.count + holes.userData.halfedges.length + holes.userData.loops.length;
   total += problems.userData.kinds.length + problems.userData.halfedges.length;
+  const linear: Float32Array = srgbByteTable();
+  total += linear[255];
   return total;
 }
 

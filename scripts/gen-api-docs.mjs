@@ -1,0 +1,91 @@
+#!/usr/bin/env node
+// Writes the mesh's array properties into web/src/index.d.ts and docs/JS-API.md from the
+// bindings' array table (STLTOPO_JS_ARRAYS in bindings/bindings.cpp, read from the built
+// dist/ as _arrayLayout), between the "BEGIN arrays" and "END arrays" lines.
+//   node scripts/gen-api-docs.mjs           rewrite both blocks
+//   node scripts/gen-api-docs.mjs --check   exit 1 when a block differs (tests/js/boundary.test.mjs)
+import { readFileSync, writeFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { api } from '../dist/instance.node.js';
+
+const root = fileURLToPath(new URL('../', import.meta.url));
+const check = process.argv.includes('--check');
+
+// What the table does not say: the JS groups and when an array is null.
+const GROUP_DOC = {
+  halfedges: 'Half-edge arrays, length nHalfedges; twin(e) = e ^ 1.',
+  loops: 'All boundary loops, flat.',
+  problems: 'Per-element problems.',
+};
+const ABSENT = {
+  mesh: null,
+  normals: 'null without { normals: true }',
+  colors: "null when colorConvention is 'none'",
+  topology: 'null with topology: false',
+};
+const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1' : `${d.width > 1 ? d.width : 1} per ${d.element}`);
+const notes = (d) => [
+  d.derived ? 'copies rebuild it in JS on first read' : null,
+  d.copied ? 'always a copy, also with view: true' : null,
+].filter(Boolean);
+
+function dtsBlock(layout) {
+  const out = [];
+  const groups = new Map();
+  for (const d of layout) {
+    if (!d.group) {
+      const absent = ABSENT[d.when];
+      out.push(`  /** ${d.doc} ${per(d)}${absent ? `; ${absent}` : ''}. */`);
+      out.push(`  ${d.key}: ${d.type}${absent ? ' | null' : ''};`);
+      continue;
+    }
+    if (!groups.has(d.group)) {
+      const members = [];
+      groups.set(d.group, members);
+      out.push({ group: d.group, members, when: d.when });
+    }
+    groups.get(d.group).push(d);
+  }
+  return out.flatMap((x) => {
+    if (typeof x === 'string') return [x];
+    const absent = ABSENT[x.when];
+    return [
+      `  /** ${GROUP_DOC[x.group] || ''}${absent ? ` ${absent[0].toUpperCase()}${absent.slice(1)}.` : ''} */`,
+      `  ${x.group}: {`,
+      ...x.members.flatMap((d) => [`    /** ${d.doc} ${per(d)}. */`, `    ${d.key}: ${d.type};`]),
+      `  }${absent ? ' | null' : ''};`,
+    ];
+  });
+}
+
+function mdBlock(layout) {
+  const rows = layout.map((d) => {
+    const absent = d.group ? null : ABSENT[d.when]; // a group is null as a whole
+    const more = [...notes(d), absent].filter(Boolean);
+    return `| \`${d.group ? `${d.group}.` : ''}${d.key}\` | ${d.type} | ${per(d)} | ${d.doc}${more.length ? ` (${more.join('; ')})` : ''} |`;
+  });
+  return ['| mesh. | type | length | contents |', '| --- | --- | --- | --- |', ...rows];
+}
+
+function replaceBlock(file, lines, open, close) {
+  const path = `${root}${file}`;
+  const text = readFileSync(path, 'utf8');
+  const re = new RegExp(`(^.*${open}.*\\n)([\\s\\S]*?)(^.*${close}.*$)`, 'm');
+  if (!re.test(text)) throw new Error(`${file}: no "${open}" ... "${close}" block`);
+  const next = text.replace(re, (_, a, _b, c) => `${a}${lines.join('\n')}\n${c}`);
+  if (next === text) return true;
+  if (check) {
+    console.error(`${file}: the array block differs from the bindings' table (run node scripts/gen-api-docs.mjs)`);
+    return false;
+  }
+  writeFileSync(path, next);
+  console.log(`gen-api-docs: wrote ${file}`);
+  return true;
+}
+
+const { layout } = await api.internal.getModule();
+const ok = [
+  replaceBlock('web/src/index.d.ts', dtsBlock(layout), 'BEGIN arrays', 'END arrays'),
+  replaceBlock('docs/JS-API.md', mdBlock(layout), 'BEGIN arrays', 'END arrays'),
+].every(Boolean);
+process.exitCode = ok ? 0 : 1;

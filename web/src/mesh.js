@@ -1,0 +1,279 @@
+// The Mesh that loadStl() resolves to, built from a raw result: plain data made by
+// wasm.js (extractRaw) on this thread or received from a worker thread. Its array
+// properties follow the bindings' array table (raw.layout: STLTOPO_JS_ARRAYS in
+// bindings/bindings.cpp), one row per array: { name, group, key, element, width, when,
+// copied, derived, type, doc }.
+//
+// Copies (the default): every array is a plain property holding a JS-owned typed array,
+// except the `derived` ones that raw.arrays lacks (prev, face, vert of inline loads), which
+// are rebuilt in JS on first read (deriveArray) and then kept.
+// Views ({ view: true }): a getter per array that re-creates its view into wasm memory when
+// memory growth detached it; `copied` arrays are plain copies even then.
+import { stlError } from './errors.js';
+
+export const kInvalid = 0xffffffff;
+
+/** Edge classes per half-edge pair k = e >> 1 (mesh.problems.pairKind). */
+export const EdgeKind = Object.freeze({ Interior: 0, Boundary: 1, Inconsistent: 2, NonManifold: 3 });
+
+/** Whether the array of table row d exists for a raw result. */
+export function isPresent(d, raw) {
+  switch (d.when) {
+    case 'mesh': return true;
+    case 'normals': return raw.hasNormals;
+    case 'colors': return raw.colorConvention !== 'none';
+    case 'topology': return raw.hasTopology;
+    default: throw new Error(`stltopo: array ${d.name} has an unknown condition '${d.when}'`);
+  }
+}
+
+const registry = typeof FinalizationRegistry === 'function'
+  ? new FinalizationRegistry(({ entry, session }) => {
+    if (!entry.dead && !session.isDeleted()) session.delete();
+  })
+  : null;
+
+function buildLoops(arrays, nTriangles) {
+  const holes = [];
+  const seams = [];
+  const off = arrays.loopOffsets;
+  if (!off) return { holes, seams };
+  const list = arrays.loopHalfedges;
+  const lv = arrays.loopVertices;
+  for (let h = 0; h + 1 < off.length; ++h) {
+    const halfedges = list.subarray(off[h], off[h + 1]);
+    const vertices = lv.slice(off[h], off[h + 1]);
+    const loop = { id: h, face: nTriangles + h, halfedges, vertices, edgeCount: halfedges.length, perimeter: arrays.loopPerimeter[h] };
+    (arrays.loopIsSeam[h] ? seams : holes).push(loop);
+  }
+  return { holes, seams };
+}
+
+// The arrays of the table marked `derived`, rebuilt from the arrays a copy holds. Every
+// triangle half-edge is reached from triangleHalfedge through next; every loop half-edge
+// e is listed in its loop, and its origin is the destination of its twin (a triangle
+// half-edge), which is the origin of next[e ^ 1].
+const DERIVE = {
+  prev(arrays) {
+    const next = arrays.next;
+    const prev = new Uint32Array(next.length);
+    for (let e = 0; e < next.length; ++e) prev[next[e]] = e;
+    return prev;
+  },
+  face(arrays, nTriangles) {
+    const next = arrays.next;
+    const th = arrays.triangleHalfedge;
+    const list = arrays.loopHalfedges;
+    const off = arrays.loopOffsets;
+    const face = new Uint32Array(next.length);
+    for (let t = 0; t < nTriangles; ++t) {
+      const h0 = th[t];
+      if (h0 === kInvalid) continue;
+      const h1 = next[h0];
+      face[h0] = t;
+      face[h1] = t;
+      face[next[h1]] = t;
+    }
+    for (let h = 0; h + 1 < off.length; ++h) for (let i = off[h]; i < off[h + 1]; ++i) face[list[i]] = nTriangles + h;
+    return face;
+  },
+  vert(arrays, nTriangles) {
+    const next = arrays.next;
+    const th = arrays.triangleHalfedge;
+    const list = arrays.loopHalfedges;
+    const vert = new Uint32Array(next.length);
+    const tri = arrays.triangles;
+    const weld = arrays.vertexWeld;
+    // The exact weld maps every vertex to itself: then skip the lookup, a random read per
+    // corner on a shuffled file.
+    let identity = true;
+    for (let v = 0; v < weld.length && identity; ++v) identity = weld[v] === v;
+    for (let t = 0; t < nTriangles; ++t) {
+      const h0 = th[t];
+      if (h0 === kInvalid) continue;
+      const h1 = next[h0];
+      const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+      vert[h0] = identity ? a : weld[a];
+      vert[h1] = identity ? b : weld[b];
+      vert[next[h1]] = identity ? c : weld[c];
+    }
+    for (let i = 0; i < list.length; ++i) {
+      const e = list[i];
+      vert[e] = vert[next[(e ^ 1) >>> 0]];
+    }
+    return vert;
+  },
+};
+
+const disposedError = () => stlError('invalid-argument', 'the mesh was disposed');
+
+export class Mesh {
+  #entry;
+  #session;
+  #getEntry;
+  #counts;
+  #validation;
+  #layout;
+  #disposed = false;
+
+  constructor(raw, { entry = null, session = null, getEntry = () => null } = {}) {
+    this.#entry = entry;
+    this.#session = session;
+    this.#getEntry = getEntry;
+    this.#counts = raw.counts;
+    this.#validation = raw.validation || null;
+    this.#layout = raw.layout;
+    const live = session !== null;
+    /** true when the arrays are borrowed views into wasm memory (dispose() frees them). */
+    this.view = live;
+    this.format = raw.format;
+    this.nVertices = raw.nVertices;
+    this.nTriangles = raw.nTriangles;
+    this.colorConvention = raw.colorConvention;
+    this.solids = raw.solids;
+    this.warnings = raw.warnings;
+    const arrays = raw.arrays;
+    this.nHalfedges = raw.hasTopology ? arrays.next.length : 0;
+    const cache = live ? { ...arrays } : arrays;
+    const groups = new Map(); // group name -> its object, or null when none of its arrays exists
+    for (const d of raw.layout) {
+      let obj = this;
+      if (d.group) {
+        if (!groups.has(d.group)) {
+          groups.set(d.group, isPresent(d, raw) ? {} : null);
+          this[d.group] = groups.get(d.group);
+        }
+        obj = groups.get(d.group);
+        if (obj === null) continue;
+      }
+      if (!isPresent(d, raw)) {
+        obj[d.key] = null;
+      } else if (!live && arrays[d.name] === undefined && d.derived) {
+        const derive = DERIVE[d.name];
+        if (!derive) throw new Error(`stltopo: no JS rebuild for the derived array ${d.name}`);
+        Object.defineProperty(obj, d.key, {
+          enumerable: true,
+          configurable: true,
+          get: () => {
+            const a = derive(arrays, raw.nTriangles);
+            Object.defineProperty(obj, d.key, { value: a, enumerable: true, writable: true, configurable: true });
+            return a;
+          },
+        });
+      } else if (!live || d.copied) {
+        obj[d.key] = arrays[d.name];
+      } else {
+        Object.defineProperty(obj, d.key, {
+          enumerable: true,
+          get: () => {
+            if (this.#disposed) throw disposedError();
+            let a = cache[d.name];
+            if (a.buffer.byteLength === 0) cache[d.name] = a = session.array(d.name, false);
+            return a;
+          },
+        });
+      }
+    }
+    const { holes, seams } = buildLoops(arrays, raw.nTriangles);
+    this.holes = holes;
+    this.seams = seams;
+    const stats = JSON.parse(raw.statsJson);
+    delete stats.file;
+    this.stats = stats;
+    if (live && registry) registry.register(this, { entry, session }, this);
+  }
+
+  // Navigation (face[e] is the left face of e). Same names as the C++ header.
+  sym(e) { return (e ^ 1) >>> 0; }
+  twin(e) { return (e ^ 1) >>> 0; }
+  org(e) { return this.halfedges.vert[e]; }
+  dst(e) { return this.halfedges.vert[(e ^ 1) >>> 0]; }
+  lFace(e) { return this.halfedges.face[e]; }
+  rFace(e) { return this.halfedges.face[(e ^ 1) >>> 0]; }
+  lNext(e) { return this.halfedges.next[e]; }
+  lPrev(e) { return this.halfedges.prev[e]; }
+  vnext(e) { return this.halfedges.next[(e ^ 1) >>> 0]; }
+  oPrev(e) { return this.halfedges.next[(e ^ 1) >>> 0]; }
+  oNext(e) { return (this.halfedges.prev[e] ^ 1) >>> 0; }
+  rPrev(e) { return this.oNext((e ^ 1) >>> 0); }
+  rNext(e) { return (this.oPrev(e) ^ 1) >>> 0; }
+  dNext(e) { return (this.rPrev(e) ^ 1) >>> 0; }
+  dPrev(e) { return (this.halfedges.next[e] ^ 1) >>> 0; }
+
+  /** The half-edges of the face (triangle or boundary loop) left of e0, in next order. */
+  *faceHalfedges(e0) {
+    const next = this.halfedges.next;
+    let e = e0;
+    for (let i = 0; i < next.length; ++i) {
+      yield e;
+      e = next[e];
+      if (e === e0) return;
+    }
+  }
+
+  /** The outgoing half-edges of org(e0), following vnext (the cycle that contains e0). */
+  *outgoingHalfedges(e0) {
+    const next = this.halfedges.next;
+    let e = e0;
+    for (let i = 0; i < next.length; ++i) {
+      yield e;
+      e = next[(e ^ 1) >>> 0];
+      if (e === e0) return;
+    }
+  }
+
+  /** Checks every topology invariant: { ok: true } or the first violation. */
+  validate() {
+    if (this.#disposed) throw disposedError();
+    if (this.#session) return toValidation(this.#session.validate());
+    if (this.#validation) return { ...this.#validation };
+    if (!this.halfedges) {
+      return { ok: false, code: 'invalid-argument', message: 'invalid-argument: the mesh has no topology (loaded with topology: false)' };
+    }
+    const entry = this.#getEntry();
+    if (!entry) throw new Error('stltopo: validate() needs the wasm module on this thread; call loadStl() here first');
+    return validateArrays(entry.module, this, this.#layout, this.#counts);
+  }
+
+  /** Frees the wasm memory of a { view: true } mesh; a no-op for copies. */
+  dispose() {
+    if (this.#disposed || !this.#session) return;
+    this.#disposed = true;
+    if (registry) registry.unregister(this);
+    if (!this.#entry.dead) this.#session.delete();
+    this.#session = null;
+  }
+}
+
+/** The array of table row d on a mesh (null when it does not exist). */
+export function meshArray(mesh, d) {
+  const obj = d.group ? mesh[d.group] : mesh;
+  return obj ? obj[d.key] : null;
+}
+
+/** validate()'s result from a status object of the bindings (null = ok). */
+export function toValidation(st) {
+  if (!st) return { ok: true };
+  const r = { ok: false, code: st.code, message: st.message };
+  if (st.element !== undefined) r.element = st.element;
+  return r;
+}
+
+// validate() of a copy: uploads its arrays into a fresh wasm session and checks them there.
+function validateArrays(M, mesh, layout, counts) {
+  const s = new M._Session(0, 0, 0, false);
+  try {
+    for (const d of layout) {
+      const src = meshArray(mesh, d);
+      if (!src) continue;
+      const view = s.upload(d.name, src.length);
+      if (view === null) throw stlError('out-of-memory', `could not allocate ${d.name} for validate()`);
+      view.set(src);
+    }
+    s.setCounts(counts.nHoles, counts.nSeams, counts.nUsedVertices);
+    return toValidation(s.validate());
+  } finally {
+    s.delete();
+  }
+}
+

@@ -1,0 +1,63 @@
+// Load options: the defaults (shared with the npm CLI, bin/stltopo.mjs) and their checks.
+import { invalid } from './errors.js';
+
+/** The defaults of loadStl() and of `stltopo info`. */
+export const DEFAULTS = Object.freeze({
+  topology: true,
+  tolerance: 0, // weld: 'exact'
+  maxTriangles: 2 ** 28,
+  maxBytes: 0, // unlimited
+  normals: false,
+  view: false,
+});
+
+/**
+ * The checked, complete options of a load. Throws invalid-argument on a bad value.
+ * maxTriangles is in [1, 2^32), as for both CLIs' --max-triangles.
+ */
+export function normalizeOptions(options) {
+  if (options == null) options = {};
+  if (typeof options !== 'object') throw invalid('options must be an object');
+  const o = {
+    topology: options.topology === undefined ? DEFAULTS.topology : !!options.topology,
+    tolerance: DEFAULTS.tolerance,
+    maxTriangles: DEFAULTS.maxTriangles,
+    maxBytes: DEFAULTS.maxBytes,
+    normals: !!options.normals,
+    signal: options.signal || null,
+    onProgress: options.onProgress || null,
+    view: !!options.view,
+  };
+  const weld = options.weld;
+  if (weld !== undefined && weld !== 'exact') {
+    if (!weld || typeof weld !== 'object' || typeof weld.tolerance !== 'number' || !(weld.tolerance >= 0) ||
+        !Number.isFinite(weld.tolerance)) {
+      throw invalid("weld must be 'exact' or { tolerance: number >= 0 }");
+    }
+    o.tolerance = weld.tolerance;
+  }
+  if (options.maxTriangles !== undefined) {
+    const n = options.maxTriangles;
+    if (!Number.isInteger(n) || n < 1 || n > 0xffffffff) throw invalid('maxTriangles must be an integer in [1, 2^32)');
+    o.maxTriangles = n;
+  }
+  if (options.maxBytes !== undefined) {
+    const n = options.maxBytes;
+    if (!Number.isInteger(n) || n < 0) throw invalid('maxBytes must be a non-negative integer (0 = unlimited)');
+    o.maxBytes = n;
+  }
+  if (o.onProgress !== null && typeof o.onProgress !== 'function') throw invalid('onProgress must be a function');
+  if (o.signal !== null && typeof o.signal.aborted !== 'boolean') throw invalid('signal must be an AbortSignal');
+  return o;
+}
+
+/** The plain, cloneable form of normalized options (what a worker thread gets). */
+export function plainOptions(o) {
+  return {
+    topology: o.topology,
+    weld: o.tolerance > 0 ? { tolerance: o.tolerance } : 'exact',
+    maxTriangles: o.maxTriangles,
+    maxBytes: o.maxBytes,
+    normals: o.normals,
+  };
+}

@@ -1,0 +1,48 @@
+// The message protocol between stltopo/worker's main-thread side (worker-client.js) and
+// the worker thread (worker-handler.js). Every message is { type, ...fields }:
+//   main -> worker
+//     load    { input, options }   input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
+//                                  | { kind: 'stream', total } | { kind: 'path', path } (Node);
+//                                  options: plainOptions() of the load
+//     chunks  { chunks, done, error? }  the answer to a pull: Uint8Arrays (transferred), done at
+//                                  the end, error (errorToMessage) when the producer failed
+//   worker -> main
+//     pull    {}                   asks for the next chunks of a 'stream' input
+//     progress { fraction, bytesRead }
+//     result  { raw }              the mesh's raw data, its arrays transferred (transferList)
+//     error   { error }            errorToMessage() of the failure
+import { StlError } from './errors.js';
+
+export const Msg = Object.freeze({
+  Load: 'load', Chunks: 'chunks', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
+});
+export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
+
+export const loadMessage = (input, options) => ({ type: Msg.Load, input, options });
+export const chunksMessage = (chunks, done, error) => (error ? { type: Msg.Chunks, chunks, done, error } : { type: Msg.Chunks, chunks, done });
+export const pullMessage = () => ({ type: Msg.Pull });
+export const progressMessage = (fraction, bytesRead) => ({ type: Msg.Progress, fraction, bytesRead });
+export const resultMessage = (raw) => ({ type: Msg.Result, raw });
+export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) });
+
+/** The ArrayBuffers of a raw result, for a postMessage transfer list. */
+export function transferList(raw) {
+  const set = new Set();
+  for (const a of Object.values(raw.arrays)) if (a && a.buffer) set.add(a.buffer);
+  return [...set];
+}
+
+/** An error as cloneable data; errorFromMessage() turns it back into an (Stl)Error. */
+export function errorToMessage(e) {
+  if (e instanceof StlError) {
+    return { stl: true, code: e.code, message: e.message, offset: e.offset, line: e.line, triangle: e.triangle };
+  }
+  return { stl: false, name: e && e.name, message: String(e && e.message !== undefined ? e.message : e) };
+}
+
+export function errorFromMessage(m) {
+  if (m.stl) return new StlError(m.code, m.message, m);
+  const e = new Error(m.message);
+  if (m.name) e.name = m.name;
+  return e;
+}

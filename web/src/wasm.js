@@ -1,0 +1,262 @@
+// The wasm lifecycle: one instance per thread (re-created after a wasm abort), the read
+// loop that feeds a session, and the raw results that become meshes (mesh.js).
+import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, FROM_CORE } from './errors.js';
+import { DEFAULTS, normalizeOptions } from './options.js';
+import { toSource } from './sources.js';
+import { Mesh, isPresent, toValidation } from './mesh.js';
+
+const CHUNK = 1 << 20; // bytes handed to the core per feed() call
+const YIELD_MS = 16; // longest stretch of feeding without giving the event loop a turn
+const PROGRESS_MS = 50; // onProgress at most this often (plus once at the end)
+
+const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+
+// A macrotask turn, so that abort events, timers and rendering can run.
+const yieldToEventLoop = (() => {
+  if (typeof setImmediate === 'function') return () => new Promise((r) => setImmediate(r));
+  if (typeof MessageChannel === 'function') {
+    const ch = new MessageChannel();
+    const queue = [];
+    ch.port1.onmessage = () => queue.shift()();
+    return () => new Promise((r) => { queue.push(r); ch.port2.postMessage(0); });
+  }
+  return () => new Promise((r) => setTimeout(r, 0));
+})();
+
+export function createStltopo({ instantiate, loadWorker = null }) {
+  let current = null;
+
+  function getModule() {
+    if (!current || current.dead) {
+      const entry = { module: null, dead: false, heapMax: 0, lastError: '' };
+      entry.promise = instantiate({
+        onAbort(what) { entry.dead = true; entry.lastError = String(what || ''); },
+        printErr(text) { entry.lastError = String(text); },
+        print() {},
+      }).then(
+        (m) => {
+          entry.module = m;
+          entry.heapMax = m._heapMax();
+          entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
+          return entry;
+        },
+        (e) => {
+          if (current === entry) current = null;
+          throw e;
+        },
+      );
+      current = entry;
+    }
+    return current.promise;
+  }
+
+  // Turns whatever escaped a call into wasm into an error, and drops a wasm
+  // instance that aborted (e.g. operator new failed) so the next call gets a
+  // fresh one: the module keeps working after any error.
+  function wasmFailure(entry, e) {
+    if (e instanceof StlError) return e;
+    const isRangeError = e instanceof RangeError && /allocat|memory|length/i.test(String(e.message));
+    const wasmDied = entry.dead || (typeof WebAssembly !== 'undefined' && e instanceof WebAssembly.RuntimeError);
+    if (wasmDied) {
+      entry.dead = true;
+      if (current === entry) current = null;
+      const heap = entry.module && entry.module.HEAPU8 ? entry.module.HEAPU8.length : 0;
+      if (heap + (64 << 20) >= entry.heapMax || /memory|OOM|alloc/i.test(entry.lastError)) {
+        return stlError('out-of-memory', `the WebAssembly heap is exhausted (${e.message})`);
+      }
+      return e;
+    }
+    if (isRangeError) return stlError('out-of-memory', e.message);
+    return e;
+  }
+
+  // Reads a source into a new session; returns it (finished) or throws.
+  async function readSession(entry, source, o) {
+    const M = entry.module;
+    const session = new M._Session(o.maxTriangles, o.maxBytes, source.total || 0, o.normals);
+    const signal = o.signal;
+    const onAbort = () => source.cancel(abortError());
+    if (signal) signal.addEventListener('abort', onAbort, { once: true });
+    try {
+      let bytesRead = 0;
+      let lastYield = now();
+      let lastProgress = lastYield;
+      const total = source.total || 0;
+      const progress = (final) => {
+        if (!o.onProgress) return;
+        const t = now();
+        if (!final && t - lastProgress < PROGRESS_MS) return;
+        lastProgress = t;
+        o.onProgress(final ? 1 : total ? Math.min(1, bytesRead / total) : NaN, bytesRead);
+      };
+      for (;;) {
+        checkAbort(signal);
+        const chunk = await source.next();
+        checkAbort(signal);
+        if (chunk === null) break;
+        for (let off = 0; off < chunk.length; off += CHUNK) {
+          const part = off === 0 && chunk.length <= CHUNK ? chunk : chunk.subarray(off, Math.min(off + CHUNK, chunk.length));
+          const buf = session.buffer(part.length);
+          if (buf === null) throw stlError('out-of-memory', 'could not allocate the input buffer');
+          buf.set(part);
+          const st = session.feed(part.length);
+          if (st) throw fromStatus(st);
+          bytesRead += part.length;
+          progress(false);
+          if (now() - lastYield > YIELD_MS) {
+            await yieldToEventLoop();
+            checkAbort(signal);
+            lastYield = now();
+          }
+        }
+      }
+      // prev and face only where they are read from wasm: views and validate().
+      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate);
+      if (st) throw fromStatus(st);
+      progress(true);
+      return session;
+    } catch (e) {
+      source.cancel(e);
+      if (!entry.dead) {
+        if (e instanceof StlError && e[FROM_CORE] && o.keepMessageBytes) e[MESSAGE_BYTES] = session.messageBytes();
+        session.delete();
+      }
+      throw e;
+    } finally {
+      if (signal) signal.removeEventListener('abort', onAbort);
+    }
+  }
+
+  // Plain data of a finished session (the worker's result message): every array of the
+  // table that exists, as copies (copy) or views. Copies leave out the derived arrays,
+  // which the core did not build for them, unless it did (withDerived: worker loads, which
+  // validate() in wasm and hand the arrays over).
+  function extractRaw(entry, session, copy, { validate = false } = {}) {
+    const meta = session.meta();
+    const raw = {
+      format: meta.format,
+      colorConvention: meta.colorConvention,
+      nVertices: meta.nVertices,
+      nTriangles: meta.nTriangles,
+      hasTopology: meta.hasTopology,
+      hasNormals: meta.hasNormals,
+      solids: meta.solids,
+      warnings: meta.warnings,
+      counts: meta.counts,
+      statsJson: session.infoJson(''),
+      validation: validate && meta.hasTopology ? toValidation(session.validate()) : null,
+      layout: entry.layout,
+      arrays: {},
+    };
+    const arrays = raw.arrays;
+    for (const d of entry.layout) {
+      if (!isPresent(d, raw) || (copy && d.derived && !validate)) continue;
+      arrays[d.name] = session.array(d.name, copy || d.copied);
+    }
+    if (meta.hasTopology) {
+      // The origin vertex of every loop half-edge (for mesh.holes), read through a view
+      // that no allocation can detach before it is used.
+      const vert = session.array('vert', false);
+      const list = arrays.loopHalfedges;
+      const lv = new Uint32Array(list.length);
+      for (let i = 0; i < list.length; ++i) lv[i] = vert[list[i]];
+      arrays.loopVertices = lv;
+    }
+    return raw;
+  }
+
+  // Reads into JS-owned copies. { validate: true } also runs validate() on the
+  // wasm-side arrays and stores the result in raw.validation (worker threads).
+  async function loadRaw(source, o, { validate = false } = {}) {
+    const entry = await getModule();
+    let session = null;
+    try {
+      session = await readSession(entry, source, validate ? { ...o, validate } : o);
+      return extractRaw(entry, session, true, { validate });
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
+  async function loadFromSource(source, o) {
+    if (!o.view) return new Mesh(await loadRaw(source, o), { entry: null, getEntry: currentEntry });
+    const entry = await getModule();
+    let session = null;
+    try {
+      session = await readSession(entry, source, o);
+      const raw = extractRaw(entry, session, false);
+      return new Mesh(raw, { entry, session, getEntry: currentEntry });
+    } catch (e) {
+      if (session && !entry.dead) session.delete();
+      throw wasmFailure(entry, e);
+    }
+  }
+
+  function currentEntry() {
+    return current && current.module && !current.dead ? current : null;
+  }
+
+  async function loadStl(input, options) {
+    if (options && options.worker && loadWorker) {
+      const w = await loadWorker();
+      return w.loadStl(input, { ...options, worker: false });
+    }
+    const o = normalizeOptions(options);
+    checkAbort(o.signal);
+    return loadFromSource(toSource(input), o);
+  }
+
+  // For the npm CLI: the native CLI's JSON line or text for one input.
+  async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
+    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes }) {
+    const entry = await getModule();
+    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes }), tolerance, keepMessageBytes: !json };
+    let session = null;
+    try {
+      session = await readSession(entry, source, o);
+      return { ok: true, text: json ? `${session.infoJson(file)}\n` : session.infoText(file) };
+    } catch (e) {
+      const err = wasmFailure(entry, e);
+      if (!(err instanceof StlError)) throw err;
+      if (json) return { ok: false, error: err, text: `${errorJson(entry.dead ? await getModule() : entry, file, err)}\n` };
+      const bytes = err[MESSAGE_BYTES];
+      if (!bytes) return { ok: false, error: err, text: `${file}: ${err.message}\n` };
+      return { ok: false, error: err, text: concatBytes(new TextEncoder().encode(`${file}: `), bytes, new Uint8Array([10])) };
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
+  function errorJson(entry, file, err) {
+    const M = entry.module;
+    const num = (x) => (x === undefined ? -1 : x);
+    return M._errorJson(file, err.code, err.message, num(err.offset), num(err.line), num(err.triangle));
+  }
+
+  // Test and diagnostics hooks (not part of the public API).
+  const internal = {
+    getModule,
+    report,
+    async errorJson(file, err) { return errorJson(await getModule(), file, err); },
+    async heap() {
+      const { module: M } = await getModule();
+      return { inUse: M._heapInUse(), size: M._heapSize(), max: M._heapMax() };
+    },
+    loadRaw,
+    loadFromSource,
+  };
+
+  return { loadStl, loadFromSource, internal };
+}
+
+function concatBytes(...parts) {
+  const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
+  let o = 0;
+  for (const p of parts) {
+    out.set(p, o);
+    o += p.length;
+  }
+  return out;
+}
