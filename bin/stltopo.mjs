@@ -1,6 +1,6 @@
 #!/usr/bin/env node
 // npm CLI: `npx stltopo info [--json] FILE...` on the wasm build.
-// Mirrors the native CLI (src/cli.cpp): the same usage text, options, exit codes
+// Mirrors the native CLI (tools/cli.cpp): the same usage text, options, exit codes
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
 import { api, fileSource } from '../dist/instance.node.js';

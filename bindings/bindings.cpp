@@ -45,6 +45,12 @@ val statusToJs(const Status& s) {
   return o;
 }
 
+// The topology's counts that are not array lengths: meta() hands them to JS as `counts`, and
+// setCounts() takes them back for validate() on uploaded arrays.
+#define STLTOPO_TOPOLOGY_COUNTS(X) \
+  X(nEdges) X(nBoundaryEdges) X(nNonManifoldEdges) X(nInconsistentEdges) X(nNonManifoldVertices) \
+  X(nDegenerate) X(nShells) X(nUsedVertices) X(nHoles) X(nSeams) X(nWeldedVertices)
+
 // The result arrays that cross to JS, one line each:
 //   X(name, part, group, key, element, width, when, flags, doc)
 //   name     the member of stltopo::Mesh or stltopo::Topology (`part`), and the name
@@ -224,16 +230,10 @@ class Session {
     o.set("warnings", warnings);
     if (hasTopology_) {
       val c = val::object();
-      c.set("nEdges", val(topo_.nEdges));
-      c.set("nBoundaryEdges", val(topo_.nBoundaryEdges));
-      c.set("nNonManifoldEdges", val(topo_.nNonManifoldEdges));
-      c.set("nInconsistentEdges", val(topo_.nInconsistentEdges));
-      c.set("nNonManifoldVertices", val(topo_.nNonManifoldVertices));
-      c.set("nDegenerate", val(topo_.nDegenerate));
-      c.set("nShells", val(topo_.nShells));
-      c.set("nUsedVertices", val(topo_.nUsedVertices));
-      c.set("nHoles", val(topo_.nHoles));
-      c.set("nSeams", val(topo_.nSeams));
+#define STLTOPO_COUNT(name) c.set(#name, val(topo_.name));
+      STLTOPO_TOPOLOGY_COUNTS(STLTOPO_COUNT)
+#undef STLTOPO_COUNT
+      c.set("tolerance", val(topo_.tolerance));
       o.set("counts", c);
     } else {
       o.set("counts", val::null());
@@ -246,7 +246,7 @@ class Session {
     return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr);
   }
 
-  // The native CLI's text report (src/cli.cpp printText), byte for byte: a
+  // The native CLI's text report (tools/cli.cpp printText), byte for byte: a
   // Uint8Array, since solid names may hold bytes that are not UTF-8.
   val infoText(const std::string& file) const { return bytesToJs(infoTextString(file)); }
 
@@ -271,13 +271,15 @@ class Session {
     return out;
   }
 
-  // For validate() on uploaded arrays: the counts that are not array lengths.
-  void setCounts(double nHoles, double nSeams, double nUsedVertices) {
+  // For validate() on uploaded arrays: the counts that are not array lengths, as meta()
+  // gives them in `counts` (every STLTOPO_TOPOLOGY_COUNTS name, and the tolerance).
+  void setCounts(const val& c) {
     topo_.nTriangles = mesh_.nTriangles();
     topo_.nVertices = mesh_.nVertices();
-    topo_.nHoles = uint32_t(nHoles);
-    topo_.nSeams = uint32_t(nSeams);
-    topo_.nUsedVertices = uint32_t(nUsedVertices);
+#define STLTOPO_COUNT(name) topo_.name = c[#name].as<uint32_t>();
+    STLTOPO_TOPOLOGY_COUNTS(STLTOPO_COUNT)
+#undef STLTOPO_COUNT
+    topo_.tolerance = c["tolerance"].as<double>();
     hasTopology_ = true;
   }
 

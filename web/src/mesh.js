@@ -270,7 +270,7 @@ function validateArrays(M, mesh, layout, counts) {
       if (view === null) throw stlError('out-of-memory', `could not allocate ${d.name} for validate()`);
       view.set(src);
     }
-    s.setCounts(counts.nHoles, counts.nSeams, counts.nUsedVertices);
+    s.setCounts(counts);
     return toValidation(s.validate());
   } finally {
     s.delete();
