@@ -95,7 +95,28 @@ val statusToJs(const Status& s) {
   X(triangleDegenerate, Topology, "problems", "triangleDegenerate", "triangle", 1, "topology", 0,                     \
     "1 when two corners of the triangle weld together.")                                                             \
   X(vertexNonManifold, Topology, "problems", "vertexNonManifold", "vertex", 1, "topology", 0,                         \
-    "1 when the vertex's outgoing half-edges form more than one vnext cycle.")
+    "1 when the vertex's outgoing half-edges form more than one vnext cycle.")                                       \
+  X(triangleShell, Topology, "", "triangleShell", "triangle", 1, "shells", 0,                                         \
+    "Per triangle: its shell (numbered by lowest triangle id), kInvalid if degenerate.")      \
+  X(nonManifoldEdgeVertices, Defects, "defects", "nonManifoldEdgeVertices", "non-manifold edge", 2, "shells", kCopied, \
+    "Non-manifold edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex.")                       \
+  X(nonManifoldEdgeOffsets, Defects, "defects", "nonManifoldEdgeOffsets", "non-manifold edge+1", 1, "shells", kCopied, \
+    "Non-manifold edge i's triangles are nonManifoldEdgeTriangles[offsets[i] .. offsets[i+1]).")                                  \
+  X(nonManifoldEdgeTriangles, Defects, "defects", "nonManifoldEdgeTriangles", "edge entry", 1, "shells", kCopied,     \
+    "Every triangle with a side on each non-manifold edge, ascending.")                                              \
+  X(inconsistentEdgeVertices, Defects, "defects", "inconsistentEdgeVertices", "inconsistent edge", 2, "shells",       \
+    kCopied, "Inconsistent edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex.")              \
+  X(inconsistentEdgeTriangles, Defects, "defects", "inconsistentEdgeTriangles", "inconsistent edge", 2, "shells",     \
+    kCopied, "The two triangles of inconsistent edge i, [2i] < [2i+1].")                                             \
+  X(nonManifoldVertices, Defects, "defects", "nonManifoldVertices", "non-manifold vertex", 1, "shells", kCopied,       \
+    "The non-manifold vertices, ascending.")                                                                         \
+  X(nonManifoldVertexCycles, Defects, "defects", "nonManifoldVertexCycles", "non-manifold vertex", 1, "shells",       \
+    kCopied, "The number of vnext cycles of each (>= 2).")                                                           \
+  X(degenerateTriangles, Defects, "defects", "degenerateTriangles", "degenerate triangle", 1, "shells", kCopied,       \
+    "The degenerate triangles, ascending.")                                                                          \
+  X(degenerateCorners, Defects, "defects", "degenerateCorners", "degenerate triangle", 1, "shells", kCopied,          \
+    "Corners that weld: bit 0 corners 0,1; bit 1 corners 1,2; bit 2 corners 2,0 (7: all three).")                    \
+  X(loopShell, Defects, "defects", "loopShell", "loop", 1, "shells", kCopied, "Per boundary loop h: its shell.")
 
 constexpr int kCopied = 1;
 constexpr int kDerived = 2;
@@ -183,8 +204,9 @@ class Session {
   }
 
   // Completes the read, frees the reader and builds the topology when asked
-  // (prevAndFace false: without the prev and face arrays, see TopologyOptions).
-  val finish(bool topology, double tolerance, bool prevAndFace) {
+  // (prevAndFace false: without the prev and face arrays, see TopologyOptions), and with
+  // `shells` also triangleShell, the shell list and the defect lists.
+  val finish(bool topology, double tolerance, bool prevAndFace, bool shells) {
     if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
     std::free(input_);
     input_ = nullptr;
@@ -198,9 +220,15 @@ class Session {
       stltopo::TopologyOptions to;
       to.tolerance = tolerance > 0 ? tolerance : 0;
       to.prevAndFace = prevAndFace;
+      to.triangleShell = shells;
       s = stltopo::buildTopology(mesh_, topo_, to);
       if (!s.ok()) return remember(s);
       hasTopology_ = true;
+      if (shells) {
+        s = stltopo::findShellsAndDefects(mesh_, topo_, &shells_, &defects_);
+        if (!s.ok()) return remember(s);
+        hasShells_ = true;
+      }
     }
     return val::null();
   }
@@ -215,6 +243,7 @@ class Session {
     o.set("nVertices", val(mesh_.nVertices()));
     o.set("nTriangles", val(mesh_.nTriangles()));
     o.set("hasTopology", val(hasTopology_));
+    o.set("hasShells", val(hasShells_));
     o.set("hasNormals", val(!mesh_.normals.empty() || (options_.keepNormals && mesh_.nTriangles() == 0)));
     val solids = val::array();
     for (const stltopo::Solid& s : mesh_.solids) {
@@ -241,14 +270,24 @@ class Session {
     return o;
   }
 
-  // The JSON report, byte for byte what the native CLI prints.
-  std::string infoJson(const std::string& file) const {
-    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr);
+  // The JSON report, byte for byte what the native CLI prints (with --shells, --defects
+  // and --max-defects when `shells`, `defects`, `maxDefects`; those need a load with shells).
+  std::string infoJson(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
   }
 
-  // The native CLI's text report (tools/cli.cpp printText), byte for byte: a
-  // Uint8Array, since solid names may hold bytes that are not UTF-8.
-  val infoText(const std::string& file) const { return bytesToJs(infoTextString(file)); }
+  // The native CLI's text report (tools/cli.cpp), byte for byte: a Uint8Array, since
+  // solid names may hold bytes that are not UTF-8.
+  val infoText(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    return bytesToJs(stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
+  }
+
+  // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
+  std::string shellListJson() const {
+    if (!hasShells_) return "null";
+    std::string j = stltopo::shellListJson(shells_);
+    return j.substr(j.find('['));
+  }
 
   // The message of the last failed feed()/finish() as bytes (the native CLI
   // prints messages raw; a JS string would replace invalid UTF-8).
@@ -289,7 +328,13 @@ class Session {
   }
 
  private:
-  std::string infoTextString(const std::string& file) const;
+  stltopo::ReportExtras extras(bool shells, bool defects, double maxDefects) const {
+    stltopo::ReportExtras e;
+    e.shells = shells && hasShells_ ? &shells_ : nullptr;
+    e.defects = defects && hasShells_ ? &defects_ : nullptr;
+    e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
+    return e;
+  }
   static val bytesToJs(const std::string& s) {
     return val(typed_memory_view(s.size(), reinterpret_cast<const uint8_t*>(s.data()))).call<val>("slice");
   }
@@ -300,6 +345,7 @@ class Session {
 
   stltopo::Mesh& part(stltopo::Mesh*) { return mesh_; }
   stltopo::Topology& part(stltopo::Topology*) { return topo_; }
+  stltopo::Defects& part(stltopo::Defects*) { return defects_; }
 
   template <class F>
   void withArray(const std::string& n, F&& f) {
@@ -317,12 +363,11 @@ class Session {
   stltopo::Mesh mesh_;
   stltopo::Topology topo_;
   bool hasTopology_ = false;
+  stltopo::Array<stltopo::Shell> shells_;
+  stltopo::Defects defects_;
+  bool hasShells_ = false;
   Status last_;
 };
-
-std::string Session::infoTextString(const std::string& file) const {
-  return stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr);
-}
 
 // errorJson for a status made in JS (e.g. the npm CLI's "cannot open"). A code
 // name that the core does not know gives an invalid-argument report that says so.
@@ -398,6 +443,7 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("meta", &Session::meta)
       .function("infoJson", &Session::infoJson)
       .function("infoText", &Session::infoText)
+      .function("shellListJson", &Session::shellListJson)
       .function("messageBytes", &Session::messageBytes)
       .function("array", &Session::array)
       .function("upload", &Session::upload)

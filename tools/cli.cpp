@@ -25,7 +25,7 @@ const char* kUsage =
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
-    "  first N of each kind: default 1000 in JSON, 5 in the text report).\n"
+    "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
 
 struct Args {
@@ -148,6 +148,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // The text report always lists the first few defects of each kind.
+  const bool defects = a.defects || !a.json;
+
   int rc = 0;
   stltopo::ReadOptions ro;
   ro.maxTriangles = a.maxTriangles;
@@ -155,7 +158,7 @@ int main(int argc, char** argv) {
   stltopo::TopologyOptions to;
   to.tolerance = a.tolerance;
   to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
-  to.triangleShell = a.shells || a.defects;
+  to.triangleShell = a.topology && (a.shells || defects);
   stltopo::ReportExtras extras;
   extras.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
   for (const std::string& file : a.files) {
@@ -166,7 +169,7 @@ int main(int argc, char** argv) {
     stltopo::Array<stltopo::Shell> shells;
     stltopo::Defects found;
     if (s.ok() && a.topology && to.triangleShell)
-      s = stltopo::findShellsAndDefects(mesh, topo, a.shells ? &shells : nullptr, a.defects ? &found : nullptr);
+      s = stltopo::findShellsAndDefects(mesh, topo, a.shells ? &shells : nullptr, defects ? &found : nullptr);
     if (!s.ok()) {
       rc = 1;
       if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
@@ -175,7 +178,7 @@ int main(int argc, char** argv) {
     }
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
     extras.shells = a.shells && t ? &shells : nullptr;
-    extras.defects = a.defects && t ? &found : nullptr;
+    extras.defects = defects && t ? &found : nullptr;
     if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t, extras).c_str());
     else std::fputs(stltopo::infoText(file, mesh, t, extras).c_str(), stdout);
   }

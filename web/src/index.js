@@ -11,4 +11,5 @@ export async function loadStlFile() {
 }
 
 export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind } from './mesh.js';
+export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
+export { extractShell } from './extract-shell.js';

@@ -19,4 +19,5 @@ export async function loadStlFile(path, options) {
 }
 
 export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind } from './mesh.js';
+export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
+export { extractShell } from './extract-shell.js';

@@ -111,7 +111,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
         }
       }
       // prev and face only where they are read from wasm: views and validate().
-      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate);
+      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
       if (st) throw fromStatus(st);
       progress(true);
       return session;
@@ -140,10 +140,12 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       nTriangles: meta.nTriangles,
       hasTopology: meta.hasTopology,
       hasNormals: meta.hasNormals,
+      hasShells: meta.hasShells,
+      shellsJson: session.shellListJson(),
       solids: meta.solids,
       warnings: meta.warnings,
       counts: meta.counts,
-      statsJson: session.infoJson(''),
+      statsJson: session.infoJson('', false, false, 0),
       validation: validate && meta.hasTopology ? toValidation(session.validate()) : null,
       layout: entry.layout,
       arrays: {},
@@ -208,15 +210,23 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     return loadFromSource(toSource(input), o);
   }
 
-  // For the npm CLI: the native CLI's JSON line or text for one input.
+  // For the npm CLI: the native CLI's JSON line or text for one input (the text report
+  // always lists the first defects of each kind, as the native one does).
   async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
-    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes }) {
+    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
+    maxDefects = -1 }) {
     const entry = await getModule();
-    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes }), tolerance, keepMessageBytes: !json };
+    const withDefects = defects || !json;
+    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects }), tolerance,
+      keepMessageBytes: !json };
+    const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
     let session = null;
     try {
       session = await readSession(entry, source, o);
-      return { ok: true, text: json ? `${session.infoJson(file)}\n` : session.infoText(file) };
+      return {
+        ok: true,
+        text: json ? `${session.infoJson(file, shells, withDefects, max)}\n` : session.infoText(file, shells, withDefects, max),
+      };
     } catch (e) {
       const err = wasmFailure(entry, e);
       if (!(err instanceof StlError)) throw err;

@@ -21,4 +21,5 @@ const loader = createWorkerLoader(() => {
 
 export const loadStl = loader.loadStl;
 export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind } from './mesh.js';
+export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
+export { extractShell } from './extract-shell.js';
