@@ -112,6 +112,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   const std::vector<Solid>& solids = mesh.solids;
   size_t solid = 0;
   uint32_t nextShell = 0;
+  const bool exactWeld = !(topo.tolerance > 0);
   for (uint32_t t = 0; t < nt; ++t) {
     const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
     uint32_t s = triangleShell[t];
@@ -151,9 +152,13 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
         S.bboxMax[k] = std::max(S.bboxMax[k], Q[k]);
       }
 
+    // The corners as the topology sees them: vert[] of the triangle's half-edges, read from
+    // the triangle (in order) instead of through next (at random places on shuffled files).
+    uint32_t wc[3];
+    for (int c = 0; c < 3; ++c) wc[c] = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
     uint32_t e = topo.triangleHalfedge[t];
     for (int c = 0; c < 3; ++c, e = next[e]) {
-      uint32_t v = vert[e];
+      uint32_t v = wc[c];
       if (topo.vertexNonManifold[v]) {
         if (!outgoing.push_back({e, s, false})) return oom();
       } else if (!testBit(seen, v)) {
@@ -167,7 +172,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
         ++S.edges;
         ++S.boundaryEdges;
       } else {
-        uint32_t w = vert[next[e]];
+        uint32_t w = wc[c == 2 ? 0 : c + 1];
         if (!cuts.push_back({std::min(v, w), std::max(v, w), t, uint8_t(kind)})) return oom();
       }
       if (kind != EdgeKind::Interior && testBit(loopTwinBit, e)) {
