@@ -23,23 +23,17 @@ struct CutSide {
   }
 };
 
-// A triangle half-edge leaving a non-manifold vertex, with the shell of its triangle.
-struct Outgoing {
-  uint32_t halfedge, shell;
-  bool visited;
-  bool operator<(const Outgoing& o) const { return halfedge < o.halfedge; }
-};
-
 // One vnext cycle of a non-manifold vertex and the shell it lies in.
 struct Cycle {
   uint32_t vertex, shell;
   bool operator<(const Cycle& o) const { return vertex != o.vertex ? vertex < o.vertex : shell < o.shell; }
 };
 
-// The triangle half-edge that is the twin of loop h's first half-edge, and h.
-struct LoopTwin {
-  uint32_t halfedge, loop;
-  bool operator<(const LoopTwin& o) const { return halfedge < o.halfedge; }
+// A half-edge of the triangle of wanted[i]: when it is that triangle's triangleHalfedge,
+// the triangle pass finds it.
+struct Probe {
+  uint32_t halfedge, wanted;
+  bool operator<(const Probe& o) const { return halfedge < o.halfedge; }
 };
 
 bool testBit(const Array<uint64_t>& bits, uint32_t i) { return (bits[i >> 6] >> (i & 63)) & 1u; }
@@ -79,35 +73,90 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   if (topo.nTriangles != nt || topo.nVertices != nv || topo.triangleHalfedge.size() != nt ||
       topo.triangleDegenerate.size() != nt || topo.vertexNonManifold.size() != nv || topo.vertexWeld.size() != nv ||
       topo.vert.size() != nh || topo.pairKind.size() != nh / 2 || topo.loopOffsets.size() != size_t(nl) + 1 ||
-      topo.loopIsSeam.size() != nl)
+      topo.loopIsSeam.size() != nl || topo.loopHalfedges.size() != topo.loopOffsets[nl])
     return bad("the topology was not built from this mesh");
   if (topo.triangleShell.size() != nt)
     return bad("the topology has no triangleShell (TopologyOptions::triangleShell = false)");
   const uint32_t* triangleShell = topo.triangleShell.data();
+  const uint32_t* next = topo.next.data();
+  const uint32_t* vert = topo.vert.data();
+  const uint8_t* pairKind = topo.pairKind.data();
+  auto kindOf = [&](uint32_t e) { return EdgeKind(pairKind[e >> 1]); };
+  const auto notMesh = [] { return bad("the topology was not built from this mesh"); };
 
   Array<Shell> shells;
   Defects d;
-  Array<uint64_t> seen;        // per vertex: counted in its (only) shell; manifold vertices only
-  Array<uint64_t> loopTwinBit;  // per half-edge: the twin of a loop's first half-edge
-  Array<LoopTwin> loopTwins;
-  Array<CutSide> cuts;
-  Array<Outgoing> outgoing;
-  if (!shells.assign(nShells, Shell{}) || !seen.assign((size_t(nv) + 63) / 64, 0) ||
-      !loopTwinBit.assign((size_t(nh) + 63) / 64, 0) || !loopTwins.resize(nl) || !d.loopShell.assign(nl, kInvalid))
+  Array<uint64_t> isLoop;    // per half-edge: a boundary-loop half-edge
+  Array<uint32_t> wanted;    // half-edges (triangle sides) whose triangle the triangle pass finds
+  Array<uint32_t> cutSides;  // indices into wanted: the triangle sides on cut edges
+  Array<uint32_t> outgoing;  // the half-edges leaving non-manifold vertices, increasing
+  Array<uint8_t> visited;    // per entry of outgoing
+  Array<uint32_t> cycleVertex, cycleWanted;  // per vnext cycle of those: its vertex, a triangle side of it
+  if (!shells.assign(nShells, Shell{}) || !isLoop.assign((size_t(nh) + 63) / 64, 0) || !wanted.resize(nl) ||
+      !d.loopShell.assign(nl, kInvalid))
     return oom();
-  for (uint32_t h = 0; h < nl; ++h) {
-    uint32_t e = twin(topo.loopHalfedge[h]);  // a loop half-edge's twin is a triangle side
-    if (e >= nh) return bad("the topology was not built from this mesh");
-    loopTwins[h] = {e, h};
-    setBit(loopTwinBit, e);
+  for (uint32_t x : topo.loopHalfedges) {
+    if (x >= nh) return notMesh();
+    setBit(isLoop, x);
   }
-  std::sort(loopTwins.begin(), loopTwins.end());
+  // The triangles to find: loop h's (wanted[h], the twin of its first half-edge: a triangle
+  // side), then those of the cut sides (the opening side 2k of a cut pair k, and 2k + 1 when
+  // it is a triangle side too), then one per vnext cycle of a non-manifold vertex.
+  for (uint32_t h = 0; h < nl; ++h) wanted[h] = twin(topo.loopHalfedge[h]);
+  for (uint32_t k = 0; k < nh / 2; ++k) {
+    if (EdgeKind(pairKind[k]) != EdgeKind::Inconsistent && EdgeKind(pairKind[k]) != EdgeKind::NonManifold) continue;
+    for (uint32_t e = 2 * k; e <= 2 * k + 1; ++e) {
+      if (testBit(isLoop, e)) continue;
+      if (!cutSides.push_back(uint32_t(wanted.size())) || !wanted.push_back(e)) return oom();
+    }
+  }
+  if (topo.nNonManifoldVertices > 0) {
+    for (uint32_t e = 0; e < nh; ++e)
+      if (topo.vertexNonManifold[vert[e]] && !outgoing.push_back(e)) return oom();
+    if (!visited.assign(outgoing.size(), 0)) return oom();
+    for (size_t i = 0; i < outgoing.size(); ++i) {
+      if (visited[i]) continue;
+      uint32_t x = outgoing[i], side = kInvalid, steps = 0;
+      do {
+        const uint32_t* it = std::lower_bound(outgoing.begin(), outgoing.end(), x);
+        if (it == outgoing.end() || *it != x) return notMesh();
+        visited[size_t(it - outgoing.begin())] = 1;
+        if (side == kInvalid && !testBit(isLoop, x)) side = x;
+        x = next[twin(x)];
+        if (++steps > nh) return notMesh();
+      } while (x != outgoing[i]);
+      // Every cycle has a triangle side: the next of a loop half-edge's twin is one.
+      if (side == kInvalid) return notMesh();
+      if (!cycleVertex.push_back(vert[side]) || !cycleWanted.push_back(uint32_t(wanted.size())) ||
+          !wanted.push_back(side))
+        return oom();
+    }
+    outgoing.release();
+    visited.release();
+  }
+  // A wanted side's triangle holds it, next of it and next of that; one of the three is the
+  // triangle's triangleHalfedge, which the triangle pass reads in order.
+  Array<Probe> probes;
+  Array<uint64_t> probeBit;
+  Array<uint32_t> triangleOf;  // per wanted entry
+  if (!probes.resize(wanted.size() * 3) || !probeBit.assign((size_t(nh) + 63) / 64, 0) ||
+      !triangleOf.assign(wanted.size(), kInvalid))
+    return oom();
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    uint32_t e = wanted[i];
+    if (e >= nh) return notMesh();
+    for (int c = 0; c < 3; ++c, e = next[e]) {
+      probes[3 * i + c] = {e, uint32_t(i)};
+      setBit(probeBit, e);
+    }
+  }
+  std::sort(probes.begin(), probes.end());
 
-  // One pass over the triangles in file order: the shells' triangles, figures, edges that
-  // are not cut, vertices that are manifold and loops; the cut sides, the half-edges leaving
-  // non-manifold vertices and the degenerate triangles are collected for the passes below.
-  const uint32_t* next = topo.next.data();
-  const uint32_t* vert = topo.vert.data();
+  // One pass over the triangles in file order: the shells' triangles, figures and solids, the
+  // vertices that are manifold (a manifold vertex is in one shell), the degenerate triangles,
+  // and the triangles of the wanted sides.
+  Array<uint64_t> seen;  // per vertex: counted in its (only) shell; manifold vertices only
+  if (!seen.assign((size_t(nv) + 63) / 64, 0)) return oom();
   const float* P = mesh.positions.data();
   const std::vector<Solid>& solids = mesh.solids;
   size_t solid = 0;
@@ -139,7 +188,6 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       S.solid = kMixedSolid;
     }
     ++S.triangles;
-
     const float* A = P + size_t(corner[0]) * 3;
     const float* B = P + size_t(corner[1]) * 3;
     const float* C = P + size_t(corner[2]) * 3;
@@ -151,46 +199,48 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
         S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);
         S.bboxMax[k] = std::max(S.bboxMax[k], Q[k]);
       }
-
-    // The corners as the topology sees them: vert[] of the triangle's half-edges, read from
-    // the triangle (in order) instead of through next (at random places on shuffled files).
-    uint32_t wc[3];
-    for (int c = 0; c < 3; ++c) wc[c] = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
-    uint32_t e = topo.triangleHalfedge[t];
-    for (int c = 0; c < 3; ++c, e = next[e]) {
-      uint32_t v = wc[c];
-      if (topo.vertexNonManifold[v]) {
-        if (!outgoing.push_back({e, s, false})) return oom();
-      } else if (!testBit(seen, v)) {
+    for (int c = 0; c < 3; ++c) {
+      uint32_t v = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
+      if (!topo.vertexNonManifold[v] && !testBit(seen, v)) {
         setBit(seen, v);
         ++S.vertices;
       }
-      auto kind = EdgeKind(topo.pairKind[e >> 1]);
-      if (kind == EdgeKind::Interior) {
-        if (!(e & 1u)) ++S.edges;  // both sides are triangle half-edges: count the pair once
-      } else if (kind == EdgeKind::Boundary) {
-        ++S.edges;
-        ++S.boundaryEdges;
-      } else {
-        uint32_t w = wc[c == 2 ? 0 : c + 1];
-        if (!cuts.push_back({std::min(v, w), std::max(v, w), t, uint8_t(kind)})) return oom();
-      }
-      if (kind != EdgeKind::Interior && testBit(loopTwinBit, e)) {
-        const LoopTwin* it = std::lower_bound(loopTwins.begin(), loopTwins.end(), LoopTwin{e, 0});
-        d.loopShell[it->loop] = s;
-      }
+    }
+    uint32_t h0 = topo.triangleHalfedge[t];
+    if (h0 < nh && testBit(probeBit, h0)) {
+      const Probe* it = std::lower_bound(probes.begin(), probes.end(), Probe{h0, 0});
+      for (; it != probes.end() && it->halfedge == h0; ++it) triangleOf[it->wanted] = t;
     }
   }
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
   seen.release();
-  loopTwinBit.release();
-  loopTwins.release();
-  for (uint32_t h = 0; h < nl; ++h) {
-    if (d.loopShell[h] == kInvalid) return bad("the topology was not built from this mesh");
-    if (topo.loopIsSeam[h]) ++shells[d.loopShell[h]].seams; else ++shells[d.loopShell[h]].holes;
-  }
+  probes.release();
+  probeBit.release();
+  for (uint32_t t : triangleOf)
+    if (t == kInvalid) return notMesh();
 
+  // Loops: each lies in one shell, with its boundary edges (a boundary pair's twin is a loop
+  // half-edge). A shell's interior edges follow from its sides: 3 triangles = 2 interior
+  // + boundary + cut sides.
+  Array<uint32_t> sides;  // per shell: boundary and cut sides
+  if (!sides.assign(nShells, 0)) return oom();
+  for (uint32_t h = 0; h < nl; ++h) {
+    uint32_t s = triangleShell[triangleOf[h]];
+    d.loopShell[h] = s;
+    Shell& S = shells[s];
+    if (topo.loopIsSeam[h]) ++S.seams; else ++S.holes;
+    for (uint32_t i = topo.loopOffsets[h]; i < topo.loopOffsets[h + 1]; ++i)
+      if (kindOf(topo.loopHalfedges[i]) == EdgeKind::Boundary) ++S.boundaryEdges;
+  }
   // Cut edges: the sides of one undirected edge are adjacent once sorted.
+  Array<CutSide> cuts;
+  if (!cuts.resize(cutSides.size())) return oom();
+  for (size_t i = 0; i < cutSides.size(); ++i) {
+    uint32_t e = wanted[cutSides[i]], a = vert[e], b = vert[twin(e)];  // twin's origin = e's destination
+    uint32_t t = triangleOf[cutSides[i]];
+    cuts[i] = {std::min(a, b), std::max(a, b), t, uint8_t(kindOf(e))};
+    ++sides[triangleShell[t]];
+  }
   std::sort(cuts.begin(), cuts.end());
   if (defectsOut && !d.nonManifoldEdgeOffsets.push_back(0)) return oom();
   for (size_t i = 0; i < cuts.size();) {
@@ -211,24 +261,18 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     i = j;
   }
   cuts.release();
-
-  // Non-manifold vertices: walk each vnext cycle once, from a triangle half-edge (every
-  // cycle has one: the next of a loop half-edge's twin is a triangle half-edge), and note
-  // its shell (a cycle never leaves its fan).
-  std::sort(outgoing.begin(), outgoing.end());
-  Array<Cycle> cycles;
-  for (Outgoing& o : outgoing) {
-    if (o.visited) continue;
-    uint32_t x = o.halfedge, steps = 0;
-    do {
-      Outgoing* it = std::lower_bound(outgoing.begin(), outgoing.end(), Outgoing{x, 0, false});
-      if (it != outgoing.end() && it->halfedge == x) it->visited = true;
-      x = next[twin(x)];
-      if (++steps > nh) return bad("the topology was not built from this mesh");
-    } while (x != o.halfedge);
-    if (!cycles.push_back({vert[x], o.shell})) return oom();
+  for (uint32_t s = 0; s < nShells; ++s) {
+    Shell& S = shells[s];
+    uint64_t paired = 3 * uint64_t(S.triangles) - S.boundaryEdges - sides[s];
+    if (paired % 2 != 0) return notMesh();
+    S.edges += uint32_t(paired / 2) + S.boundaryEdges;
   }
-  outgoing.release();
+
+  // Non-manifold vertices: a shell counts a vertex once per vnext cycle it has there (a cycle
+  // never leaves its fan, so it lies in the shell of any of its triangles).
+  Array<Cycle> cycles;
+  if (!cycles.resize(cycleVertex.size())) return oom();
+  for (size_t i = 0; i < cycleVertex.size(); ++i) cycles[i] = {cycleVertex[i], triangleShell[triangleOf[cycleWanted[i]]]};
   std::sort(cycles.begin(), cycles.end());
   for (size_t i = 0; i < cycles.size();) {
     size_t j = i;
