@@ -107,40 +107,53 @@ void appendPoint(std::string& o, const float* p) { appendf(o, "[%g, %g, %g]", p[
 
 }  // namespace
 
+namespace {
+
+void writeShell(Json& j, const Shell& s, uint32_t id) {
+  j.open('{');
+  j.key("id"); j.u(id);
+  j.key("triangles"); j.u(s.triangles);
+  j.key("vertices"); j.u(s.vertices);
+  j.key("edges"); j.u(s.edges);
+  j.key("boundaryEdges"); j.u(s.boundaryEdges);
+  j.key("nonManifoldEdges"); j.u(s.nonManifoldEdges);
+  j.key("inconsistentEdges"); j.u(s.inconsistentEdges);
+  j.key("nonManifoldVertices"); j.u(s.nonManifoldVertices);
+  j.key("holes"); j.u(s.holes);
+  j.key("seams"); j.u(s.seams);
+  j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic());
+  j.key("genus");
+  if (s.hasGenus()) j.f64(s.genus()); else j.null();
+  j.key("closed"); j.b(s.closed());
+  j.key("manifold"); j.b(s.manifold());
+  j.key("consistent"); j.b(s.consistent());
+  j.key("orientation"); j.str(orientationName(s.orientation()));
+  j.key("solid");
+  if (s.solid == kMixedSolid) j.str("mixed");
+  else if (s.solid == kInvalid) j.null();
+  else j.u(s.solid);
+  j.key("bbox"); bbox(j, s.bboxMin, s.bboxMax);
+  j.key("area"); j.f64(s.area);
+  j.key("volume"); j.f64(s.volume);
+  j.close('}');
+}
+
+}  // namespace
+
 void detail::writeShellList(Json& j, const Array<Shell>& shells) {
   j.key("shellList");
   j.open('[');
   for (size_t i = 0; i < shells.size(); ++i) {
-    const Shell& s = shells[i];
     j.sep();
-    j.open('{');
-    j.key("id"); j.u(i);
-    j.key("triangles"); j.u(s.triangles);
-    j.key("vertices"); j.u(s.vertices);
-    j.key("edges"); j.u(s.edges);
-    j.key("boundaryEdges"); j.u(s.boundaryEdges);
-    j.key("nonManifoldEdges"); j.u(s.nonManifoldEdges);
-    j.key("inconsistentEdges"); j.u(s.inconsistentEdges);
-    j.key("nonManifoldVertices"); j.u(s.nonManifoldVertices);
-    j.key("holes"); j.u(s.holes);
-    j.key("seams"); j.u(s.seams);
-    j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic());
-    j.key("genus");
-    if (s.hasGenus()) j.f64(s.genus()); else j.null();
-    j.key("closed"); j.b(s.closed());
-    j.key("manifold"); j.b(s.manifold());
-    j.key("consistent"); j.b(s.consistent());
-    j.key("orientation"); j.str(orientationName(s.orientation()));
-    j.key("solid");
-    if (s.solid == kMixedSolid) j.str("mixed");
-    else if (s.solid == kInvalid) j.null();
-    else j.u(s.solid);
-    j.key("bbox"); bbox(j, s.bboxMin, s.bboxMax);
-    j.key("area"); j.f64(s.area);
-    j.key("volume"); j.f64(s.volume);
-    j.close('}');
+    writeShell(j, shells[i], uint32_t(i));
   }
   j.close(']');
+}
+
+std::string shellJson(const Shell& shell, uint32_t id) {
+  Json j;
+  writeShell(j, shell, id);
+  return j.s;
 }
 
 std::string shellListJson(const Array<Shell>& shells) {

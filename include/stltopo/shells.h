@@ -109,6 +109,8 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
 // ---------------------------------------------------------------------------
 // Report fragments, in the format of infoJson / infoText.
 
+// One shell's object, as in "shellList" (`id` is its index).
+std::string shellJson(const Shell& shell, uint32_t id);
 // `"shellList":[{...},...]`: one object per shell, in shell order.
 std::string shellListJson(const Array<Shell>& shells);
 // `"defects":{...}`: each kind with its count and its first `maxPerKind` items; a hole's or
