@@ -1,6 +1,8 @@
 // One benchmark measurement in a fresh Node process (spawned by bench/run.mjs).
 //   node --expose-gc bench/child.mjs MODE FILE WARM BUDGET_MS
-// MODE: wasm-read | wasm-full | wasm-view | three | three-halfedge
+// MODE: wasm-read | wasm-full | wasm-view | three | three-halfedge | write
+// (write: the file's mesh written as binary and ASCII STL, WARM times each, by stltopo's
+// toStl (wasm) and by three.js's STLExporter on the STLLoader mesh; MB/s of output)
 // (wasm-view: loadStl(bytes, { view: true }), arrays left in wasm memory, then dispose())
 // Prints one JSON line: first-call time, warm times (up to WARM more calls while the
 // total stays under BUDGET_MS), peak RSS above this process before the file was read
@@ -131,6 +133,40 @@ if (mode === 'wasm-read' || mode === 'wasm-full' || mode === 'wasm-view') {
       return res;
     },
   );
+} else if (mode === 'write') {
+  const { loadStl, toStl } = await import('stltopo');
+  const { STLLoader } = await import('three/examples/jsm/loaders/STLLoader.js');
+  const { STLExporter } = await import('three/examples/jsm/exporters/STLExporter.js');
+  const THREE = await import('three');
+  const bytes = readFileSync(file);
+  out.inputBytes = bytes.length;
+  const mesh = await loadStl(bytes, { topology: false });
+  const ab = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+  const object = new THREE.Mesh(new STLLoader().parse(ab), new THREE.MeshBasicMaterial());
+  const reps = Math.max(1, warmMax);
+  const measure = async (fn) => {
+    const ms = [];
+    let size = 0;
+    for (let r = 0; r < reps; ++r) {
+      gc();
+      const t0 = performance.now();
+      size = await fn();
+      ms.push(performance.now() - t0);
+    }
+    ms.sort((a, b) => a - b);
+    const med = ms[Math.floor(ms.length / 2)];
+    return { bytes: size, ms: med, mbPerSecond: size / 1e3 / med };
+  };
+  out.triangles = mesh.nTriangles;
+  out.wasm = {
+    binary: await measure(async () => (await toStl(mesh)).length),
+    ascii: await measure(async () => (await toStl(mesh, { format: 'ascii' })).length),
+  };
+  const exporter = new STLExporter();
+  out.threeExporter = {
+    binary: await measure(async () => exporter.parse(object, { binary: true }).byteLength),
+    ascii: await measure(async () => exporter.parse(object, { binary: false }).length),
+  };
 } else {
   console.error(`child.mjs: unknown mode ${mode}`);
   process.exit(2);

@@ -375,6 +375,22 @@ for (const c of selected) {
   results.push(summarize(c, samples));
 }
 
+// Writing STL: the binary, ordered case of the largest selected size up to 1M (1M in a full
+// run), written as binary and ASCII by the native writer (stltopo_stages --write), the wasm
+// package (toStl) and three.js's STLExporter (on the STLLoader mesh), REPS times each; the
+// medians, in MB/s of output (1 MB = 10^6 bytes).
+const writeCase = [...selected].filter((c) => c.format === 'binary' && c.order === 'ordered' && !c.holes)
+  .sort((a, b) => SIZES[a.size] - SIZES[b.size]).filter((c) => SIZES[c.size] <= SIZES['1M']).pop();
+let writes = null;
+if (writeCase) {
+  const nat = run(BIN.stages, [writeCase.file, '--write', String(opt.reps)]);
+  if (nat.status !== 0) throw new Error(`stltopo_stages --write: ${nat.stderr}`);
+  const js = nodeChild('write', writeCase, { warm: opt.reps });
+  writes = { case: writeCase.id, triangles: js.triangles, native: lastJsonLine(nat.stdout), wasm: js.wasm, threeExporter: js.threeExporter };
+  const d = (w) => `${w.mbPerSecond.toFixed(0)} MB/s (${w.ms.toFixed(0)} ms, ${(w.bytes / 1e6).toFixed(1)} MB)`;
+  for (const k of ['native', 'wasm', 'threeExporter']) log(`  write ${writeCase.id} ${k}: binary ${d(writes[k].binary)}, ascii ${d(writes[k].ascii)}`);
+}
+
 function describeSample(k, s) {
   if (s.timedOut) return `> ${s.capMs / 1000} s (time cap)`;
   if (k === 'native') return `first ${s.first.totalMs.toFixed(1)} ms, warm ${s.warm ? s.warm.totalMs.toFixed(1) : '-'} ms`;
@@ -633,6 +649,17 @@ md.push('Native full topology: `stltopo_stages FILE --streamed-peak`, which read
   'high-water mark; the package exposes no allocator peak; it includes the initial 16 MiB), divided by the triangles. Node RSS: peak RSS of the ' +
   'child process minus its RSS before reading the file (it holds the whole input and the JS copies of the output).');
 md.push('');
+if (writes) {
+  md.push(`### Writing STL (${writes.case}, ${writes.triangles} triangles; MB/s of output, median of ${opt.reps})`);
+  md.push('');
+  const w = (x) => `${f(x.mbPerSecond, 0)} MB/s (${f(x.ms, 0)} ms)`;
+  md.push(table(['writer', 'binary', 'ASCII'], [
+    ['stltopo native (writeStl into a counting sink)', w(writes.native.binary), w(writes.native.ascii)],
+    ['stltopo wasm (Node, toStl)', w(writes.wasm.binary), w(writes.wasm.ascii)],
+    ['three.js STLExporter.parse', w(writes.threeExporter.binary), w(writes.threeExporter.ascii)],
+  ]));
+  md.push('');
+}
 md.push('### Ratios');
 md.push('');
 md.push(table(
@@ -661,6 +688,7 @@ console.log(text);
 
 const json = {
   benchmark: 'stltopo issue 7',
+  writes,
   environment: { ...env, loadAverageAtEnd: os.loadavg().map((x) => round(x, 2)), durationSec: round((Date.now() - t0run) / 1000, 1) },
   idleRssKiB: idle,
   costSec: Object.fromEntries(Object.entries(cost).map(([k, v]) => [k, round(v, 1)])),

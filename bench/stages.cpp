@@ -10,6 +10,10 @@
 // instead streams FILE through a Reader in 1 MiB chunks, builds the full topology (prev
 // and face included) and the report once, and prints the peak RSS above the RSS before
 // the read, as JSON: the memory of the full topology with the input streamed.
+//   stltopo_stages FILE --write [REPS]
+// instead reads FILE once and writes the mesh as binary and as ASCII STL through writeStl
+// REPS times (default 5) into a sink that only counts the bytes, and prints the median
+// times and speeds (MB/s of output, 1 MB = 10^6 bytes) as JSON.
 #include <sys/resource.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -104,10 +108,43 @@ static int streamedPeak(const char* path) {
   return 0;
 }
 
+static int writeSpeed(const char* path, int reps) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  stltopo::Mesh mesh;
+  stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
+  if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+  std::string out = "{\"triangles\":" + std::to_string(mesh.nTriangles());
+  for (stltopo::Format format : {stltopo::Format::Binary, stltopo::Format::Ascii}) {
+    stltopo::WriteOptions o;
+    o.format = format;
+    std::vector<double> ms;
+    uint64_t written = 0;
+    for (int r = 0; r < reps; ++r) {
+      written = 0;
+      auto t0 = Clock::now();
+      s = stltopo::writeStl(mesh, [](void* user, const uint8_t*, size_t n) { *static_cast<uint64_t*>(user) += n; return true; },
+                            &written, o);
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+    }
+    double m = median(ms);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, ",\"%s\":{\"bytes\":%llu,\"ms\":%.3f,\"mbPerSecond\":%.1f}",
+                  format == stltopo::Format::Binary ? "binary" : "ascii", (unsigned long long)written, m,
+                  m > 0 ? written / 1e3 / m : 0.0);
+    out += buf;
+  }
+  std::printf("%s,\"reps\":%d}\n", out.c_str(), reps);
+  return 0;
+}
+
 int main(int argc, char** argv) {
   // With the C library's default allocation (each large array mapped and unmapped on its
   // own), the peak is that of the live arrays.
   if (argc > 2 && !std::strcmp(argv[2], "--streamed-peak")) return streamedPeak(argv[1]);
+  if (argc > 2 && !std::strcmp(argv[2], "--write")) return writeSpeed(argv[1], argc > 3 ? std::max(1, std::atoi(argv[3])) : 5);
 #if defined(__GLIBC__)
   // Warm calls reuse the memory of the calls before them, as the wasm heap does (linear
   // memory is never given back) and as the CLI does: glibc would otherwise unmap every

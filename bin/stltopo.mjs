@@ -1,8 +1,11 @@
 #!/usr/bin/env node
-// npm CLI: `npx stltopo info [--json] FILE...` on the wasm build.
+// npm CLI: `npx stltopo info [--json] FILE...` and `npx stltopo convert IN OUT` on the wasm build.
 // Mirrors the native CLI (tools/cli.cpp): the same usage text, options, exit codes
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
+import { open, rename, unlink } from 'node:fs/promises';
+import { randomBytes } from 'node:crypto';
+import path from 'node:path';
 import { api, fileSource } from '../dist/instance.node.js';
 import { DEFAULTS } from '../dist/options.js';
 
@@ -15,7 +18,10 @@ const USAGE =
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
-  "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
+  "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
+  "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
+  "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
+  "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n";
 
 // strerror(3) texts (glibc) for the errors fopen/fread report most often.
 const STRERROR = {
@@ -69,6 +75,7 @@ async function main(argv) {
   const cmd = argv[0];
   if (cmd === '--help' || cmd === '-h' || cmd === 'help') return write(process.stdout, USAGE);
   if (cmd === '--version') return write(process.stdout, 'stltopo 0.1.0\n');
+  if (cmd === 'convert') return convert(argv);
   if (cmd !== 'info') return usageError(`stltopo: unknown command '${cmd}'\n${USAGE}`);
 
   const a = {
@@ -157,6 +164,90 @@ async function main(argv) {
     }
   }
   process.exitCode = rc;
+}
+
+// `stltopo convert`, as tools/cli.cpp: the same options, messages, exit codes and bytes
+// (the same writer); OUT through a temporary file in its folder, renamed when complete.
+async function convert(argv) {
+  const files = [];
+  const w = {};
+  for (let i = 1; i < argv.length; ++i) {
+    const s = argv[i];
+    if (s === '--') {
+      files.push(...argv.slice(i + 1));
+      break;
+    }
+    if (s.length < 2 || s[0] !== '-') {
+      files.push(s);
+      continue;
+    }
+    const takesValue = s === '--colors' || s === '--name';
+    if (takesValue && i + 1 >= argv.length) return usageError(`stltopo: ${s} needs a value\n`);
+    const v = takesValue ? argv[++i] : '';
+    if (s === '--ascii' || s === '--binary') w.format = s.slice(2);
+    else if (s === '--name') w.name = v;
+    else if (s === '--colors' && ['viscam', 'magics', 'none'].includes(v)) w.colors = v;
+    else if (s === '--colors') return usageError(`stltopo: bad --colors '${v}' (viscam, magics or none)\n`);
+    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
+  }
+  if (files.length !== 2) return usageError(`stltopo: convert needs IN and OUT\n${USAGE}`);
+  const [input, output] = files;
+  // err: an StlError (its location goes into the JSON too) or { code, message }.
+  const fail = async (file, code, message, err = { code, message }) => {
+    await write(process.stderr, `${await _internal.errorJson(file, err)}\n`);
+    process.exitCode = 1;
+  };
+  let source;
+  try {
+    source = input === '-' ? stdinSource() : await fileSource(input);
+  } catch (e) {
+    return fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
+  }
+  let out = null;
+  let temp = null;
+  let offset = 0;
+  try {
+    for await (const chunk of _internal.convert(source, w)) {
+      if (!out) {
+        if (output === '-') {
+          out = { write: (c) => write(process.stdout, c), close: async () => {} };
+        } else {
+          temp = path.join(path.dirname(output), `.${path.basename(output)}.tmp-${randomBytes(4).toString('hex').slice(0, 6)}`);
+          try {
+            out = await open(temp, 'wx', 0o666);
+          } catch (e) {
+            temp = null;
+            return await fail(output, 'write-failed', `write-failed: cannot create a file next to ${output}: ${strerror(e)}`);
+          }
+        }
+      }
+      try {
+        await out.write(chunk);
+      } catch {
+        return await fail(output, 'write-failed', `write-failed: the output refused the ${chunk.length} bytes at offset ${offset}`);
+      }
+      offset += chunk.length;
+    }
+    if (temp) {
+      try {
+        await out.sync();
+        await out.close();
+        out = null;
+        await rename(temp, output);
+        temp = null;
+      } catch (e) {
+        return await fail(output, 'write-failed', `write-failed: cannot write ${output}: ${strerror(e)}`);
+      }
+    }
+  } catch (e) {
+    if (!e || !e.code || String(e.code).startsWith('E')) throw e;
+    return await fail(input, e.code, e.message, e);
+  } finally {
+    if (temp) {
+      if (out) await out.close().catch(() => {});
+      await unlink(temp).catch(() => {});
+    }
+  }
 }
 
 async function failed(file, json, message) {

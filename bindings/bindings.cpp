@@ -27,6 +27,13 @@
 using emscripten::typed_memory_view;
 using emscripten::val;
 
+namespace stltopo {
+// What fromIndexed() returns besides the mesh (the third part of the array table).
+struct Indexed {
+  Array<uint32_t> inputVertexMap;
+};
+}  // namespace stltopo
+
 namespace {
 
 using stltopo::Array;
@@ -58,7 +65,8 @@ val statusToJs(const Status& s) {
 //   group    the mesh property that holds it in JS ("" = the mesh itself), key its name there;
 //   element  what its entries are indexed by, width entries per element;
 //   when     when it exists: "mesh" always, "normals" with { normals: true }, "colors" when the
-//            file has colours, "topology" unless { topology: false }; otherwise JS sets null;
+//            file has colours, "topology" unless { topology: false }, "indexed" for meshes of
+//            fromIndexed(); otherwise JS sets null;
 //   flags    kCopied: copied out even for { view: true } meshes (small, so holes never dangle);
 //            kDerived: not copied out of wasm for copies, rebuilt in JS on first read
 //            (web/src/mesh.js deriveArray) and not built by the core for them (prevAndFace);
@@ -116,7 +124,9 @@ val statusToJs(const Status& s) {
     "The degenerate triangles, ascending.")                                                                          \
   X(degenerateCorners, Defects, "defects", "degenerateCorners", "degenerate triangle", 1, "shells", kCopied,          \
     "Corners that weld: bit 0 corners 0,1; bit 1 corners 1,2; bit 2 corners 2,0 (7: all three).")                    \
-  X(loopShell, Defects, "defects", "loopShell", "loop", 1, "shells", kCopied, "Per boundary loop h: its shell.")
+  X(loopShell, Defects, "defects", "loopShell", "loop", 1, "shells", kCopied, "Per boundary loop h: its shell.")                                          \
+  X(inputVertexMap, Indexed, "", "inputVertexMap", "input vertex", 1, "indexed", kCopied,                             \
+    "fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it).")
 
 constexpr int kCopied = 1;
 constexpr int kDerived = 2;
@@ -180,6 +190,7 @@ class Session {
     reader_ = new (std::nothrow) stltopo::Reader(options_);
   }
   ~Session() {
+    delete writer_;
     delete reader_;
     std::free(input_);
   }
@@ -216,21 +227,7 @@ class Session {
     delete reader_;
     reader_ = nullptr;
     if (!s.ok()) return remember(s);
-    if (topology) {
-      stltopo::TopologyOptions to;
-      to.tolerance = tolerance > 0 ? tolerance : 0;
-      to.prevAndFace = prevAndFace;
-      to.triangleShell = shells;
-      s = stltopo::buildTopology(mesh_, topo_, to);
-      if (!s.ok()) return remember(s);
-      hasTopology_ = true;
-      if (shells) {
-        s = stltopo::findShellsAndDefects(mesh_, topo_, &shells_, &defects_);
-        if (!s.ok()) return remember(s);
-        hasShells_ = true;
-      }
-    }
-    return val::null();
+    return buildTopology(topology, tolerance, prevAndFace, shells);
   }
 
   double bytesRead() const { return reader_ ? double(reader_->bytesRead()) : bytesRead_; }
@@ -245,6 +242,7 @@ class Session {
     o.set("hasTopology", val(hasTopology_));
     o.set("hasShells", val(hasShells_));
     o.set("hasNormals", val(!mesh_.normals.empty() || (options_.keepNormals && mesh_.nTriangles() == 0)));
+    o.set("indexed", val(indexed_));
     val solids = val::array();
     for (const stltopo::Solid& s : mesh_.solids) {
       val so = val::object();
@@ -322,6 +320,86 @@ class Session {
     hasTopology_ = true;
   }
 
+  // The scalars of a mesh whose arrays were upload()ed: its colour convention ("none",
+  // "viscam", "magics") and solids ([{ name, firstTriangle, triangleCount }]).
+  void setMeta(const std::string& colorConvention, val solids) {
+    mesh_.colorConvention = colorConvention == "viscam"   ? stltopo::ColorConvention::VisCam
+                            : colorConvention == "magics" ? stltopo::ColorConvention::Magics
+                                                          : stltopo::ColorConvention::None;
+    mesh_.solids.clear();
+    const int n = solids.isArray() ? solids["length"].as<int>() : 0;
+    for (int i = 0; i < n; ++i) {
+      val so = solids[i];
+      stltopo::Solid s;
+      s.name = so["name"].isString() ? so["name"].as<std::string>() : std::string();
+      double first = so["firstTriangle"].as<double>(), count = so["triangleCount"].as<double>();
+      s.firstTriangle = first >= 0 && first <= 4294967295.0 ? uint32_t(first) : stltopo::kInvalid;
+      s.triangleCount = count >= 0 && count <= 4294967295.0 ? uint32_t(count) : stltopo::kInvalid;
+      mesh_.solids.push_back(std::move(s));
+    }
+  }
+
+  // fromIndexed(): builds the mesh from the upload()ed positions, triangles and optional
+  // attributes, colors and colorValid (an empty array = not given) and the solids of
+  // setMeta() (stltopo::meshFromIndexed), then its topology as finish() does.
+  val fromIndexed(bool weldNone, bool topology, double tolerance, bool prevAndFace, bool shells) {
+    const size_t nt = mesh_.triangles.size() / 3;
+    if ((!mesh_.attributes.empty() && mesh_.attributes.size() != nt) || (!mesh_.colors.empty() && mesh_.colors.size() != 3 * nt) ||
+        (!mesh_.colorValid.empty() && mesh_.colorValid.size() != nt))
+      return remember(Status::error(Code::InvalidArgument, "attributes, colors and colorValid must hold 1, 3 and 1 values per triangle"));
+    stltopo::IndexedMesh in;
+    in.positions = mesh_.positions.data();
+    in.positionsLength = mesh_.positions.size();
+    in.triangles = mesh_.triangles.data();
+    in.trianglesLength = mesh_.triangles.size();
+    in.attributes = mesh_.attributes.empty() ? nullptr : mesh_.attributes.data();
+    in.colors = mesh_.colors.empty() ? nullptr : mesh_.colors.data();
+    in.colorValid = mesh_.colorValid.empty() ? nullptr : mesh_.colorValid.data();
+    in.solids = mesh_.solids.data();
+    in.nSolids = mesh_.solids.size();
+    stltopo::IndexedOptions io;
+    io.weld = weldNone ? stltopo::Weld::None : stltopo::Weld::Exact;
+    stltopo::Mesh m;
+    Status s = stltopo::meshFromIndexed(in, m, &indexedArrays_.inputVertexMap, io);
+    if (!s.ok()) return remember(s);
+    mesh_ = std::move(m);
+    indexed_ = true;
+    return buildTopology(topology, tolerance, prevAndFace, shells);
+  }
+
+  // Starts writing the mesh as STL (stltopo::StlWriter): format "binary"/"ascii", colors
+  // "as-mesh"/"none"/"viscam"/"magics", name a string or null (each solid's own).
+  val writeBegin(const std::string& format, const std::string& colors, val name, bool storedNormals, double chunkBytes) {
+    delete writer_;
+    stltopo::WriteOptions o;
+    o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+    o.colors = colors == "none"     ? stltopo::WriteColors::None
+               : colors == "viscam" ? stltopo::WriteColors::VisCam
+               : colors == "magics" ? stltopo::WriteColors::Magics
+                                    : stltopo::WriteColors::AsMesh;
+    if (name.isString()) o.name = name.as<std::string>();
+    o.storedNormals = storedNormals;
+    if (chunkBytes > 0) o.chunkBytes = size_t(chunkBytes);
+    writer_ = new (std::nothrow) stltopo::StlWriter(mesh_, o);
+    if (!writer_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the writer"));
+    return val::null();
+  }
+
+  // The next chunk of the file: a borrowed Uint8Array view (valid until the next call into
+  // wasm), null at the end (the writer is freed), or a status object on error.
+  val writeNext() {
+    if (!writer_) return val::null();
+    const uint8_t* data;
+    size_t size;
+    Status s = writer_->next(data, size);
+    if (!s.ok() || size == 0) {
+      delete writer_;
+      writer_ = nullptr;
+      return statusToJs(s);
+    }
+    return val(typed_memory_view(size, data));
+  }
+
   val validate() const {
     if (!hasTopology_) return statusToJs(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
     return statusToJs(stltopo::validate(mesh_, topo_));
@@ -335,6 +413,25 @@ class Session {
     e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
     return e;
   }
+  // The topology of mesh_ when asked (prevAndFace false: without prev and face, see
+  // TopologyOptions), and with `shells` also triangleShell, the shell list and the defect
+  // lists; null or the failure's status.
+  val buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells) {
+    if (!topology) return val::null();
+    stltopo::TopologyOptions to;
+    to.tolerance = tolerance > 0 ? tolerance : 0;
+    to.prevAndFace = prevAndFace;
+    to.triangleShell = shells;
+    Status s = stltopo::buildTopology(mesh_, topo_, to);
+    if (!s.ok()) return remember(s);
+    hasTopology_ = true;
+    if (shells) {
+      s = stltopo::findShellsAndDefects(mesh_, topo_, &shells_, &defects_);
+      if (!s.ok()) return remember(s);
+      hasShells_ = true;
+    }
+    return val::null();
+  }
   static val bytesToJs(const std::string& s) {
     return val(typed_memory_view(s.size(), reinterpret_cast<const uint8_t*>(s.data()))).call<val>("slice");
   }
@@ -346,6 +443,7 @@ class Session {
   stltopo::Mesh& part(stltopo::Mesh*) { return mesh_; }
   stltopo::Topology& part(stltopo::Topology*) { return topo_; }
   stltopo::Defects& part(stltopo::Defects*) { return defects_; }
+  stltopo::Indexed& part(stltopo::Indexed*) { return indexedArrays_; }
 
   template <class F>
   void withArray(const std::string& n, F&& f) {
@@ -366,6 +464,9 @@ class Session {
   stltopo::Array<stltopo::Shell> shells_;
   stltopo::Defects defects_;
   bool hasShells_ = false;
+  bool indexed_ = false;
+  stltopo::Indexed indexedArrays_;
+  stltopo::StlWriter* writer_ = nullptr;
   Status last_;
 };
 
@@ -448,6 +549,10 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("array", &Session::array)
       .function("upload", &Session::upload)
       .function("setCounts", &Session::setCounts)
+      .function("setMeta", &Session::setMeta)
+      .function("fromIndexed", &Session::fromIndexed)
+      .function("writeBegin", &Session::writeBegin)
+      .function("writeNext", &Session::writeNext)
       .function("validate", &Session::validate);
   function("_arrayLayout", &arrayLayout);
   function("_errorJson", &errorJson);

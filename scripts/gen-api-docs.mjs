@@ -24,6 +24,7 @@ const ABSENT = {
   colors: "null when colorConvention is 'none'",
   topology: 'null with topology: false',
   shells: 'null without { shells: true }',
+  indexed: 'null for meshes of loadStl()',
 };
 const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1'
   : d.element.endsWith('+1') ? `one more than the ${d.element.slice(0, -2)}s`

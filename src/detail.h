@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "float_format.h"
 #include "stltopo/stltopo.h"
 
 namespace stltopo::detail {
@@ -99,10 +100,6 @@ inline TriangleFigures triangleFigures(const float* a, const float* b, const flo
 inline bool normalMismatch(const float* n, const TriangleFigures& f) {
   return (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) && double(n[0]) * f.nx + double(n[1]) * f.ny + double(n[2]) * f.nz < 0;
 }
-
-// Shortest decimal that reads back as the same value (float32 or double), rendered
-// like JavaScript's Number#toString: fixed notation for exponents in [-7, 21).
-std::string shortest(double x, bool isFloat);
 
 // A JSON writer for the reports: s holds the text, `first` whether the next key or
 // element is the first of its object or array.

@@ -211,16 +211,29 @@ struct Builder {
       (void)mesh.normals.resize(nn + 3);
       std::memcpy(mesh.normals.data() + nn, n, 3 * sizeof(float));
     }
-    // Figures: area, volume, normal mismatch (the bounding box grows in weld()).
+    figures(n, v, attr);
+    return true;
+  }
+
+  // The figures of a triangle (corners v, stored normal n, attribute word attr): area,
+  // volume, normal mismatch and whether a word has the VisCAM bit (the bounding box grows
+  // in weld()).
+  inline void figures(const float* n, const float* v, uint16_t attr) {
     TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
     mesh.area += fig.area;
     mesh.volume += fig.volume;
     if (normalMismatch(n, fig)) ++mesh.normalMismatches;
     if (attr & 0x8000u) anyVisCamBit = true;
-    return true;
   }
 
+  // A 5-bit colour channel as 8 bits, and back: to5(c5(v)) == v for every v < 32, and
+  // to5 gives the nearest 5-bit value for the other bytes.
   static uint8_t c5(unsigned v) { return uint8_t((v * 255u + 15u) / 31u); }
+  static unsigned to5(uint8_t c) { return (unsigned(c) * 31u + 127u) / 255u; }
+  // The VisCAM word of a colour: bit 15 set, R in bits 10-14, G 5-9, B 0-4.
+  static uint16_t visCamWord(const uint8_t* rgb) {
+    return uint16_t(0x8000u | to5(rgb[0]) << 10 | to5(rgb[1]) << 5 | to5(rgb[2]));
+  }
 
   bool decodeColors();
 

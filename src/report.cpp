@@ -8,74 +8,13 @@
 #include <locale.h>
 
 #include "detail.h"
+#include "float_format.h"
 
 namespace stltopo {
+namespace {
 
-using detail::cLocale;
 using detail::Json;
 using detail::shortest;
-
-std::string detail::shortest(double x, bool isFloat) {
-  if (x == 0) return std::signbit(x) ? "-0" : "0";
-  char buf[64];
-  int maxp = isFloat ? 9 : 17;
-  std::string digits;
-  int exp10 = 0;
-  for (int p = 1; p <= maxp; ++p) {
-    std::snprintf(buf, sizeof buf, "%.*e", p - 1, x);
-    // Collect the mantissa digits and the exponent without trusting the locale's point.
-    digits.clear();
-    const char* s = buf;
-    bool neg = *s == '-';
-    if (neg) ++s;
-    while (*s && *s != 'e') {
-      if (*s >= '0' && *s <= '9') digits += *s;
-      ++s;
-    }
-    exp10 = *s == 'e' ? std::atoi(s + 1) : 0;
-    std::string canon;
-    if (neg) canon += '-';
-    canon += digits[0];
-    if (digits.size() > 1) {
-      canon += '.';
-      canon.append(digits, 1, std::string::npos);
-    }
-    canon += 'e';
-    canon += std::to_string(exp10);
-    bool same = isFloat ? strtof_l(canon.c_str(), nullptr, cLocale()) == float(x)
-                        : strtod_l(canon.c_str(), nullptr, cLocale()) == x;
-    if (same || p == maxp) {
-      while (digits.size() > 1 && digits.back() == '0') digits.pop_back();
-      std::string out;
-      if (neg) out += '-';
-      int n = int(digits.size());
-      if (exp10 >= 21 || exp10 < -7) {
-        out += digits[0];
-        if (n > 1) {
-          out += '.';
-          out.append(digits, 1, std::string::npos);
-        }
-        out += exp10 < 0 ? "e-" : "e+";
-        out += std::to_string(exp10 < 0 ? -exp10 : exp10);
-      } else if (exp10 < 0) {
-        out += "0.";
-        out.append(size_t(-exp10 - 1), '0');
-        out += digits;
-      } else if (exp10 + 1 >= n) {
-        out += digits;
-        out.append(size_t(exp10 + 1 - n), '0');
-      } else {
-        out.append(digits, 0, size_t(exp10 + 1));
-        out += '.';
-        out.append(digits, size_t(exp10 + 1), std::string::npos);
-      }
-      return out;
-    }
-  }
-  return "0";
-}
-
-namespace {
 
 void location(Json& j, const Status& st) {
   if (st.offset != kNoOffset) { j.key("offset"); j.u(st.offset); }

@@ -1,5 +1,6 @@
-// stltopo command-line tool: `stltopo info [--json] FILE...`
+// stltopo command-line tool: `stltopo info [--json] FILE...`, `stltopo convert IN OUT`
 // The only part of the project that does file I/O and printing.
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,7 +28,10 @@ const char* kUsage =
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
-    "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n";
+    "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
+    "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
+    "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
+    "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n";
 
 struct Args {
   bool json = false, topology = true, shells = false, defects = false;
@@ -82,6 +87,110 @@ stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& ba
   return s;
 }
 
+// The output of `convert`: standard output, or a temporary file next to OUT that is
+// renamed over OUT only once the whole file is written (and removed otherwise).
+struct Output {
+  std::string path, temp;
+  int fd = -1;
+
+  stltopo::Status open(const std::string& out) {
+    path = out;
+    if (out == "-") {
+      fd = STDOUT_FILENO;
+      return {};
+    }
+    size_t slash = out.rfind('/');
+    std::string dir = slash == std::string::npos ? "" : out.substr(0, slash + 1);
+    std::string base = slash == std::string::npos ? out : out.substr(slash + 1);
+    std::string pattern = dir + "." + base + ".tmp-XXXXXX";
+    std::vector<char> name(pattern.begin(), pattern.end());
+    name.push_back('\0');
+    fd = mkstemp(name.data());
+    if (fd < 0)
+      return stltopo::Status::error(stltopo::Code::WriteFailed, "cannot create a file next to " + out + ": " + std::strerror(errno));
+    temp = name.data();
+    mode_t mask = umask(0);
+    umask(mask);
+    (void)fchmod(fd, 0666 & ~mask);  // what open() would have given OUT
+    return {};
+  }
+
+  static bool sink(void* user, const uint8_t* data, size_t size) {
+    int fd = static_cast<Output*>(user)->fd;
+    while (size > 0) {
+      ssize_t n = ::write(fd, data, size);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      data += n;
+      size -= size_t(n);
+    }
+    return true;
+  }
+
+  // Renames the temporary file over OUT (ok) or removes it.
+  stltopo::Status close(stltopo::Status s) {
+    if (temp.empty()) return s;
+    int err = 0;
+    if (s.ok() && fsync(fd) != 0) err = errno;
+    if (::close(fd) != 0 && s.ok() && !err) err = errno;
+    if (s.ok() && !err && std::rename(temp.c_str(), path.c_str()) != 0) err = errno;
+    if (s.ok() && err) s = stltopo::Status::error(stltopo::Code::WriteFailed, "cannot write " + path + ": " + std::strerror(err));
+    if (!s.ok()) std::remove(temp.c_str());
+    return s;
+  }
+};
+
+int convert(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::WriteOptions wo;
+  bool formatGiven = false;
+  for (int i = 2; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s == "--") {  // the rest are file names
+      files.insert(files.end(), argv + i + 1, argv + argc);
+      break;
+    }
+    if (s.size() < 2 || s[0] != '-') {
+      files.push_back(s);
+      continue;
+    }
+    bool takesValue = s == "--colors" || s == "--name";
+    if (takesValue && i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str()); return 2; }
+    std::string v = takesValue ? argv[++i] : "";
+    if (s == "--ascii" || s == "--binary") {
+      wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+      formatGiven = true;
+    } else if (s == "--name") {
+      wo.name = v;
+    } else if (s == "--colors" && (v == "viscam" || v == "magics" || v == "none")) {
+      wo.colors = v == "viscam" ? stltopo::WriteColors::VisCam : v == "magics" ? stltopo::WriteColors::Magics : stltopo::WriteColors::None;
+    } else if (s == "--colors") {
+      std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str());
+      return 2;
+    } else {
+      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
+      return 2;
+    }
+  }
+  if (files.size() != 2) { std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage); return 2; }
+  stltopo::Mesh mesh;
+  stltopo::Status s = readFile(files[0], stltopo::ReadOptions{}, mesh);
+  if (!s.ok()) {
+    std::fprintf(stderr, "%s\n", stltopo::errorJson(files[0], s).c_str());
+    return 1;
+  }
+  if (!formatGiven) wo.format = mesh.format;
+  std::signal(SIGXFSZ, SIG_IGN);  // over a file size limit, write() fails instead (write-failed)
+  Output out;
+  s = out.open(files[1]);
+  if (s.ok()) s = out.close(stltopo::writeStl(mesh, Output::sink, &out, wo));
+  if (!s.ok()) {
+    std::fprintf(stderr, "%s\n", stltopo::errorJson(files[1], s).c_str());
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,6 +207,7 @@ int main(int argc, char** argv) {
   std::string cmd = argv[1];
   if (cmd == "--help" || cmd == "-h" || cmd == "help") { std::fputs(kUsage, stdout); return 0; }
   if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
+  if (cmd == "convert") return convert(argc, argv);
   if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
   bool endOfOptions = false;
   for (int i = 2; i < argc; ++i) {

@@ -30,9 +30,12 @@ enum class Code : uint8_t {
   TrailingBytes,   // "trailing-bytes": < 84 extra bytes after the last binary triangle
   MissingEndsolid, // "missing-endsolid": ASCII file ends without endsolid
   NameTruncated,   // "name-truncated": a solid name longer than kMaxNameBytes
+  // errors (after the warnings: the numbering of the codes above stays)
+  InvalidIndex,    // "invalid-index": a vertex id out of range (element: the triangle)
+  WriteFailed,     // "write-failed": the output sink refused the data
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };
-inline constexpr int kCodeCount = int(Code::NameTruncated) + 1;
+inline constexpr int kCodeCount = int(Code::WriteFailed) + 1;
 
 // The stable name of a code ("truncated"), "unknown" for a value outside the enum.
 const char* codeName(Code c);

@@ -19,3 +19,5 @@
 #include "stltopo/topology.h"
 #include "stltopo/report.h"
 #include "stltopo/shells.h"
+#include "stltopo/indexed.h"
+#include "stltopo/write.h"

@@ -8,7 +8,7 @@ import { spawnSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import { pathToFileURL } from 'node:url';
 import path from 'node:path';
-import { loadStl, loadStlFile, StlError } from 'stltopo';
+import { loadStl, loadStlFile, StlError, fromIndexed } from 'stltopo';
 import * as worker from 'stltopo/worker';
 import { api } from '../../dist/instance.node.js';
 import { fixture, gridStl, root, nativeCli, haveNativeCli } from './helpers.mjs';
@@ -35,12 +35,16 @@ test('every row of the array table is on the mesh: its type, its length, null wh
   for (const view of [false, true]) {
     const m = await loadStl(g, { normals: true, view, shells: true });
     const n = counts(m);
+    // The rows of fromIndexed() meshes, on one of the grid's own arrays.
+    const fi = await fromIndexed(m.positions, m.triangles, { view });
+    n['input vertex'] = m.nVertices;
     for (const d of layout) {
-      const a = at(m, d);
+      const a = at(d.when === 'indexed' ? fi : m, d);
       assert.equal(a?.constructor.name, d.type, `${d.name} (view ${view})`);
       assert.equal(a.length, d.width * n[d.element], `${d.name} has ${d.width} per ${d.element}`);
     }
     m.dispose();
+    fi.dispose();
   }
   const bare = await loadStl(gridStl(3), { topology: false });
   for (const d of layout) {
@@ -129,10 +133,11 @@ test('the npm CLI prints the native bytes for a missing file (errorJson from JS)
 test('the entry points export the public API only (no _internal, no fileSource), and exports maps no internal file', async () => {
   const pkg = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
   assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './three', './worker']);
-  const pub = ['DEFECT_KINDS', 'EdgeKind', 'Mesh', 'StlError', 'extractShell', 'kInvalid', 'loadStl', 'loadStlFile'];
+  const pub = ['DEFECT_KINDS', 'EdgeKind', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'kInvalid', 'loadStl', 'loadStlFile',
+    'toStl', 'writeStl'];
   assert.deepEqual(Object.keys(await import('stltopo')).sort(), pub);
   assert.deepEqual(Object.keys(worker).sort(), pub);
   assert.deepEqual(Object.keys(await import('stltopo/three')).sort(),
-    ['holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);
+    ['fromBufferGeometry', 'holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);
   await assert.rejects(import('stltopo/dist/instance.node.js'), { code: 'ERR_PACKAGE_PATH_NOT_EXPORTED' });
 });

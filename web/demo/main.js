@@ -7,7 +7,7 @@
 // (the selected one has class "active" and its figures are [data-shell-stat="<shellList key>"]);
 // each defect entry data-defect-kind="<kind>" data-defect-index="<i>" (the framed one is active,
 // and body[data-focused-defect] says "<kind>:<i>"); the error code is in [data-error-code].
-import { loadStl, DEFECT_KINDS } from 'stltopo/worker';
+import { loadStl, toStl, DEFECT_KINDS } from 'stltopo/worker';
 import { Viewer, holeColor, colors } from './viewer.js';
 import { samples, defaultSampleId } from './samples.js';
 
@@ -84,6 +84,8 @@ async function load(source, { name, credit = '' } = {}) {
     if (seq !== loadSeq) return;
     const sceneMs = viewer.setMesh(mesh);
     hasModel = true;
+    shown = { mesh, name };
+    $('#download').hidden = false;
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     hideProgress();
     current = null;
@@ -101,9 +103,35 @@ async function load(source, { name, credit = '' } = {}) {
     viewer.clear();
     clearPanels();
     hasModel = false;
+    shown = null;
+    $('#download').hidden = true;
     setState('error');
   }
 }
+
+// The mesh on screen, for "Download STL": written as STL in the worker (the mesh came from
+// one), then handed to the browser as a download.
+let shown = null;
+$('#download-button').addEventListener('click', async () => {
+  if (!shown) return;
+  const button = $('#download-button');
+  const format = $('#download-format').value;
+  button.disabled = true;
+  try {
+    const blob = await toStl(shown.mesh, { format });
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `${shown.name.replace(/\.stl$/i, '')}${format === 'ascii' ? '-ascii' : ''}.stl`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
+  } catch (error) {
+    showError(shown.name, error);
+  } finally {
+    button.disabled = false;
+  }
+});
 
 /** Lets the page paint (progress text) before a long step; does not hang in a hidden tab. */
 function nextFrame() {

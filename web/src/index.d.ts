@@ -8,7 +8,7 @@ export declare const EdgeKind: Readonly<{ Interior: 0; Boundary: 1; Inconsistent
 
 export type ErrorCode =
   | 'empty' | 'not-stl' | 'truncated' | 'unexpected-end' | 'ascii-syntax' | 'non-finite' | 'too-large'
-  | 'out-of-memory' | 'invalid-argument' | 'aborted';
+  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'invalid' | 'invalid-index' | 'write-failed';
 export type WarningCode = 'trailing-bytes' | 'missing-endsolid' | 'name-truncated';
 
 /** Every failure of loadStl: the same codes and messages as the C++ core. */
@@ -194,7 +194,8 @@ export declare class Mesh {
   private constructor();
   /** true for { view: true } meshes (borrowed wasm views; dispose() them). */
   readonly view: boolean;
-  format: 'binary' | 'ascii';
+  /** 'unknown' for meshes of fromIndexed(). */
+  format: 'binary' | 'ascii' | 'unknown';
   nVertices: number;
   nTriangles: number;
   /** Half-edge count (2 per pair); 0 without topology. */
@@ -289,6 +290,8 @@ export declare class Mesh {
     /** Per boundary loop h: its shell. 1 per loop. */
     loopShell: Uint32Array;
   } | null;
+  /** fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it). 1 per input vertex; null for meshes of loadStl(). */
+  inputVertexMap: Uint32Array | null;
   // END arrays
   stats: Stats;
 
@@ -322,3 +325,55 @@ export declare function loadStl(input: StlInput, options?: LoadOptions): Promise
 
 /** Node only: streams a file from disk (rejects in browsers). */
 export declare function loadStlFile(path: string | URL, options?: LoadOptions): Promise<Mesh>;
+
+export interface IndexedOptions extends Omit<LoadOptions, 'weld' | 'maxTriangles' | 'maxBytes' | 'onProgress'> {
+  /**
+   * 'exact' (default): equal positions are one vertex, as loadStl welds them (so renderer
+   * seams close); inputVertexMap maps the caller's vertex ids to the mesh's. 'none': the
+   * caller's vertices as they are. { tolerance }: 'exact', then the tolerance weld of loadStl.
+   */
+  weld?: 'exact' | 'none' | { tolerance: number };
+  /** Per-triangle attribute words (decoded as a file's: bit 15 = a VisCAM colour). */
+  attributes?: Uint16Array | ArrayLike<number>;
+  /** Per-triangle sRGB bytes (3 per triangle): VisCAM colours; not together with attributes. */
+  colors?: Uint8Array | ArrayLike<number>;
+  /** Per triangle 0/1 (default: every triangle coloured); only with colors. */
+  colorValid?: Uint8Array | ArrayLike<number>;
+  /** Named stretches of triangles, in order and not overlapping; the rest become unnamed solids. */
+  solids?: Array<{ name?: string; firstTriangle: number; triangleCount: number }>;
+}
+
+/**
+ * A Mesh (the same object as loadStl's) from positions (x,y,z per vertex) and triangles (3
+ * vertex ids each). Rejects with StlError: invalid-index (error.triangle), non-finite (the
+ * vertex in the message), invalid-argument (lengths, solids), too-large, out-of-memory.
+ */
+export declare function fromIndexed(
+  positions: Float32Array | ArrayLike<number>,
+  triangles: Uint32Array | ArrayLike<number>,
+  options?: IndexedOptions,
+): Promise<Mesh>;
+
+export interface WriteOptions {
+  /** 'binary' (default) or 'ascii'. */
+  format?: 'binary' | 'ascii';
+  /**
+   * Binary colours: 'as-mesh' (default: the mesh's convention and attribute words as they
+   * are), or re-encoded as 'viscam' / 'magics' (5 bits per channel), or 'none' (zero words).
+   */
+  colors?: 'as-mesh' | 'none' | 'viscam' | 'magics';
+  /** Every solid's name (default: each solid's own). Cut before bytes the format cannot carry. */
+  name?: string;
+  /** 'stored' (default): the stored normals when the mesh kept them; 'computed': from the winding. */
+  normals?: 'stored' | 'computed';
+  /** Largest chunk of writeStl() (default 1 MiB; at least 16 KiB is used). */
+  chunkBytes?: number;
+  /** Write in a worker (meshes of stltopo/worker are always written in one). */
+  worker?: boolean;
+}
+
+/** The STL file of a mesh, chunk by chunk (fits a ReadableStream or a Node stream). */
+export declare function writeStl(mesh: Mesh, options?: WriteOptions): AsyncIterableIterator<Uint8Array>;
+
+/** The STL file of a mesh: a Blob (type model/stl) in browsers, one Uint8Array in Node. */
+export declare function toStl(mesh: Mesh, options?: WriteOptions): Promise<Blob | Uint8Array>;

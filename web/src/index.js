@@ -5,6 +5,17 @@ import { stlError } from './errors.js';
 /** Reads an STL file into a welded mesh and its half-edge topology. */
 export const loadStl = api.loadStl;
 
+/** A Mesh (the same object loadStl() gives) from indexed positions and triangles. */
+export const fromIndexed = api.fromIndexed;
+
+/** The STL file of a mesh as an async iterator of Uint8Array chunks. */
+export const writeStl = api.writeStl;
+
+/** The STL file of a mesh as a Blob (type model/stl), assembled from writeStl()'s chunks. */
+export async function toStl(mesh, options) {
+  return new Blob(await api.stlChunks(mesh, options), { type: 'model/stl' });
+}
+
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {
   throw stlError('invalid-argument', 'loadStlFile() needs Node; use loadStl(file) with a File/Blob');

@@ -24,9 +24,20 @@ export function isPresent(d, raw) {
     case 'colors': return raw.colorConvention !== 'none';
     case 'topology': return raw.hasTopology;
     case 'shells': return !!raw.hasShells;
+    case 'indexed': return !!raw.indexed;
     default: throw new Error(`stltopo: array ${d.name} has an unknown condition '${d.when}'`);
   }
 }
+
+/** The arrays that make the mesh itself (what a writer reads), as opposed to its topology. */
+export const isMeshArray = (d) => d.when === 'mesh' || d.when === 'normals' || d.when === 'colors';
+
+// Where a mesh's data lives besides its JS arrays: the wasm session of a { view: true } mesh
+// ({ entry, session }), and the worker loader of a mesh a worker made (its writes run in a
+// worker too).
+export const liveSession = new WeakMap();
+export const workerHome = new WeakMap();
+const layouts = new WeakMap(); // mesh -> the array table it was made with
 
 const registry = typeof FinalizationRegistry === 'function'
   ? new FinalizationRegistry(({ entry, session }) => {
@@ -124,6 +135,7 @@ export class Mesh {
     this.#counts = raw.counts;
     this.#validation = raw.validation || null;
     this.#layout = raw.layout;
+    layouts.set(this, raw.layout);
     const live = session !== null;
     /** true when the arrays are borrowed views into wasm memory (dispose() frees them). */
     this.view = live;
@@ -186,6 +198,7 @@ export class Mesh {
     delete stats.file;
     this.stats = stats;
     if (live && registry) registry.register(this, { entry, session }, this);
+    if (live) liveSession.set(this, { entry, session });
   }
 
   // Navigation (face[e] is the left face of e). Same names as the C++ header.
@@ -257,6 +270,7 @@ export class Mesh {
   dispose() {
     if (this.#disposed || !this.#session) return;
     this.#disposed = true;
+    liveSession.delete(this);
     if (registry) registry.unregister(this);
     if (!this.#entry.dead) this.#session.delete();
     this.#session = null;
@@ -376,4 +390,13 @@ function defectItem(mesh, kind, i) {
     default:
       return { triangle: d.degenerateTriangles[i], corners: CORNERS[d.degenerateCorners[i]].slice() };
   }
+}
+
+/** The plain data a writer needs from a mesh: cloneable, for a worker thread. */
+export function writeInput(mesh) {
+  const layout = layouts.get(mesh);
+  if (!layout) throw stlError('invalid-argument', 'writeStl() needs a Mesh of loadStl() or fromIndexed()');
+  const input = { colorConvention: mesh.colorConvention, solids: mesh.solids.map((s) => ({ ...s })) };
+  for (const d of layout) if (isMeshArray(d) && !d.group) input[d.key] = meshArray(mesh, d);
+  return input;
 }

@@ -2,8 +2,16 @@
 import { api, fileSource } from './instance.node.js';
 import { stlError } from './errors.js';
 import { normalizeOptions } from './options.js';
+import { concatBytes } from './wasm.js';
 
 export const loadStl = api.loadStl;
+export const fromIndexed = api.fromIndexed;
+export const writeStl = api.writeStl;
+
+/** Node: the STL file of a mesh as one Uint8Array (writeStl() streams it instead). */
+export async function toStl(mesh, options) {
+  return concatBytes(...(await api.stlChunks(mesh, options)));
+}
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {

@@ -64,3 +64,66 @@ export function plainOptions(o) {
     shells: o.shells,
   };
 }
+
+/** The defaults of writeStl() / toStl() and of `stltopo convert`. */
+export const WRITE_DEFAULTS = Object.freeze({
+  format: 'binary',
+  colors: 'as-mesh',
+  name: null, // each solid's own name
+  normals: 'stored', // the stored normals when the mesh kept them, else from the winding
+  chunkBytes: 1 << 20,
+});
+
+/** The checked, complete options of a write. Throws invalid-argument on a bad value. */
+export function normalizeWriteOptions(options) {
+  if (options == null) options = {};
+  if (typeof options !== 'object') throw invalid('options must be an object');
+  const o = { ...WRITE_DEFAULTS, worker: !!options.worker };
+  const pick = (key, allowed) => {
+    const v = options[key];
+    if (v === undefined) return;
+    if (!allowed.includes(v)) throw invalid(`${key} must be ${allowed.map((a) => `'${a}'`).join(', ')}`);
+    o[key] = v;
+  };
+  pick('format', ['binary', 'ascii']);
+  pick('colors', ['as-mesh', 'none', 'viscam', 'magics']);
+  pick('normals', ['stored', 'computed']);
+  if (options.name !== undefined && options.name !== null) {
+    if (typeof options.name !== 'string') throw invalid('name must be a string');
+    o.name = options.name;
+  }
+  if (options.chunkBytes !== undefined) {
+    const n = options.chunkBytes;
+    if (!Number.isInteger(n) || n < 1) throw invalid('chunkBytes must be a positive integer');
+    o.chunkBytes = n;
+  }
+  return o;
+}
+
+/** The options of fromIndexed(): those of a load (weld also 'none'), plus the optional arrays. */
+export function normalizeIndexedOptions(options) {
+  if (options == null) options = {};
+  if (typeof options !== 'object') throw invalid('options must be an object');
+  const none = options.weld === 'none';
+  const o = normalizeOptions(none ? { ...options, weld: 'exact' } : options);
+  o.weldNone = none;
+  const typed = (key, Type) => {
+    const v = options[key];
+    if (v === undefined || v === null) return null;
+    if (v instanceof Type) return v;
+    if (ArrayBuffer.isView(v) || Array.isArray(v)) return Type.from(v);
+    throw invalid(`${key} must be a ${Type.name} or an array of numbers`);
+  };
+  o.attributes = typed('attributes', Uint16Array);
+  o.colors = typed('colors', Uint8Array);
+  o.colorValid = typed('colorValid', Uint8Array);
+  const solids = options.solids ?? [];
+  if (!Array.isArray(solids)) throw invalid('solids must be an array of { name, firstTriangle, triangleCount }');
+  o.solids = solids.map((s, i) => {
+    if (!s || !Number.isInteger(s.firstTriangle) || !Number.isInteger(s.triangleCount) || s.firstTriangle < 0 || s.triangleCount < 0) {
+      throw invalid(`solids[${i}] needs integer firstTriangle and triangleCount >= 0`);
+    }
+    return { name: s.name === undefined ? '' : String(s.name), firstTriangle: s.firstTriangle, triangleCount: s.triangleCount };
+  });
+  return o;
+}

@@ -6,15 +6,22 @@
 //                                  options: plainOptions() of the load
 //     chunks  { chunks, done, error? }  the answer to a pull: Uint8Arrays (transferred), done at
 //                                  the end, error (errorToMessage) when the producer failed
+//     indexed { positions, triangles, options }  fromIndexed() (arrays transferred copies);
+//                                  options: the caller's, without worker/signal/onProgress
+//     write   { mesh, options }    writeStl() of writeInput(mesh) data (copied); answered by
+//                                  one written message per writePull
+//     writePull {}                 asks for the next chunk of the write
 //   worker -> main
 //     pull    {}                   asks for the next chunks of a 'stream' input
 //     progress { fraction, bytesRead }
 //     result  { raw }              the mesh's raw data, its arrays transferred (transferList)
+//     written { chunk }            the next chunk of a write (transferred), null at the end
 //     error   { error }            errorToMessage() of the failure
 import { StlError } from './errors.js';
 
 export const Msg = Object.freeze({
   Load: 'load', Chunks: 'chunks', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
+  Indexed: 'indexed', Write: 'write', WritePull: 'writePull', Written: 'written',
 });
 export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
 
@@ -23,6 +30,10 @@ export const chunksMessage = (chunks, done, error) => (error ? { type: Msg.Chunk
 export const pullMessage = () => ({ type: Msg.Pull });
 export const progressMessage = (fraction, bytesRead) => ({ type: Msg.Progress, fraction, bytesRead });
 export const resultMessage = (raw) => ({ type: Msg.Result, raw });
+export const indexedMessage = (positions, triangles, options) => ({ type: Msg.Indexed, positions, triangles, options });
+export const writeMessage = (mesh, options) => ({ type: Msg.Write, mesh, options });
+export const writePullMessage = () => ({ type: Msg.WritePull });
+export const writtenMessage = (chunk) => ({ type: Msg.Written, chunk });
 export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) });
 
 /** The ArrayBuffers of a raw result, for a postMessage transfer list. */

@@ -1,6 +1,6 @@
 // Types for 'stltopo/three' (three.js is a peer dependency).
 import type { BufferGeometry, LineSegments, Material } from 'three';
-import type { Mesh } from './index.js';
+import type { Mesh, IndexedOptions } from './index.js';
 
 export interface ToBufferGeometryOptions {
   /**
@@ -42,3 +42,9 @@ export declare function problemEdgesToLineSegments(
   options?: { nonManifoldColor?: number; inconsistentColor?: number; material?: Material },
 ): ProblemLines;
 
+
+/**
+ * A stltopo Mesh from a BufferGeometry, indexed or not (non-indexed geometry is welded
+ * exactly); groups become solids named "material <materialIndex>". Options as fromIndexed's.
+ */
+export declare function fromBufferGeometry(geometry: BufferGeometry, options?: IndexedOptions): Promise<Mesh>;

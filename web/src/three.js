@@ -11,6 +11,7 @@ import {
   LineSegments,
   SRGBColorSpace,
 } from 'three';
+import { stlError } from './errors.js';
 
 const own = (mesh, a) => (mesh.view ? a.slice() : a);
 
@@ -164,4 +165,48 @@ export function problemEdgesToLineSegments(mesh, { nonManifoldColor = 0xff00ff, 
   lines.name = 'stltopo-problem-edges';
   lines.userData = { halfedges, kinds: Uint8Array.from(kinds) };
   return lines;
+}
+
+/**
+ * A stltopo Mesh (what loadStl() gives) from a three.js BufferGeometry, indexed or not:
+ * position (any item type, interleaved or not) becomes positions; the index, or 0, 1, 2, ...
+ * for a non-indexed geometry, becomes triangles; groups become solids named
+ * "material <materialIndex>" (sorted by start; a group running past the end stops there).
+ * Non-indexed geometry is welded exactly (weld: 'none' would leave every triangle apart);
+ * indexed geometry takes options.weld ('exact' by default, so that the seams renderers
+ * split vertices at for normals and UVs do not show as holes). The other options are
+ * fromIndexed()'s (worker, view, topology, ...). drawRange is not looked at.
+ */
+export async function fromBufferGeometry(geometry, options = {}) {
+  const pos = geometry && geometry.getAttribute && geometry.getAttribute('position');
+  if (!pos) throw stlError('invalid-argument', 'fromBufferGeometry() needs a BufferGeometry with a position attribute');
+  let positions;
+  if (!pos.isInterleavedBufferAttribute && pos.itemSize === 3 && pos.array instanceof Float32Array && !pos.normalized) {
+    positions = pos.array.length === 3 * pos.count ? pos.array : pos.array.subarray(0, 3 * pos.count);
+  } else {
+    positions = new Float32Array(3 * pos.count);
+    for (let v = 0; v < pos.count; ++v) {
+      positions[3 * v] = pos.getX(v);
+      positions[3 * v + 1] = pos.getY(v);
+      positions[3 * v + 2] = pos.getZ(v);
+    }
+  }
+  const index = geometry.getIndex();
+  let triangles;
+  if (index) {
+    triangles = index.array instanceof Uint32Array && index.array.length === index.count ? index.array : Uint32Array.from(index.array.subarray(0, index.count));
+  } else {
+    triangles = new Uint32Array(pos.count);
+    for (let i = 0; i < pos.count; ++i) triangles[i] = i;
+  }
+  const nt = Math.floor(triangles.length / 3);
+  const solids = [...(geometry.groups || [])]
+    .sort((a, b) => a.start - b.start)
+    .map((g) => {
+      const first = Math.floor(g.start / 3);
+      const end = Math.min(nt, Number.isFinite(g.count) ? Math.floor((g.start + g.count) / 3) : nt);
+      return { name: `material ${g.materialIndex ?? 0}`, firstTriangle: first, triangleCount: Math.max(0, end - first) };
+    });
+  const { fromIndexed } = await import('stltopo');
+  return fromIndexed(positions, triangles, { ...options, solids, weld: index ? options.weld : (options.weld === 'none' ? 'exact' : options.weld) });
 }

@@ -1,9 +1,9 @@
 // The wasm lifecycle: one instance per thread (re-created after a wasm abort), the read
 // loop that feeds a session, and the raw results that become meshes (mesh.js).
 import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, FROM_CORE } from './errors.js';
-import { DEFAULTS, normalizeOptions } from './options.js';
+import { DEFAULTS, normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
 import { toSource } from './sources.js';
-import { Mesh, isPresent, toValidation } from './mesh.js';
+import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput } from './mesh.js';
 
 const CHUNK = 1 << 20; // bytes handed to the core per feed() call
 const YIELD_MS = 16; // longest stretch of feeding without giving the event loop a turn
@@ -142,6 +142,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       hasNormals: meta.hasNormals,
       hasShells: meta.hasShells,
       shellsJson: session.shellListJson(),
+      indexed: meta.indexed,
       solids: meta.solids,
       warnings: meta.warnings,
       counts: meta.counts,
@@ -194,6 +195,159 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       if (session && !entry.dead) session.delete();
       throw wasmFailure(entry, e);
     }
+  }
+
+  // A session holding the mesh of fromIndexed(): the caller's arrays uploaded, then built.
+  function indexedSession(entry, positions, triangles, o) {
+    const M = entry.module;
+    const session = new M._Session(0, 0, 0, false);
+    try {
+      const put = (name, src) => {
+        if (!src) return;
+        const view = session.upload(name, src.length);
+        if (view === null) throw stlError('out-of-memory', `could not allocate ${name}`);
+        view.set(src);
+      };
+      put('positions', positions);
+      put('triangles', triangles);
+      put('attributes', o.attributes);
+      put('colors', o.colors);
+      put('colorValid', o.colorValid);
+      session.setMeta('none', o.solids);
+      const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
+      if (st) throw fromStatus(st);
+      return session;
+    } catch (e) {
+      if (!entry.dead) session.delete();
+      throw e;
+    }
+  }
+
+  const typedInput = (v, Type, name) => {
+    if (v instanceof Type) return v;
+    if (ArrayBuffer.isView(v) || Array.isArray(v)) return Type.from(v);
+    throw stlError('invalid-argument', `${name} must be a ${Type.name} or an array of numbers`);
+  };
+
+  // fromIndexed() on this thread: plain data as loadRaw() gives it, or a view mesh.
+  async function indexedRaw(positions, triangles, o, { validate = false } = {}) {
+    const entry = await getModule();
+    let session = null;
+    try {
+      session = indexedSession(entry, positions, triangles, validate ? { ...o, validate } : o);
+      return extractRaw(entry, session, true, { validate });
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
+  async function fromIndexed(positions, triangles, options) {
+    if (options && options.worker && loadWorker) {
+      const w = await loadWorker();
+      return w.fromIndexed(positions, triangles, { ...options, worker: false });
+    }
+    const o = normalizeIndexedOptions(options);
+    const pos = typedInput(positions, Float32Array, 'positions');
+    const tri = typedInput(triangles, Uint32Array, 'triangles');
+    if (!o.view) return new Mesh(await indexedRaw(pos, tri, o), { entry: null, getEntry: currentEntry });
+    const entry = await getModule();
+    let session = null;
+    try {
+      session = indexedSession(entry, pos, tri, o);
+      return new Mesh(extractRaw(entry, session, false), { entry, session, getEntry: currentEntry });
+    } catch (e) {
+      if (session && !entry.dead) session.delete();
+      throw wasmFailure(entry, e);
+    }
+  }
+
+  // The chunks of the STL file of a session's mesh, each copied out of wasm memory.
+  async function* sessionChunks(entry, session, o) {
+    const st = session.writeBegin(o.format, o.colors, o.name, o.normals === 'stored', o.chunkBytes);
+    if (st) throw fromStatus(st);
+    for (;;) {
+      let chunk;
+      try {
+        const r = session.writeNext();
+        if (r === null) return;
+        if (!ArrayBuffer.isView(r)) throw fromStatus(r);
+        chunk = r.slice();
+      } catch (e) {
+        throw wasmFailure(entry, e);
+      }
+      yield chunk;
+    }
+  }
+
+  // Writes a mesh (a Mesh, or writeInput() data from another thread) as STL, chunk by chunk,
+  // in this thread: through the mesh's own session for a live view, else through a session
+  // its arrays are uploaded to.
+  async function* writeHere(mesh, o) {
+    const entry = await getModule();
+    const live = mesh instanceof Mesh ? liveSession.get(mesh) : null;
+    if (live && live.entry === entry) {
+      yield* sessionChunks(entry, live.session, o);
+      return;
+    }
+    const input = mesh instanceof Mesh ? writeInput(mesh) : mesh;
+    const session = new entry.module._Session(0, 0, 0, false);
+    try {
+      for (const d of entry.layout) {
+        const src = isMeshArray(d) && !d.group ? meshArray(input, d) : null;
+        if (!src) continue;
+        const view = session.upload(d.name, src.length);
+        if (view === null) throw stlError('out-of-memory', `could not allocate ${d.name} for writing`);
+        view.set(src);
+      }
+      session.setMeta(input.colorConvention, input.solids);
+      yield* sessionChunks(entry, session, o);
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (!entry.dead) session.delete();
+    }
+  }
+
+  /** The STL file of a mesh as an async iterator of Uint8Array chunks. */
+  function writeStl(mesh, options) {
+    const o = normalizeWriteOptions(options);
+    if (!(mesh instanceof Mesh)) throw stlError('invalid-argument', 'writeStl() needs a Mesh of loadStl() or fromIndexed()');
+    const home = workerHome.get(mesh) || (o.worker && loadWorker ? loadWorker : null);
+    if (home) {
+      return (async function* inWorker() {
+        const w = await home();
+        yield* w.writeStl(mesh, { ...options, worker: false });
+      })();
+    }
+    return writeHere(mesh, o);
+  }
+
+  // For the npm CLI's convert: reads a source as the native CLI does (default options, no
+  // normals, no topology) and yields the chunks of its STL file (format: the input's unless
+  // writeOptions.format says). Throws the StlError of the read or of the write.
+  async function* convert(source, writeOptions) {
+    const entry = await getModule();
+    const o = { ...normalizeOptions({ topology: false }), tolerance: 0 };
+    const w = normalizeWriteOptions(writeOptions);
+    let session = null;
+    try {
+      session = await readSession(entry, source, o);
+      if (writeOptions.format === undefined) w.format = session.meta().format === 'ascii' ? 'ascii' : 'binary';
+      yield* sessionChunks(entry, session, w);
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
+  /** All chunks of writeStl(), in order (toStl() makes a Blob or one array of them). */
+  async function stlChunks(mesh, options) {
+    const chunks = [];
+    for await (const c of writeStl(mesh, options)) chunks.push(c);
+    return chunks;
   }
 
   function currentEntry() {
@@ -256,12 +410,18 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     },
     loadRaw,
     loadFromSource,
+    indexedRaw,
+    writeHere,
+    convert,
+    normalizeWriteOptions,
+    normalizeIndexedOptions,
   };
 
-  return { loadStl, loadFromSource, internal };
+  return { loadStl, loadFromSource, fromIndexed, writeStl, stlChunks, internal };
 }
 
-function concatBytes(...parts) {
+/** The bytes of several Uint8Arrays, joined. */
+export function concatBytes(...parts) {
   const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
   let o = 0;
   for (const p of parts) {

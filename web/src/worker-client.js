@@ -4,8 +4,11 @@
 import { abortError, checkAbort } from './errors.js';
 import { normalizeOptions, plainOptions } from './options.js';
 import { toSource } from './sources.js';
-import { Mesh } from './mesh.js';
-import { Msg, InputKind, loadMessage, chunksMessage, errorFromMessage } from './protocol.js';
+import { Mesh, workerHome, writeInput } from './mesh.js';
+import {
+  Msg, InputKind, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage,
+} from './protocol.js';
+import { normalizeIndexedOptions, normalizeWriteOptions } from './options.js';
 
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
 const MAX_IDLE = 2;
@@ -81,9 +84,12 @@ export function createWorkerLoader(spawn) {
             case Msg.Pull:
               pump();
               break;
-            case Msg.Result:
-              settle(resolve, new Mesh(msg.raw), true);
+            case Msg.Result: {
+              const mesh = new Mesh(msg.raw);
+              workerHome.set(mesh, () => self);
+              settle(resolve, mesh, true);
               break;
+            }
             case Msg.Error:
               settle(reject, errorFromMessage(msg.error), true);
               break;
@@ -124,6 +130,54 @@ export function createWorkerLoader(spawn) {
     return run(loadMessage({ kind: InputKind.Path, path }, plainOptions(o)), [], o, null);
   }
 
-  return { loadStl, loadStlFile };
+  // fromIndexed() in a worker: copies of the arrays are transferred there.
+  async function fromIndexed(positions, triangles, options) {
+    const o = normalizeIndexedOptions(options); // checks here, so errors come from the call
+    const copy = (v, Type) => (v instanceof Type ? v.slice() : Type.from(v));
+    const pos = copy(positions, Float32Array);
+    const tri = copy(triangles, Uint32Array);
+    const { worker, signal, onProgress, ...plain } = options || {};
+    return run(indexedMessage(pos, tri, plain), [pos.buffer, tri.buffer], o, null);
+  }
+
+  // writeStl() in a worker: the mesh's arrays are copied there, and each chunk comes back
+  // (transferred) when the consumer asks for it.
+  async function* writeStl(mesh, options) {
+    normalizeWriteOptions(options);
+    const { worker, ...plain } = options || {};
+    const w = acquire();
+    let finished = false;
+    let pending = null;
+    w.listen((msg) => {
+      const p = pending;
+      pending = null;
+      if (p) p.resolve(msg);
+    }, (err) => {
+      const p = pending;
+      pending = null;
+      if (p) p.reject(err instanceof Error ? err : new Error(String(err)));
+    });
+    const ask = (msg) => new Promise((resolve, reject) => {
+      pending = { resolve, reject };
+      w.post(msg);
+    });
+    try {
+      let msg = await ask(writeMessage(writeInput(mesh), plain));
+      for (;;) {
+        if (msg.type === Msg.Error) throw errorFromMessage(msg.error);
+        if (msg.chunk === null) break;
+        yield msg.chunk;
+        msg = await ask(writePullMessage());
+      }
+      finished = true;
+    } finally {
+      w.listen(null, null);
+      if (finished) release(w);
+      else w.terminate(); // stopped early or failed: the write in the worker is abandoned
+    }
+  }
+
+  const self = { loadStl, loadStlFile, fromIndexed, writeStl };
+  return self;
 }
 

@@ -2,7 +2,7 @@
 import { bufferSource, streamSource } from './sources.js';
 import { normalizeOptions } from './options.js';
 import {
-  Msg, InputKind, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
+  Msg, InputKind, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage, writtenMessage,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -35,9 +35,32 @@ function pulledSource(port, total) {
 
 export function serve(port, internal, { fileSource = null } = {}) {
   let pulled = null;
+  let writing = null; // the iterator of the write in progress
   port.onMessage(async (msg) => {
     if (msg.type === Msg.Chunks) {
       if (pulled) pulled.deliver(msg);
+      return;
+    }
+    if (msg.type === Msg.Write || msg.type === Msg.WritePull) {
+      try {
+        if (msg.type === Msg.Write) writing = internal.writeHere(msg.mesh, internal.normalizeWriteOptions(msg.options));
+        const r = writing ? await writing.next() : { done: true };
+        if (r.done) writing = null;
+        port.post(writtenMessage(r.done ? null : r.value), r.done ? [] : [r.value.buffer]);
+      } catch (e) {
+        writing = null;
+        port.post(errorMessage(e));
+      }
+      return;
+    }
+    if (msg.type === Msg.Indexed) {
+      try {
+        const o = internal.normalizeIndexedOptions(msg.options);
+        const raw = await internal.indexedRaw(msg.positions, msg.triangles, o, { validate: true });
+        port.post(resultMessage(raw), transferList(raw));
+      } catch (e) {
+        port.post(errorMessage(e));
+      }
       return;
     }
     if (msg.type !== Msg.Load) return;

@@ -20,6 +20,15 @@ const loader = createWorkerLoader(() => {
 });
 
 export const loadStl = loader.loadStl;
+export const fromIndexed = loader.fromIndexed;
+export const writeStl = loader.writeStl;
+
+/** toStl() with the writing in a worker: a Blob (type model/stl). */
+export async function toStl(mesh, options) {
+  const chunks = [];
+  for await (const c of loader.writeStl(mesh, options)) chunks.push(c);
+  return new Blob(chunks, { type: 'model/stl' });
+}
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
 export { extractShell } from './extract-shell.js';

@@ -4,6 +4,7 @@ import { Worker } from 'node:worker_threads';
 import { fileURLToPath } from 'node:url';
 import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
+import { concatBytes } from './wasm.js';
 
 const loader = createWorkerLoader(() => {
   const w = new Worker(new URL('./worker-thread.node.js', import.meta.url));
@@ -34,6 +35,15 @@ const loader = createWorkerLoader(() => {
 });
 
 export const loadStl = loader.loadStl;
+export const fromIndexed = loader.fromIndexed;
+export const writeStl = loader.writeStl;
+
+/** toStl() with the writing in a worker: one Uint8Array. */
+export async function toStl(mesh, options) {
+  const chunks = [];
+  for await (const c of loader.writeStl(mesh, options)) chunks.push(c);
+  return concatBytes(...chunks);
+}
 
 /** Reads the file at `path` (a path, or a file: URL object) in the worker. */
 export async function loadStlFile(path, options) {

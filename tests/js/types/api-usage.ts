@@ -2,11 +2,12 @@
 // of 'stltopo', 'stltopo/worker' and 'stltopo/three' through the package's
 // "exports" (self-reference), so the .d.ts files must match the package.
 import {
-  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind,
+  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl,
+  type IndexedOptions, type WriteOptions,
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
 import * as worker from 'stltopo/worker';
-import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments, srgbByteTable } from 'stltopo/three';
+import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments, srgbByteTable, fromBufferGeometry } from 'stltopo/three';
 import type { BufferGeometry, LineSegments } from 'three';
 
 export async function useEverything(input: StlInput, blob: Blob, response: Response, stream: ReadableStream<Uint8Array>): Promise<number> {
@@ -39,7 +40,7 @@ export async function useEverything(input: StlInput, blob: Blob, response: Respo
   const workerFile: Mesh = await worker.loadStlFile('model.stl');
   total += fromDisk.nTriangles + fromUrl.nVertices + inWorker.nHalfedges + workerFile.nTriangles;
 
-  const format: 'binary' | 'ascii' = mesh.format;
+  const format: 'binary' | 'ascii' | 'unknown' = mesh.format;
   const positions: Float32Array = mesh.positions;
   const triangles: Uint32Array = mesh.triangles;
   const attributes: Uint16Array = mesh.attributes;
@@ -106,8 +107,27 @@ export async function useEverything(input: StlInput, blob: Blob, response: Respo
   total += problems.userData.kinds.length + problems.userData.halfedges.length;
   const linear: Float32Array = srgbByteTable();
   total += linear[255];
+
+  const io: IndexedOptions = {
+    weld: 'none', attributes: new Uint16Array(1), solids: [{ name: 'a', firstTriangle: 0, triangleCount: 1 }], worker: true, view: false,
+  };
+  const indexed: Mesh = await fromIndexed(new Float32Array(9), new Uint32Array([0, 1, 2]), io);
+  const fromArrays: Mesh = await fromIndexed([0, 0, 0, 1, 0, 0, 0, 1, 0], [0, 1, 2], { weld: { tolerance: 1e-3 }, colors: [1, 2, 3] });
+  const map: Uint32Array | null = indexed.inputVertexMap;
+  const wo: WriteOptions = { format: 'ascii', colors: 'magics', name: 'x', normals: 'computed', chunkBytes: 1 << 16, worker: false };
+  for await (const chunk of writeStl(indexed, wo)) total += chunk.length;
+  const file: Blob | Uint8Array = await toStl(fromArrays, { format: 'binary', colors: 'as-mesh' });
+  const workerFile2: Blob | Uint8Array = await worker.toStl(indexed);
+  for await (const chunk of worker.writeStl(indexed)) total += chunk.byteLength;
+  const fromThree: Mesh = await fromBufferGeometry(geometry, { weld: 'exact' });
+  const fromWorker: Mesh = await worker.fromIndexed(new Float32Array(9), [0, 1, 2]);
+  total += (map ? map.length : 0) + (file instanceof Blob ? file.size : file.length) + fromThree.nTriangles + fromWorker.nVertices;
+  total += workerFile2 instanceof Blob ? 1 : 0;
   return total;
 }
+
+// @ts-expect-error: the write format is binary or ascii
+export const badWriteFormat: WriteOptions = { format: 'obj' };
 
 // @ts-expect-error: the format is a closed union
 export const badFormat: Mesh['format'] = 'obj';
