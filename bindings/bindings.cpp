@@ -380,9 +380,30 @@ class Session {
     if (name.isString()) o.name = name.as<std::string>();
     o.storedNormals = storedNormals;
     if (chunkBytes > 0) o.chunkBytes = size_t(chunkBytes);
-    writer_ = new (std::nothrow) stltopo::StlWriter(mesh_, o);
+    writer_ = new (std::nothrow) stltopo::StlWriter(*writing_, o);
     if (!writer_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the writer"));
     return val::null();
+  }
+
+  // For `split`: what writeBegin() writes next, shell k of a load with shells (extracted,
+  // as stltopo::extractShell), or the mesh itself for k < 0. Null or the failure's status.
+  val selectShell(double k) {
+    delete writer_;
+    writer_ = nullptr;
+    writing_ = &mesh_;
+    if (k < 0) return val::null();
+    Status s = hasShells_ && k < double(shells_.size())
+                   ? stltopo::extractShell(mesh_, topo_, uint32_t(k), part_)
+                   : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
+    if (!s.ok()) return statusToJs(s);
+    writing_ = &part_;
+    return val::null();
+  }
+
+  // The line `split` prints for shell k written to `file` (stltopo::splitLineJson).
+  std::string splitLine(const std::string& file, double k) const {
+    if (!hasShells_ || !(k >= 0 && k < double(shells_.size()))) return "null";
+    return stltopo::splitLineJson(file, shells_[size_t(k)], uint32_t(k));
   }
 
   // The next chunk of the file: a borrowed Uint8Array view (valid until the next call into
@@ -467,6 +488,8 @@ class Session {
   bool indexed_ = false;
   stltopo::Indexed indexedArrays_;
   stltopo::StlWriter* writer_ = nullptr;
+  stltopo::Mesh part_;                  // the shell selectShell() extracted
+  const stltopo::Mesh* writing_ = &mesh_;  // what writeBegin() writes
   Status last_;
 };
 
@@ -545,6 +568,8 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("infoJson", &Session::infoJson)
       .function("infoText", &Session::infoText)
       .function("shellListJson", &Session::shellListJson)
+      .function("selectShell", &Session::selectShell)
+      .function("splitLine", &Session::splitLine)
       .function("messageBytes", &Session::messageBytes)
       .function("array", &Session::array)
       .function("upload", &Session::upload)

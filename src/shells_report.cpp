@@ -156,6 +156,15 @@ std::string shellJson(const Shell& shell, uint32_t id) {
   return j.s;
 }
 
+std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t id) {
+  Json j;
+  j.open('{');
+  j.key("file"); j.str(file);
+  j.key("shell"); writeShell(j, shell, id);
+  j.close('}');
+  return j.s;
+}
+
 std::string shellListJson(const Array<Shell>& shells) {
   Json j;
   detail::writeShellList(j, shells);

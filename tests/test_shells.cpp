@@ -667,3 +667,41 @@ TEST(ExtractShell, KeepsAttributesColoursAndSolidsAndRefusesBadShells) {
   EXPECT_EQ(extractShell(a.mesh, plain, 0, m).code, Code::InvalidArgument);
   EXPECT_TRUE(extractShell(a.mesh, a.topo, 0, m).ok());
 }
+
+TEST(ShellsCli, SplitWritesOneFilePerShellThatReadsBackAsThatShell) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("stltopo-split-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string in = std::string(STLTOPO_FIXTURES) + "/mikedh_trimesh/models/multibody.stl";
+  std::string out;
+  ASSERT_EQ(cli("split --binary '" + in + "' '" + dir.string() + "'", out), 0);
+  Analyzed whole;
+  analyze(gen::readFile(in), whole);
+  ASSERT_EQ(whole.shells.size(), 2u);
+  size_t lines = 0;
+  for (size_t p = 0; (p = out.find('\n', p)) != std::string::npos; ++p) ++lines;
+  EXPECT_EQ(lines, 2u);
+  for (uint32_t k = 0; k < 2; ++k) {
+    const std::string file = (dir / ("multibody-shell-" + std::to_string(k) + ".stl")).string();
+    EXPECT_HAS(out, splitLineJson(file, whole.shells[k], k));
+    Analyzed part;
+    analyze(gen::readFile(file), part);
+    EXPECT_EQ(part.mesh.format, Format::Binary);
+    ASSERT_EQ(part.shells.size(), 1u);
+    EXPECT_EQ(part.shells[0].triangles, whole.shells[k].triangles);
+    EXPECT_EQ(part.shells[0].inconsistentEdges, whole.shells[k].inconsistentEdges);
+    EXPECT_EQ(part.shells[0].volume, whole.shells[k].volume);
+    ASSERT_EQ(part.mesh.solids.size(), 1u);
+    EXPECT_EQ(part.mesh.solids[0].name, whole.mesh.solids[k].name);  // each body is one solid
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);
+  // A bad input writes nothing; OUTDIR that is a file is a write-failed; usage errors.
+  fs::remove_all(dir);
+  EXPECT_EQ(cli("split '" + std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/tmp/test_args_False_0/binary.stl' '" +
+                    dir.string() + "'", out), 1);
+  EXPECT_FALSE(fs::exists(dir));
+  EXPECT_EQ(cli("split '" + in + "' '" + in + "'", out), 1);
+  EXPECT_EQ(cli("split '" + in + "'", out), 2);
+  EXPECT_EQ(cli("split '" + in + "' '" + dir.string() + "' --colors none", out), 2);
+  fs::remove_all(dir);
+}

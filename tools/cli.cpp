@@ -31,7 +31,11 @@ const char* kUsage =
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
-    "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n";
+    "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n"
+    "usage: stltopo split IN OUTDIR [--ascii|--binary]\n"
+    "  Writes each shell of IN to OUTDIR/<stem>-shell-<k>.stl (OUTDIR is created when\n"
+    "  missing), in IN's format unless told, and prints a JSON line per file with its shell\n"
+    "  report. A failure prints the error JSON on stderr (exit 1).\n";
 
 struct Args {
   bool json = false, topology = true, shells = false, defects = false;
@@ -191,6 +195,71 @@ int convert(int argc, char** argv) {
   return 0;
 }
 
+// The file of shell k: OUTDIR/<stem>-shell-<k>.stl, the stem being IN's file name without
+// its last extension ("stdin" for '-'). bin/stltopo.mjs splitPath() is the same rule.
+std::string splitPath(const std::string& in, std::string dir, uint32_t k) {
+  std::string base = in == "-" ? "stdin" : in.substr(in.rfind('/') == std::string::npos ? 0 : in.rfind('/') + 1);
+  size_t dot = base.rfind('.');
+  if (in != "-" && dot != std::string::npos && dot > 0) base.resize(dot);
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  return (dir == "/" ? dir : dir + "/") + base + "-shell-" + std::to_string(k) + ".stl";
+}
+
+int split(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::WriteOptions wo;
+  bool formatGiven = false;
+  for (int i = 2; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s == "--") {  // the rest are file names
+      files.insert(files.end(), argv + i + 1, argv + argc);
+      break;
+    }
+    if (s.size() < 2 || s[0] != '-') {
+      files.push_back(s);
+    } else if (s == "--ascii" || s == "--binary") {
+      wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+      formatGiven = true;
+    } else {
+      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
+      return 2;
+    }
+  }
+  if (files.size() != 2) { std::fprintf(stderr, "stltopo: split needs IN and OUTDIR\n%s", kUsage); return 2; }
+  const std::string& in = files[0];
+  const std::string& dir = files[1];
+  auto fail = [](const std::string& file, const stltopo::Status& s) {
+    std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
+    return 1;
+  };
+  stltopo::Mesh mesh;
+  stltopo::Status s = readFile(in, stltopo::ReadOptions{}, mesh);
+  stltopo::Topology topo;
+  stltopo::TopologyOptions to;
+  to.prevAndFace = false;
+  to.triangleShell = true;
+  if (s.ok()) s = stltopo::buildTopology(mesh, topo, to);
+  stltopo::Array<stltopo::Shell> shells;
+  if (s.ok()) s = stltopo::findShellsAndDefects(mesh, topo, &shells, nullptr);
+  if (!s.ok()) return fail(in, s);
+  struct stat st;
+  if (mkdir(dir.c_str(), 0777) != 0 && !(errno == EEXIST && stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode)))
+    return fail(dir, stltopo::Status::error(stltopo::Code::WriteFailed, "cannot create the folder " + dir + ": " + std::strerror(errno)));
+  if (!formatGiven) wo.format = mesh.format;
+  std::signal(SIGXFSZ, SIG_IGN);  // over a file size limit, write() fails instead (write-failed)
+  for (uint32_t k = 0; k < shells.size(); ++k) {
+    const std::string path = splitPath(in, dir, k);
+    stltopo::Mesh part;
+    s = stltopo::extractShell(mesh, topo, k, part);
+    Output out;
+    if (s.ok()) s = out.open(path);
+    if (s.ok()) s = out.close(stltopo::writeStl(part, Output::sink, &out, wo));
+    if (!s.ok()) return fail(path, s);
+    std::printf("%s\n", stltopo::splitLineJson(path, shells[k], k).c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -208,6 +277,7 @@ int main(int argc, char** argv) {
   if (cmd == "--help" || cmd == "-h" || cmd == "help") { std::fputs(kUsage, stdout); return 0; }
   if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
   if (cmd == "convert") return convert(argc, argv);
+  if (cmd == "split") return split(argc, argv);
   if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
   bool endOfOptions = false;
   for (int i = 2; i < argc; ++i) {

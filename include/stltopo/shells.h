@@ -111,6 +111,8 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
 
 // One shell's object, as in "shellList" (`id` is its index).
 std::string shellJson(const Shell& shell, uint32_t id);
+// The line `stltopo split` prints for each file it writes: {"file":FILE,"shell":{...}}.
+std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t id);
 // `"shellList":[{...},...]`: one object per shell, in shell order.
 std::string shellListJson(const Array<Shell>& shells);
 // `"defects":{...}`: each kind with its count and its first `maxPerKind` items; a hole's or

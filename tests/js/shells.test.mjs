@@ -124,3 +124,81 @@ test('extractShell: each shell of every fixture, positions compacted, attributes
   }
   assert.ok(checked >= 250, `${checked} shells`);
 });
+
+// `stltopo split`: the npm CLI writes the same files (byte for byte) and prints the same
+// lines as the native one, on every fixture, in both formats; errors and usage the same.
+import { mkdtempSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const npmCli = fileURLToPath(new URL('../../bin/stltopo.mjs', import.meta.url));
+
+function runSplit(cmd, args) {
+  const r = spawnSync(cmd, args, { maxBuffer: 1 << 28 });
+  return { status: r.status, stdout: r.stdout.toString(), stderr: r.stderr.toString() };
+}
+
+test('split: native and npm CLIs write the same files and lines on every fixture', { skip }, () => {
+  const tmp = mkdtempSync(path.join(tmpdir(), 'stltopo-split-'));
+  try {
+    let files = 0;
+    for (const [i, f] of fixtures().entries()) {
+      const args = i % 3 === 0 ? ['--ascii'] : i % 3 === 1 ? ['--binary'] : [];
+      const a = path.join(tmp, `a${i}`), b = path.join(tmp, `b${i}`);
+      const na = runSplit(nativeCli, ['split', f, a, ...args]);
+      const nb = runSplit(process.execPath, [npmCli, 'split', f, b, ...args]);
+      assert.equal(nb.status, na.status, f);
+      assert.equal(nb.stdout.replaceAll(b, a), na.stdout, f);
+      assert.equal(nb.stderr, na.stderr, f);
+      if (na.status !== 0) continue;
+      const names = readdirSync(a).sort();
+      assert.deepEqual(readdirSync(b).sort(), names, f);
+      const lines = na.stdout.trimEnd().split('\n').filter(Boolean).map((l) => JSON.parse(l));
+      assert.equal(lines.length, names.length, f);
+      for (const name of names) assert.ok(readFileSync(path.join(a, name)).equals(readFileSync(path.join(b, name))), `${f} ${name}`);
+      files += names.length;
+      rmSync(a, { recursive: true });
+      rmSync(b, { recursive: true });
+    }
+    assert.ok(files >= 300, `${files} files`);
+    // Errors: a bad input, OUTDIR that is a file, usage.
+    writeFileSync(path.join(tmp, 'file'), 'x');
+    for (const args of [['split', 'no/such.stl', path.join(tmp, 'x')], ['split', fixture('shared.STL'), path.join(tmp, 'file')],
+      ['split'], ['split', fixture('shared.STL')], ['split', fixture('shared.STL'), tmp, '--bogus']]) {
+      const na = runSplit(nativeCli, args);
+      const nb = runSplit(process.execPath, [npmCli, ...args]);
+      assert.deepEqual(nb, na, args.join(' '));
+      assert.notEqual(na.status, 0);
+    }
+  } finally {
+    rmSync(tmp, { recursive: true, force: true });
+  }
+});
+
+test('split: each file reads back as its shell, with the shell report of its line', { skip }, async () => {
+  const tmp = mkdtempSync(path.join(tmpdir(), 'stltopo-split-'));
+  try {
+    const f = fixture('Spider_binary.stl');
+    const out = runSplit(nativeCli, ['split', f, path.join(tmp, 'out')]);
+    assert.equal(out.status, 0, out.stderr);
+    const whole = await loadStl(readFileSync(f), { shells: true });
+    const lines = out.stdout.trimEnd().split('\n').map((l) => JSON.parse(l));
+    assert.equal(lines.length, whole.shells.length);
+    for (const { file, shell } of lines) {
+      assert.equal(path.basename(file), `Spider_binary-shell-${shell.id}.stl`);
+      const part = await loadStl(readFileSync(file), { shells: true });
+      assert.equal(part.shells.length, 1);
+      // The same report on its own (its id and solid index are its own file's).
+      for (const key of ['triangles', 'vertices', 'edges', 'boundaryEdges', 'nonManifoldEdges', 'inconsistentEdges',
+        'nonManifoldVertices', 'holes', 'seams', 'closed', 'manifold', 'orientation', 'area', 'volume', 'bbox']) {
+        assert.deepEqual(part.shells[0][key], whole.shells[shell.id][key], `${file} ${key}`);
+      }
+      const part2 = extractShell(whole, shell.id);
+      assert.deepEqual(Array.from(part.positions), Array.from(part2.positions), file);
+      assert.deepEqual(Array.from(part.triangles), Array.from(part2.triangles), file);
+    }
+  } finally {
+    rmSync(tmp, { recursive: true, force: true });
+  }
+});

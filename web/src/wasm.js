@@ -343,6 +343,34 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     }
   }
 
+  // For the npm CLI's split: reads a source as the native CLI does (default options, the
+  // report-only topology with shells) and yields { shells: n } once it is read, then per
+  // shell k { k, line(file) } followed by the chunks of its STL file (format: the input's
+  // unless writeOptions.format says).
+  async function* split(source, writeOptions) {
+    const entry = await getModule();
+    const o = { ...normalizeOptions({ topology: true, shells: true }), tolerance: 0 };
+    const w = normalizeWriteOptions(writeOptions);
+    let session = null;
+    try {
+      session = await readSession(entry, source, o);
+      if (writeOptions.format === undefined) w.format = session.meta().format === 'ascii' ? 'ascii' : 'binary';
+      const n = JSON.parse(session.shellListJson()).length;
+      yield { shells: n };
+      for (let k = 0; k < n; ++k) {
+        const s = session;
+        yield { k, line: (file) => s.splitLine(file, k) };
+        const st = session.selectShell(k);
+        if (st) throw fromStatus(st);
+        yield* sessionChunks(entry, session, w);
+      }
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
   /** All chunks of writeStl(), in order (toStl() makes a Blob or one array of them). */
   async function stlChunks(mesh, options) {
     const chunks = [];
@@ -413,6 +441,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     indexedRaw,
     writeHere,
     convert,
+    split,
     normalizeWriteOptions,
     normalizeIndexedOptions,
   };
