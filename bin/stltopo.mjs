@@ -174,7 +174,9 @@ async function main(argv) {
 
 // `stltopo convert`, as tools/cli.cpp: the same options, messages, exit codes and bytes
 // (the same writer); OUT through a temporary file in its folder, renamed when complete.
-async function convert(argv) {
+// The arguments of convert and split (tools/cli.cpp writeArgs): { files, w }, or null after a
+// usage error; split takes only --ascii/--binary (colorsAndName false).
+function writeArgs(argv, colorsAndName) {
   const files = [];
   const w = {};
   for (let i = 1; i < argv.length; ++i) {
@@ -187,15 +189,22 @@ async function convert(argv) {
       files.push(s);
       continue;
     }
-    const takesValue = s === '--colors' || s === '--name';
-    if (takesValue && i + 1 >= argv.length) return usageError(`stltopo: ${s} needs a value\n`);
+    const takesValue = colorsAndName && (s === '--colors' || s === '--name');
+    if (takesValue && i + 1 >= argv.length) return usageError(`stltopo: ${s} needs a value\n`), null;
     const v = takesValue ? argv[++i] : '';
     if (s === '--ascii' || s === '--binary') w.format = s.slice(2);
-    else if (s === '--name') w.name = v;
-    else if (s === '--colors' && ['viscam', 'magics', 'none'].includes(v)) w.colors = v;
-    else if (s === '--colors') return usageError(`stltopo: bad --colors '${v}' (viscam, magics or none)\n`);
-    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
+    else if (takesValue && s === '--name') w.name = v;
+    else if (takesValue && ['viscam', 'magics', 'none'].includes(v)) w.colors = v;
+    else if (takesValue) return usageError(`stltopo: bad --colors '${v}' (viscam, magics or none)\n`), null;
+    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`), null;
   }
+  return { files, w };
+}
+
+async function convert(argv) {
+  const args = writeArgs(argv, true);
+  if (!args) return;
+  const { files, w } = args;
   if (files.length !== 2) return usageError(`stltopo: convert needs IN and OUT\n${USAGE}`);
   const [input, output] = files;
   // err: an StlError (its location goes into the JSON too) or { code, message }.
@@ -291,18 +300,9 @@ function splitPath(input, dir, k) {
 
 // `stltopo split`, as tools/cli.cpp: one STL per shell, a JSON line per file.
 async function split(argv) {
-  const files = [];
-  const w = {};
-  for (let i = 1; i < argv.length; ++i) {
-    const s = argv[i];
-    if (s === '--') {
-      files.push(...argv.slice(i + 1));
-      break;
-    }
-    if (s.length < 2 || s[0] !== '-') files.push(s);
-    else if (s === '--ascii' || s === '--binary') w.format = s.slice(2);
-    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
-  }
+  const args = writeArgs(argv, false);
+  if (!args) return;
+  const { files, w } = args;
   if (files.length !== 2) return usageError(`stltopo: split needs IN and OUTDIR\n${USAGE}`);
   const [input, dir] = files;
   const fail = async (file, code, message, err = { code, message }) => {

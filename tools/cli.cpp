@@ -144,10 +144,11 @@ struct Output {
   }
 };
 
-int convert(int argc, char** argv) {
-  std::vector<std::string> files;
-  stltopo::WriteOptions wo;
-  bool formatGiven = false;
+// The arguments of convert and split: two file names and the write options; split takes
+// only --ascii/--binary (colorsAndName false). 0, or the exit status of a usage error.
+int writeArgs(int argc, char** argv, bool colorsAndName, std::vector<std::string>& files, stltopo::WriteOptions& wo,
+              bool& formatGiven) {
+  formatGiven = false;
   for (int i = 2; i < argc; ++i) {
     std::string s = argv[i];
     if (s == "--") {  // the rest are file names
@@ -158,17 +159,17 @@ int convert(int argc, char** argv) {
       files.push_back(s);
       continue;
     }
-    bool takesValue = s == "--colors" || s == "--name";
+    bool takesValue = colorsAndName && (s == "--colors" || s == "--name");
     if (takesValue && i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str()); return 2; }
     std::string v = takesValue ? argv[++i] : "";
     if (s == "--ascii" || s == "--binary") {
       wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
       formatGiven = true;
-    } else if (s == "--name") {
+    } else if (takesValue && s == "--name") {
       wo.name = v;
-    } else if (s == "--colors" && (v == "viscam" || v == "magics" || v == "none")) {
+    } else if (takesValue && (v == "viscam" || v == "magics" || v == "none")) {
       wo.colors = v == "viscam" ? stltopo::WriteColors::VisCam : v == "magics" ? stltopo::WriteColors::Magics : stltopo::WriteColors::None;
-    } else if (s == "--colors") {
+    } else if (takesValue) {
       std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str());
       return 2;
     } else {
@@ -176,6 +177,14 @@ int convert(int argc, char** argv) {
       return 2;
     }
   }
+  return 0;
+}
+
+int convert(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::WriteOptions wo;
+  bool formatGiven;
+  if (int rc = writeArgs(argc, argv, true, files, wo, formatGiven)) return rc;
   if (files.size() != 2) { std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage); return 2; }
   stltopo::Mesh mesh;
   stltopo::Status s = readFile(files[0], stltopo::ReadOptions{}, mesh);
@@ -208,23 +217,8 @@ std::string splitPath(const std::string& in, std::string dir, uint32_t k) {
 int split(int argc, char** argv) {
   std::vector<std::string> files;
   stltopo::WriteOptions wo;
-  bool formatGiven = false;
-  for (int i = 2; i < argc; ++i) {
-    std::string s = argv[i];
-    if (s == "--") {  // the rest are file names
-      files.insert(files.end(), argv + i + 1, argv + argc);
-      break;
-    }
-    if (s.size() < 2 || s[0] != '-') {
-      files.push_back(s);
-    } else if (s == "--ascii" || s == "--binary") {
-      wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
-      formatGiven = true;
-    } else {
-      std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
-      return 2;
-    }
-  }
+  bool formatGiven;
+  if (int rc = writeArgs(argc, argv, false, files, wo, formatGiven)) return rc;
   if (files.size() != 2) { std::fprintf(stderr, "stltopo: split needs IN and OUTDIR\n%s", kUsage); return 2; }
   const std::string& in = files[0];
   const std::string& dir = files[1];
