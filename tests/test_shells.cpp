@@ -10,7 +10,9 @@
 #include <numeric>
 #include <set>
 
+#if !defined(STLTOPO_WASM_TESTS)
 #include <sys/wait.h>
+#endif
 
 #include "stltopo/shells.h"
 #include "stl_gen.h"
@@ -530,7 +532,8 @@ TEST(Shells, EveryFixtureAgreesWithABruteForceCountAndTheWholeReport) {
 }
 
 // ---------------------------------------------------------------------------
-// The CLI: `info --shells --defects [--max-defects N]`.
+// The CLI: `info --shells --defects [--max-defects N]`, `split` (a subprocess: not in wasm).
+#if defined(STLTOPO_CLI) && !defined(STLTOPO_WASM_TESTS)
 
 namespace {
 
@@ -581,6 +584,8 @@ TEST(ShellsCli, UsageErrors) {
   EXPECT_EQ(cli("info --defects --max-defects x " + f, out), 2);
   EXPECT_EQ(cli("info --defects --max-defects", out), 2);
 }
+
+#endif
 
 // ---------------------------------------------------------------------------
 // extractShell: each shell as a mesh of its own.
@@ -668,6 +673,7 @@ TEST(ExtractShell, KeepsAttributesColoursAndSolidsAndRefusesBadShells) {
   EXPECT_TRUE(extractShell(a.mesh, a.topo, 0, m).ok());
 }
 
+#if defined(STLTOPO_CLI) && !defined(STLTOPO_WASM_TESTS)
 TEST(ShellsCli, SplitWritesOneFilePerShellThatReadsBackAsThatShell) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("stltopo-split-" + std::to_string(::getpid()));
@@ -705,3 +711,4 @@ TEST(ShellsCli, SplitWritesOneFilePerShellThatReadsBackAsThatShell) {
   EXPECT_EQ(cli("split '" + in + "' '" + dir.string() + "' --colors none", out), 2);
   fs::remove_all(dir);
 }
+#endif
