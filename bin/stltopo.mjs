@@ -1,9 +1,9 @@
 #!/usr/bin/env node
-// npm CLI: `npx stltopo info [--json] FILE...` and `npx stltopo convert IN OUT` on the wasm build.
+// npm CLI: `npx stltopo info [--json] FILE...`, `convert IN OUT` and `split IN OUTDIR` on the wasm build.
 // Mirrors the native CLI (tools/cli.cpp): the same usage text, options, exit codes
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
-import { open, rename, unlink } from 'node:fs/promises';
+import { mkdir, open, rename, stat, unlink } from 'node:fs/promises';
 import { randomBytes } from 'node:crypto';
 import path from 'node:path';
 import { api, fileSource } from '../dist/instance.node.js';
@@ -12,17 +12,25 @@ import { DEFAULTS } from '../dist/options.js';
 const _internal = api.internal;
 
 const USAGE =
-  "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
+  "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--no-topology] [--tolerance D]\n" +
+  "                    [--max-triangles N] [--max-bytes N] FILE...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
+  "  --shells adds a report per shell, --defects every defect with its location (the\n" +
+  "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
-  "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n";
+  "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n" +
+  "usage: stltopo split IN OUTDIR [--ascii|--binary]\n" +
+  "  Writes each shell of IN to OUTDIR/<stem>-shell-<k>.stl (OUTDIR is created when\n" +
+  "  missing), in IN's format unless told, and prints a JSON line per file with its shell\n" +
+  "  report. A failure prints the error JSON on stderr (exit 1).\n";
 
 // strerror(3) texts (glibc) for the errors fopen/fread report most often.
 const STRERROR = {
   ENOENT: 'No such file or directory',
+  EEXIST: 'File exists',
   EACCES: 'Permission denied',
   EISDIR: 'Is a directory',
   ENOTDIR: 'Not a directory',
@@ -73,11 +81,12 @@ async function main(argv) {
   if (cmd === '--help' || cmd === '-h' || cmd === 'help') return write(process.stdout, USAGE);
   if (cmd === '--version') return write(process.stdout, 'stltopo 0.1.0\n');
   if (cmd === 'convert') return convert(argv);
+  if (cmd === 'split') return split(argv);
   if (cmd !== 'info') return usageError(`stltopo: unknown command '${cmd}'\n${USAGE}`);
 
   const a = {
     json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
-    maxBytes: DEFAULTS.maxBytes, files: [],
+    maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, files: [],
   };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
@@ -92,6 +101,15 @@ async function main(argv) {
     if (!endOfOptions && s === '--') endOfOptions = true;
     else if (!endOfOptions && s === '--json') a.json = true;
     else if (!endOfOptions && s === '--no-topology') a.topology = false;
+    else if (!endOfOptions && s === '--shells') a.shells = true;
+    else if (!endOfOptions && s === '--defects') a.defects = true;
+    else if (!endOfOptions && s === '--max-defects') {
+      const v = value('--max-defects');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n > 0xffffffffn) return usageError(`stltopo: bad --max-defects '${v}'\n`);
+      a.maxDefects = Number(n);
+    }
     else if (!endOfOptions && s === '--tolerance') {
       const v = value('--tolerance');
       if (v === null) return;
@@ -117,10 +135,14 @@ async function main(argv) {
     }
   }
   if (a.files.length === 0) return usageError(`stltopo: no input files\n${USAGE}`);
+  if (!a.topology && (a.shells || a.defects)) {
+    return usageError('stltopo: --shells and --defects need the topology (not --no-topology)\n');
+  }
 
   let rc = 0;
   for (const file of a.files) {
-    const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles, maxBytes: a.maxBytes };
+    const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles,
+      maxBytes: a.maxBytes, shells: a.shells, defects: a.defects, maxDefects: a.maxDefects };
     let r;
     if (file === '-') {
       r = await _internal.report(stdinSource(), opts);
@@ -152,7 +174,9 @@ async function main(argv) {
 
 // `stltopo convert`, as tools/cli.cpp: the same options, messages, exit codes and bytes
 // (the same writer); OUT through a temporary file in its folder, renamed when complete.
-async function convert(argv) {
+// The arguments of convert and split (tools/cli.cpp writeArgs): { files, w }, or null after a
+// usage error; split takes only --ascii/--binary (colorsAndName false).
+function writeArgs(argv, colorsAndName) {
   const files = [];
   const w = {};
   for (let i = 1; i < argv.length; ++i) {
@@ -165,15 +189,22 @@ async function convert(argv) {
       files.push(s);
       continue;
     }
-    const takesValue = s === '--colors' || s === '--name';
-    if (takesValue && i + 1 >= argv.length) return usageError(`stltopo: ${s} needs a value\n`);
+    const takesValue = colorsAndName && (s === '--colors' || s === '--name');
+    if (takesValue && i + 1 >= argv.length) return usageError(`stltopo: ${s} needs a value\n`), null;
     const v = takesValue ? argv[++i] : '';
     if (s === '--ascii' || s === '--binary') w.format = s.slice(2);
-    else if (s === '--name') w.name = v;
-    else if (s === '--colors' && ['viscam', 'magics', 'none'].includes(v)) w.colors = v;
-    else if (s === '--colors') return usageError(`stltopo: bad --colors '${v}' (viscam, magics or none)\n`);
-    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
+    else if (takesValue && s === '--name') w.name = v;
+    else if (takesValue && ['viscam', 'magics', 'none'].includes(v)) w.colors = v;
+    else if (takesValue) return usageError(`stltopo: bad --colors '${v}' (viscam, magics or none)\n`), null;
+    else return usageError(`stltopo: unknown option '${s}'\n${USAGE}`), null;
   }
+  return { files, w };
+}
+
+async function convert(argv) {
+  const args = writeArgs(argv, true);
+  if (!args) return;
+  const { files, w } = args;
   if (files.length !== 2) return usageError(`stltopo: convert needs IN and OUT\n${USAGE}`);
   const [input, output] = files;
   // err: an StlError (its location goes into the JSON too) or { code, message }.
@@ -187,11 +218,30 @@ async function convert(argv) {
   } catch (e) {
     return fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
   }
+  const out = outputFile(output, fail);
+  try {
+    for await (const chunk of _internal.convert(source, w)) {
+      if (!(await out.write(chunk))) return;
+    }
+    await out.finish();
+  } catch (e) {
+    if (!e || !e.code || String(e.code).startsWith('E')) throw e;
+    return await fail(input, e.code, e.message, e);
+  } finally {
+    await out.abort();
+  }
+}
+
+// An output file as tools/cli.cpp's Output: standard output for '-', else a temporary file
+// next to `output`, renamed over it by finish() once complete and removed by abort()
+// otherwise. write() and finish() report a failure through fail(file, code, message) and
+// give false.
+function outputFile(output, fail) {
   let out = null;
   let temp = null;
   let offset = 0;
-  try {
-    for await (const chunk of _internal.convert(source, w)) {
+  return {
+    async write(chunk) {
       if (!out) {
         if (output === '-') {
           out = { write: (c) => write(process.stdout, c), close: async () => {} };
@@ -201,36 +251,102 @@ async function convert(argv) {
             out = await open(temp, 'wx', 0o666);
           } catch (e) {
             temp = null;
-            return await fail(output, 'write-failed', `write-failed: cannot create a file next to ${output}: ${strerror(e)}`);
+            await fail(output, 'write-failed', `write-failed: cannot create a file next to ${output}: ${strerror(e)}`);
+            return false;
           }
         }
       }
       try {
         await out.write(chunk);
       } catch {
-        return await fail(output, 'write-failed', `write-failed: the output refused the ${chunk.length} bytes at offset ${offset}`);
+        await fail(output, 'write-failed', `write-failed: the output refused the ${chunk.length} bytes at offset ${offset}`);
+        return false;
       }
       offset += chunk.length;
-    }
-    if (temp) {
+      return true;
+    },
+    async finish() {
+      if (!temp) return true;
       try {
         await out.sync();
         await out.close();
         out = null;
         await rename(temp, output);
         temp = null;
+        return true;
       } catch (e) {
-        return await fail(output, 'write-failed', `write-failed: cannot write ${output}: ${strerror(e)}`);
+        await fail(output, 'write-failed', `write-failed: cannot write ${output}: ${strerror(e)}`);
+        return false;
       }
-    }
-  } catch (e) {
-    if (!e || !e.code || String(e.code).startsWith('E')) throw e;
-    return await fail(input, e.code, e.message, e);
-  } finally {
-    if (temp) {
+    },
+    async abort() {
+      if (!temp) return;
       if (out) await out.close().catch(() => {});
       await unlink(temp).catch(() => {});
+      temp = null;
+    },
+  };
+}
+
+// The file of shell k (tools/cli.cpp splitPath): OUTDIR/<stem>-shell-<k>.stl, the stem
+// being IN's file name without its last extension ("stdin" for '-').
+function splitPath(input, dir, k) {
+  let base = input === '-' ? 'stdin' : input.slice(input.lastIndexOf('/') + 1);
+  const dot = base.lastIndexOf('.');
+  if (input !== '-' && dot > 0) base = base.slice(0, dot);
+  while (dir.length > 1 && dir.endsWith('/')) dir = dir.slice(0, -1);
+  return `${dir === '/' ? dir : `${dir}/`}${base}-shell-${k}.stl`;
+}
+
+// `stltopo split`, as tools/cli.cpp: one STL per shell, a JSON line per file.
+async function split(argv) {
+  const args = writeArgs(argv, false);
+  if (!args) return;
+  const { files, w } = args;
+  if (files.length !== 2) return usageError(`stltopo: split needs IN and OUTDIR\n${USAGE}`);
+  const [input, dir] = files;
+  const fail = async (file, code, message, err = { code, message }) => {
+    await write(process.stderr, `${await _internal.errorJson(file, err)}\n`);
+    process.exitCode = 1;
+  };
+  let source;
+  try {
+    source = input === '-' ? stdinSource() : await fileSource(input);
+  } catch (e) {
+    return fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
+  }
+  let out = null;
+  let file = null;
+  let line = null;
+  try {
+    for await (const item of _internal.split(source, w)) {
+      if (item.shells !== undefined) { // the input is read: OUTDIR next
+        try {
+          await mkdir(dir);
+        } catch (e) {
+          if (e.code !== 'EEXIST' || !(await stat(dir)).isDirectory()) {
+            return await fail(dir, 'write-failed', `write-failed: cannot create the folder ${dir}: ${strerror(e)}`);
+          }
+        }
+        continue;
+      }
+      if (!ArrayBuffer.isView(item)) {
+        if (out && !(await out.finish())) return;
+        if (line) await write(process.stdout, `${line}\n`);
+        file = splitPath(input, dir, item.k);
+        line = item.line(file);
+        out = outputFile(file, fail);
+        continue;
+      }
+      if (!(await out.write(item))) return;
     }
+    if (out && !(await out.finish())) return;
+    if (line) await write(process.stdout, `${line}\n`);
+  } catch (e) {
+    if (!e || !e.code || String(e.code).startsWith('E')) throw e;
+    return await fail(out ? file : input, e.code, e.message, e);
+  } finally {
+    if (out) await out.abort();
   }
 }
 

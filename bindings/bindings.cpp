@@ -104,6 +104,27 @@ val statusToJs(const Status& s) {
     "1 when two corners of the triangle weld together.")                                                             \
   X(vertexNonManifold, Topology, "problems", "vertexNonManifold", "vertex", 1, "topology", 0,                         \
     "1 when the vertex's outgoing half-edges form more than one vnext cycle.")                                       \
+  X(triangleShell, Topology, "", "triangleShell", "triangle", 1, "shells", 0,                                         \
+    "Per triangle: its shell (numbered by lowest triangle id), kInvalid if degenerate.")      \
+  X(nonManifoldEdgeVertices, Defects, "defects", "nonManifoldEdgeVertices", "non-manifold edge", 2, "shells", kCopied, \
+    "Non-manifold edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex.")                       \
+  X(nonManifoldEdgeOffsets, Defects, "defects", "nonManifoldEdgeOffsets", "non-manifold edge+1", 1, "shells", kCopied, \
+    "Non-manifold edge i's triangles are nonManifoldEdgeTriangles[offsets[i] .. offsets[i+1]).")                                  \
+  X(nonManifoldEdgeTriangles, Defects, "defects", "nonManifoldEdgeTriangles", "edge entry", 1, "shells", kCopied,     \
+    "Every triangle with a side on each non-manifold edge, ascending.")                                              \
+  X(inconsistentEdgeVertices, Defects, "defects", "inconsistentEdgeVertices", "inconsistent edge", 2, "shells",       \
+    kCopied, "Inconsistent edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex.")              \
+  X(inconsistentEdgeTriangles, Defects, "defects", "inconsistentEdgeTriangles", "inconsistent edge", 2, "shells",     \
+    kCopied, "The two triangles of inconsistent edge i, [2i] < [2i+1].")                                             \
+  X(nonManifoldVertices, Defects, "defects", "nonManifoldVertices", "non-manifold vertex", 1, "shells", kCopied,       \
+    "The non-manifold vertices, ascending.")                                                                         \
+  X(nonManifoldVertexCycles, Defects, "defects", "nonManifoldVertexCycles", "non-manifold vertex", 1, "shells",       \
+    kCopied, "The number of vnext cycles of each (>= 2).")                                                           \
+  X(degenerateTriangles, Defects, "defects", "degenerateTriangles", "degenerate triangle", 1, "shells", kCopied,       \
+    "The degenerate triangles, ascending.")                                                                          \
+  X(degenerateCorners, Defects, "defects", "degenerateCorners", "degenerate triangle", 1, "shells", kCopied,          \
+    "Corners that weld: bit 0 corners 0,1; bit 1 corners 1,2; bit 2 corners 2,0 (7: all three).")                    \
+  X(loopShell, Defects, "defects", "loopShell", "loop", 1, "shells", kCopied, "Per boundary loop h: its shell.")                                          \
   X(inputVertexMap, Indexed, "", "inputVertexMap", "input vertex", 1, "indexed", kCopied,                             \
     "fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it).")
 
@@ -194,8 +215,9 @@ class Session {
   }
 
   // Completes the read, frees the reader and builds the topology when asked
-  // (prevAndFace false: without the prev and face arrays, see TopologyOptions).
-  val finish(bool topology, double tolerance, bool prevAndFace) {
+  // (prevAndFace false: without the prev and face arrays, see TopologyOptions), and with
+  // `shells` also triangleShell, the shell list and the defect lists.
+  val finish(bool topology, double tolerance, bool prevAndFace, bool shells) {
     if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
     std::free(input_);
     input_ = nullptr;
@@ -205,7 +227,7 @@ class Session {
     delete reader_;
     reader_ = nullptr;
     if (!s.ok()) return remember(s);
-    return buildTopology(topology, tolerance, prevAndFace);
+    return buildTopology(topology, tolerance, prevAndFace, shells);
   }
 
   double bytesRead() const { return reader_ ? double(reader_->bytesRead()) : bytesRead_; }
@@ -218,6 +240,7 @@ class Session {
     o.set("nVertices", val(mesh_.nVertices()));
     o.set("nTriangles", val(mesh_.nTriangles()));
     o.set("hasTopology", val(hasTopology_));
+    o.set("hasShells", val(hasShells_));
     o.set("hasNormals", val(!mesh_.normals.empty() || (options_.keepNormals && mesh_.nTriangles() == 0)));
     o.set("indexed", val(indexed_));
     val solids = val::array();
@@ -245,14 +268,24 @@ class Session {
     return o;
   }
 
-  // The JSON report, byte for byte what the native CLI prints.
-  std::string infoJson(const std::string& file) const {
-    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr);
+  // The JSON report, byte for byte what the native CLI prints (with --shells, --defects
+  // and --max-defects when `shells`, `defects`, `maxDefects`; those need a load with shells).
+  std::string infoJson(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
   }
 
-  // The native CLI's text report (tools/cli.cpp printText), byte for byte: a
-  // Uint8Array, since solid names may hold bytes that are not UTF-8.
-  val infoText(const std::string& file) const { return bytesToJs(infoTextString(file)); }
+  // The native CLI's text report (tools/cli.cpp), byte for byte: a Uint8Array, since
+  // solid names may hold bytes that are not UTF-8.
+  val infoText(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    return bytesToJs(stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
+  }
+
+  // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
+  std::string shellListJson() const {
+    if (!hasShells_) return "null";
+    std::string j = stltopo::shellListJson(shells_);
+    return j.substr(j.find('['));
+  }
 
   // The message of the last failed feed()/finish() as bytes (the native CLI
   // prints messages raw; a JS string would replace invalid UTF-8).
@@ -309,7 +342,7 @@ class Session {
   // fromIndexed(): builds the mesh from the upload()ed positions, triangles and optional
   // attributes, colors and colorValid (an empty array = not given) and the solids of
   // setMeta() (stltopo::meshFromIndexed), then its topology as finish() does.
-  val fromIndexed(bool weldNone, bool topology, double tolerance, bool prevAndFace) {
+  val fromIndexed(bool weldNone, bool topology, double tolerance, bool prevAndFace, bool shells) {
     const size_t nt = mesh_.triangles.size() / 3;
     if ((!mesh_.attributes.empty() && mesh_.attributes.size() != nt) || (!mesh_.colors.empty() && mesh_.colors.size() != 3 * nt) ||
         (!mesh_.colorValid.empty() && mesh_.colorValid.size() != nt))
@@ -331,7 +364,7 @@ class Session {
     if (!s.ok()) return remember(s);
     mesh_ = std::move(m);
     indexed_ = true;
-    return buildTopology(topology, tolerance, prevAndFace);
+    return buildTopology(topology, tolerance, prevAndFace, shells);
   }
 
   // Starts writing the mesh as STL (stltopo::StlWriter): format "binary"/"ascii", colors
@@ -347,9 +380,30 @@ class Session {
     if (name.isString()) o.name = name.as<std::string>();
     o.storedNormals = storedNormals;
     if (chunkBytes > 0) o.chunkBytes = size_t(chunkBytes);
-    writer_ = new (std::nothrow) stltopo::StlWriter(mesh_, o);
+    writer_ = new (std::nothrow) stltopo::StlWriter(*writing_, o);
     if (!writer_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the writer"));
     return val::null();
+  }
+
+  // For `split`: what writeBegin() writes next, shell k of a load with shells (extracted,
+  // as stltopo::extractShell), or the mesh itself for k < 0. Null or the failure's status.
+  val selectShell(double k) {
+    delete writer_;
+    writer_ = nullptr;
+    writing_ = &mesh_;
+    if (k < 0) return val::null();
+    Status s = hasShells_ && k < double(shells_.size())
+                   ? stltopo::extractShell(mesh_, topo_, uint32_t(k), part_)
+                   : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
+    if (!s.ok()) return statusToJs(s);
+    writing_ = &part_;
+    return val::null();
+  }
+
+  // The line `split` prints for shell k written to `file` (stltopo::splitLineJson).
+  std::string splitLine(const std::string& file, double k) const {
+    if (!hasShells_ || !(k >= 0 && k < double(shells_.size()))) return "null";
+    return stltopo::splitLineJson(file, shells_[size_t(k)], uint32_t(k));
   }
 
   // The next chunk of the file: a borrowed Uint8Array view (valid until the next call into
@@ -373,17 +427,30 @@ class Session {
   }
 
  private:
-  std::string infoTextString(const std::string& file) const;
+  stltopo::ReportExtras extras(bool shells, bool defects, double maxDefects) const {
+    stltopo::ReportExtras e;
+    e.shells = shells && hasShells_ ? &shells_ : nullptr;
+    e.defects = defects && hasShells_ ? &defects_ : nullptr;
+    e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
+    return e;
+  }
   // The topology of mesh_ when asked (prevAndFace false: without prev and face, see
-  // TopologyOptions); null or the failure's status.
-  val buildTopology(bool topology, double tolerance, bool prevAndFace) {
+  // TopologyOptions), and with `shells` also triangleShell, the shell list and the defect
+  // lists; null or the failure's status.
+  val buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells) {
     if (!topology) return val::null();
     stltopo::TopologyOptions to;
     to.tolerance = tolerance > 0 ? tolerance : 0;
     to.prevAndFace = prevAndFace;
+    to.triangleShell = shells;
     Status s = stltopo::buildTopology(mesh_, topo_, to);
     if (!s.ok()) return remember(s);
     hasTopology_ = true;
+    if (shells) {
+      s = stltopo::findShellsAndDefects(mesh_, topo_, &shells_, &defects_);
+      if (!s.ok()) return remember(s);
+      hasShells_ = true;
+    }
     return val::null();
   }
   static val bytesToJs(const std::string& s) {
@@ -396,6 +463,7 @@ class Session {
 
   stltopo::Mesh& part(stltopo::Mesh*) { return mesh_; }
   stltopo::Topology& part(stltopo::Topology*) { return topo_; }
+  stltopo::Defects& part(stltopo::Defects*) { return defects_; }
   stltopo::Indexed& part(stltopo::Indexed*) { return indexedArrays_; }
 
   template <class F>
@@ -414,15 +482,16 @@ class Session {
   stltopo::Mesh mesh_;
   stltopo::Topology topo_;
   bool hasTopology_ = false;
+  stltopo::Array<stltopo::Shell> shells_;
+  stltopo::Defects defects_;
+  bool hasShells_ = false;
   bool indexed_ = false;
   stltopo::Indexed indexedArrays_;
   stltopo::StlWriter* writer_ = nullptr;
+  stltopo::Mesh part_;                  // the shell selectShell() extracted
+  const stltopo::Mesh* writing_ = &mesh_;  // what writeBegin() writes
   Status last_;
 };
-
-std::string Session::infoTextString(const std::string& file) const {
-  return stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr);
-}
 
 // errorJson for a status made in JS (e.g. the npm CLI's "cannot open"). A code
 // name that the core does not know gives an invalid-argument report that says so.
@@ -498,6 +567,9 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("meta", &Session::meta)
       .function("infoJson", &Session::infoJson)
       .function("infoText", &Session::infoText)
+      .function("shellListJson", &Session::shellListJson)
+      .function("selectShell", &Session::selectShell)
+      .function("splitLine", &Session::splitLine)
       .function("messageBytes", &Session::messageBytes)
       .function("array", &Session::array)
       .function("upload", &Session::upload)

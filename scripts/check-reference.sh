@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Compares `stltopo info --json` with the independent Python reference
-# (tests/reference/stl_reference.py, written from issues 3 and 4) on every file
-# under tests/fixtures, on generated cases (tests/reference/gen_cases.py) and on
-# any extra files given as arguments. Also checks the reference itself against
-# the numbers in the fixtures' MANIFEST and against the generated cases'
-# expectations, checks exit statuses, and checks that one multi-file run and
-# stdin (`-`, streamed) print the same objects as one run per file.
+# Compares `stltopo info --json`, also with --shells --defects [--max-defects 2], with
+# the independent Python reference (tests/reference/stl_reference.py, written from the
+# issues' text) on every file under tests/fixtures, on generated cases
+# (tests/reference/gen_cases.py) and on any extra files given as arguments. Also checks
+# the reference itself against the numbers in the fixtures' MANIFEST and against the
+# generated cases' expectations, checks exit statuses, and checks that one multi-file
+# run and stdin (`-`, streamed) print the same objects as one run per file.
 #
 # usage: scripts/check-reference.sh [--fixtures-only] [--cli PATH] [FILE...]
 #   --fixtures-only   skip the generated cases
@@ -55,8 +55,8 @@ if [ "$generated" = 1 ]; then
   "$py" tests/reference/gen_cases.py --check || fail=1
 fi
 
-step "reference on ${#files[@]} files"
-"$py" "$ref" "${files[@]}" > "$tmp/ref.jsonl"
+step "reference on ${#files[@]} files (with the shell and defect lists)"
+"$py" "$ref" --shells --defects "${files[@]}" > "$tmp/ref.jsonl"
 if [ "$(wc -l < "$tmp/ref.jsonl")" -ne "${#files[@]}" ]; then
   echo "the reference crashed"; exit 1
 fi
@@ -78,6 +78,13 @@ for f in "${files[@]}"; do
 done
 step "CLI vs reference"
 "$py" "$cmp" cli "$tmp/cli.jsonl" "$tmp/ref.jsonl" "$tmp/rc.tsv" || fail=1
+
+step "CLI --shells --defects vs reference (and the other keys vs plain --json)"
+timeout 600 "$cli" info --json --shells --defects "${files[@]}" > "$tmp/shells.jsonl" 2>/dev/null
+"$py" "$cmp" shells "$tmp/shells.jsonl" "$tmp/ref.jsonl" - "$tmp/cli.jsonl" || fail=1
+step "CLI --shells --defects --max-defects 2 vs reference cut to 2"
+timeout 600 "$cli" info --json --shells --defects --max-defects 2 "${files[@]}" > "$tmp/shells2.jsonl" 2>/dev/null
+"$py" "$cmp" shells "$tmp/shells2.jsonl" "$tmp/ref.jsonl" 2 || fail=1
 
 step "CLI: one multi-file run vs one run per file"
 timeout 600 "$cli" info --json "${files[@]}" > "$tmp/multi.jsonl" 2>/dev/null

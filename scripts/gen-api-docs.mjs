@@ -16,17 +16,21 @@ const GROUP_DOC = {
   halfedges: 'Half-edge arrays, length nHalfedges; twin(e) = e ^ 1.',
   loops: 'All boundary loops, flat.',
   problems: 'Per-element problems.',
+  defects: 'Every defect with its location, as flat arrays (mesh.defect(kind, i) gives one as an object).',
 };
 const ABSENT = {
   mesh: null,
   normals: 'null without { normals: true }',
   colors: "null when colorConvention is 'none'",
   topology: 'null with topology: false',
+  shells: 'null without { shells: true }',
   indexed: 'null for meshes of loadStl()',
 };
 // Topology fields are typed by Mesh's parameter: present, null, or either (IfTopology).
 const tsType = (when, type) => (when === 'topology' ? `IfTopology<T, ${type}>` : ABSENT[when] ? `${type} | null` : type);
-const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1' : `${d.width > 1 ? d.width : 1} per ${d.element}`);
+const per = (d) => (d.element === 'loop+1' ? 'nLoops + 1'
+  : d.element.endsWith('+1') ? `one more than the ${d.element.slice(0, -2)}s`
+    : `${d.width > 1 ? d.width : 1} per ${d.element}`);
 const notes = (d) => [
   d.derived ? 'copies rebuild it in JS on first read' : null,
   d.copied ? 'always a copy, also with view: true' : null,

@@ -3,6 +3,7 @@
 
 #include <locale.h>
 
+#include <cmath>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "float_format.h"
 #include "stltopo/stltopo.h"
 
 namespace stltopo::detail {
@@ -74,5 +76,61 @@ bool tryAssign(std::string& s, const char* p, size_t n);
 void assignOrCut(std::string& s, const char* p, size_t n);
 // Reserves `n` bytes in `s` (probed). After it, appends up to n bytes never allocate.
 bool tryReserve(std::string& s, size_t n);
+
+// One triangle's figures, the formulas of Mesh::area, Mesh::volume and
+// Mesh::normalMismatches, in float64 from float32 corners: the cross product
+// n = (b - a) x (c - a), the area |n| / 2, and the signed volume of the tetrahedron
+// (origin, a, b, c). Every figure of the library goes through here, so that they agree to
+// the bit.
+struct TriangleFigures {
+  double nx, ny, nz, area, volume;
+};
+inline TriangleFigures triangleFigures(const float* a, const float* b, const float* c) {
+  double ax = a[0], ay = a[1], az = a[2], bx = b[0], by = b[1], bz = b[2], cx = c[0], cy = c[1], cz = c[2];
+  double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
+  TriangleFigures f;
+  f.nx = uy * wz - uz * wy;
+  f.ny = uz * wx - ux * wz;
+  f.nz = ux * wy - uy * wx;
+  f.area = 0.5 * std::sqrt(f.nx * f.nx + f.ny * f.ny + f.nz * f.nz);
+  f.volume = (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+  return f;
+}
+// Whether a stored normal n points against the winding (Mesh::normalMismatches).
+inline bool normalMismatch(const float* n, const TriangleFigures& f) {
+  return (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) && double(n[0]) * f.nx + double(n[1]) * f.ny + double(n[2]) * f.nz < 0;
+}
+
+// A JSON writer for the reports: s holds the text, `first` whether the next key or
+// element is the first of its object or array.
+struct Json {
+  std::string s;
+  bool first = true;
+  void open(char c) { s += c; first = true; }
+  void close(char c) { s += c; first = false; }
+  void key(const char* k) {
+    if (!first) s += ',';
+    first = false;
+    s += '"';
+    s += k;
+    s += "\":";
+  }
+  void sep() {
+    if (!first) s += ',';
+    first = false;
+  }
+  void u(uint64_t v) { s += std::to_string(v); }
+  void i(int64_t v) { s += std::to_string(v); }
+  void str(const std::string& v) { s += jsonString(v); }
+  void b(bool v) { s += v ? "true" : "false"; }
+  void null() { s += "null"; first = false; }
+  // A float32 coordinate (-0 printed as 0) or a float64 figure, in shortest form.
+  void f32(float v) { s += shortest(v + 0.0f, true); }
+  void f64(double v) { s += shortest(v, false); }
+};
+
+// The report's "shellList" and "defects" keys with their values (shells_report.cpp).
+void writeShellList(Json& j, const Array<Shell>& shells);
+void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind);
 
 }  // namespace stltopo::detail

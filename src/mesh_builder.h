@@ -219,15 +219,10 @@ struct Builder {
   // volume, normal mismatch and whether a word has the VisCAM bit (the bounding box grows
   // in weld()).
   inline void figures(const float* n, const float* v, uint16_t attr) {
-    double ax = v[0], ay = v[1], az = v[2], bx = v[3], by = v[4], bz = v[5], cx = v[6], cy = v[7], cz = v[8];
-    double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
-    double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-    mesh.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
-    mesh.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
-    if (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) {
-      double d = double(n[0]) * nx + double(n[1]) * ny + double(n[2]) * nz;
-      if (d < 0) ++mesh.normalMismatches;
-    }
+    TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
+    mesh.area += fig.area;
+    mesh.volume += fig.volume;
+    if (normalMismatch(n, fig)) ++mesh.normalMismatches;
     if (attr & 0x8000u) anyVisCamBit = true;
   }
 

@@ -13,29 +13,8 @@
 namespace stltopo {
 namespace {
 
+using detail::Json;
 using detail::shortest;
-
-struct Json {
-  std::string s;
-  bool first = true;
-  void open(char c) { s += c; first = true; }
-  void close(char c) { s += c; first = false; }
-  void key(const char* k) {
-    if (!first) s += ',';
-    first = false;
-    s += '"';
-    s += k;
-    s += "\":";
-  }
-  void sep() {
-    if (!first) s += ',';
-    first = false;
-  }
-  void u(uint64_t v) { s += std::to_string(v); }
-  void i(int64_t v) { s += std::to_string(v); }
-  void str(const std::string& v) { s += jsonString(v); }
-  void b(bool v) { s += v ? "true" : "false"; }
-};
 
 void location(Json& j, const Status& st) {
   if (st.offset != kNoOffset) { j.key("offset"); j.u(st.offset); }
@@ -97,6 +76,10 @@ std::string jsonString(const std::string& in) {
 }
 
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo) {
+  return infoJson(file, mesh, topo, ReportExtras{});
+}
+
+std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
   Json j;
   j.open('{');
   j.key("file"); j.str(file);
@@ -187,6 +170,8 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
     }
     j.key("watertight"); j.b(t.watertight());
     j.key("manifold"); j.b(t.manifold());
+    if (extras.shells) detail::writeShellList(j, *extras.shells);
+    if (extras.defects) detail::writeDefects(j, mesh, t, *extras.defects, extras.maxDefects);
   }
   j.close('}');
   return j.s;
@@ -195,6 +180,10 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
 using detail::appendf;
 
 std::string infoText(const std::string& file, const Mesh& m, const Topology* t) {
+  return infoText(file, m, t, ReportExtras{});
+}
+
+std::string infoText(const std::string& file, const Mesh& m, const Topology* t, const ReportExtras& extras) {
   std::string o;
   appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format),
           m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
@@ -213,6 +202,8 @@ std::string infoText(const std::string& file, const Mesh& m, const Topology* t) 
             t->nNonManifoldVertices, t->nDegenerate);
     appendf(o, "  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells,
             (long long)t->eulerCharacteristic(), t->watertight() ? "yes" : "no", t->manifold() ? "yes" : "no");
+    if (extras.shells) o += shellsText(*extras.shells);
+    if (extras.defects) o += defectsText(m, *t, *extras.defects, extras.maxDefects);
   }
   for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());
   return o;

@@ -3,7 +3,8 @@
 //   weldCorners       vertexWeld and the corner vertices the topology sees
 //   groupSidesByEdge  degenerate flags; the sides bucketed by undirected edge (CSR)
 //   pairSides         partner words, edge kinds and counts; triangle unions (shells)
-//   countShells       nShells from the union-find
+//   numberShells      nShells and (TopologyOptions::triangleShell) triangleShell from the
+//                     union-find
 //   numberHalfedges   half-edge ids in file order; next, prev, vert, face, pairKind,
 //                     triangleHalfedge; the boundary half-edges; per-vertex records
 //   linkBoundaryLoops next of the boundary half-edges by the fan rule
@@ -269,14 +270,32 @@ Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
   return Status{};
 }
 
-// Pass countShells. Needs the flushed w.uf. Leaves out.nShells, the number of
-// edge-connected components of the non-degenerate triangles, and frees the union-find (so
+// Pass numberShells. Needs the flushed w.uf. Leaves out.nShells, the number of
+// edge-connected components of the non-degenerate triangles, and when `keep`,
+// out.triangleShell: per triangle its shell, the shells numbered in the order of their
+// lowest triangle id, kInvalid for a degenerate triangle. The numbers are written over the
+// union-find's parent array, which becomes triangleShell; without `keep` it is freed (so
 // that it is gone before the half-edge arrays are allocated).
-void countShells(uint32_t nt, Topology& out, Work& w) {
+void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   const uint8_t* degen = out.triangleDegenerate.data();
-  for (uint32_t t = 0; t < nt; ++t)
-    if (!degen[t] && w.uf.find(t) == t) ++out.nShells;
-  w.uf.parent.release();
+  if (!keep) {
+    for (uint32_t t = 0; t < nt; ++t)
+      if (!degen[t] && w.uf.find(t) == t) ++out.nShells;
+    w.uf.parent.release();
+    return;
+  }
+  // unite() hangs the larger root under the smaller and find() only shortens paths, so
+  // parent[t] <= t, with equality exactly for the roots (the lowest triangle of each
+  // shell, and the degenerate triangles, never united). In increasing t the entries below
+  // t already hold shell numbers: a non-root takes its parent's.
+  uint32_t* p = w.uf.parent.data();
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (degen[t]) p[t] = kInvalid;
+    else p[t] = p[t] == t ? n++ : p[p[t]];
+  }
+  out.nShells = n;
+  out.triangleShell = std::move(w.uf.parent);
 }
 
 // Pass numberHalfedges. Needs the partner words. One pass over the live sides in file
@@ -499,7 +518,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
   if (!(s = groupSidesByEdge(nt, nv, out, w)).ok()) return s;
   if (!(s = pairSides(nt, nv, out, w)).ok()) return s;
-  countShells(nt, out, w);
+  numberShells(nt, options.triangleShell, out, w);
   if (!(s = numberHalfedges(nt, nv, full, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;

@@ -243,6 +243,22 @@ Status validate(const Mesh& mesh, const Topology& t) {
   uint32_t nShells = 0;
   for (uint32_t f = 0; f < nt; ++f) nShells += !t.triangleDegenerate[f] && findRoot(parent, f) == f;
   if (nShells != t.nShells) return badCount("shell count differs", nShells);
+  if (!t.triangleShell.empty()) {
+    // The shells numbered by their lowest triangle: the first triangle met of each root.
+    if (t.triangleShell.size() != nt) return bad("triangleShell has the wrong length", nt);
+    Array<uint32_t> number;
+    if (!number.assign(nt, kInvalid)) return oom();
+    uint32_t n = 0;
+    for (uint32_t f = 0; f < nt; ++f) {
+      uint32_t want = kInvalid;
+      if (!t.triangleDegenerate[f]) {
+        uint32_t& r = number[findRoot(parent, f)];
+        if (r == kInvalid) r = n++;
+        want = r;
+      }
+      if (t.triangleShell[f] != want) return bad("triangleShell differs from the shells", f);
+    }
+  }
   return Status{};
 }
 

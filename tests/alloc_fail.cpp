@@ -249,3 +249,48 @@ TEST(AllocFail, EditsFailCleanly) {
   sweepEdit("compact", [](EditableMesh& em) { return em.compact(); });
   sweepEdit("reserve", [](EditableMesh& em) { return em.reserve(100, 100); });
 }
+
+// The shell report, the defect lists and extractShell: each allocation of the topology
+// (with triangleShell) and of those fails in turn.
+TEST(AllocFail, ShellsDefectsAndExtractShell) {
+  gen::Soup s = cubesSharingAnEdge();
+  gen::append(s, gen::cube(5, 0, 0));
+  std::swap(s.f[40][1], s.f[40][2]);  // a flipped face in the fourth cube
+  s.f.push_back({0, 0, 1});           // a degenerate triangle
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(s), m).ok());
+  TopologyOptions to;
+  to.triangleShell = true;
+  to.prevAndFace = false;
+  auto once = [&](long k, std::string& out) {
+    Topology t;
+    Array<Shell> shells;
+    Defects d;
+    Mesh part;
+    seen = 0;
+    countdown = k;
+    armed = true;
+    Status st = buildTopology(m, t, to);
+    if (st.ok()) st = findShellsAndDefects(m, t, &shells, &d);
+    if (st.ok()) st = extractShell(m, t, 1, part);
+    armed = false;
+    countdown = 0;
+    out.clear();
+    if (st.ok()) out = infoJson("f", m, &t, ReportExtras{&shells, &d, 1000}) + infoJson("part", part, nullptr);
+    return st;
+  };
+  std::string good;
+  ASSERT_TRUE(once(0, good).ok());
+  const long n = seen;
+  ASSERT_GT(n, 10);
+  for (long k = 1; k <= n; ++k) {
+    SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+    std::string got;
+    Status st = once(k, got);
+    if (!st.ok()) EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    else EXPECT_EQ(got, good);
+    std::string again;
+    EXPECT_TRUE(once(0, again).ok());
+    EXPECT_EQ(again, good);
+  }
+}

@@ -1,6 +1,6 @@
 // Prints a 64-bit FNV-1a hash and the length of every array that the reader and the
 // topology produce for each file: exact weld (full and report-only topology), a tolerance
-// weld, and keepNormals. Two builds of the code that print the same lines produce the
+// weld, and keepNormals; with triangleShell and the defect lists. Two builds of the code that print the same lines produce the
 // same arrays. Used to prove that a change which should keep the output does (see
 // scripts/snapshot.sh).
 #include <cstdio>
@@ -18,8 +18,10 @@ void put(const char* name, const A& a) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
   std::printf(" %s=%zu:%016llx", name, a.size(), static_cast<unsigned long long>(h));
 }
-void topo(const char* label, const stltopo::Mesh& m, const stltopo::TopologyOptions& o) {
+// Every topology is built with triangleShell, and its shells and defects are printed too.
+void topo(const char* label, const stltopo::Mesh& m, stltopo::TopologyOptions o) {
   stltopo::Topology t;
+  o.triangleShell = true;
   stltopo::Status s = stltopo::buildTopology(m, t, o);
   std::printf(" %s:%s", label, stltopo::codeName(s.code));
   if (!s.ok()) return;
@@ -33,6 +35,17 @@ void topo(const char* label, const stltopo::Mesh& m, const stltopo::TopologyOpti
   std::printf(" counts=%u,%u,%u,%u,%u,%u,%u,%u,%u,%u", t.nEdges, t.nBoundaryEdges, t.nNonManifoldEdges,
               t.nInconsistentEdges, t.nNonManifoldVertices, t.nDegenerate, t.nShells, t.nUsedVertices,
               t.nHoles, t.nSeams);
+  put("triangleShell", t.triangleShell);
+  stltopo::Defects d;
+  s = stltopo::findShellsAndDefects(m, t, nullptr, &d);
+  std::printf(" shells:%s", stltopo::codeName(s.code));
+  put("nonManifoldEdgeVertices", d.nonManifoldEdgeVertices); put("nonManifoldEdgeOffsets", d.nonManifoldEdgeOffsets);
+  put("nonManifoldEdgeTriangles", d.nonManifoldEdgeTriangles);
+  put("inconsistentEdgeVertices", d.inconsistentEdgeVertices);
+  put("inconsistentEdgeTriangles", d.inconsistentEdgeTriangles);
+  put("nonManifoldVertices", d.nonManifoldVertices); put("nonManifoldVertexCycles", d.nonManifoldVertexCycles);
+  put("degenerateTriangles", d.degenerateTriangles); put("degenerateCorners", d.degenerateCorners);
+  put("loopShell", d.loopShell);
 }
 }  // namespace
 

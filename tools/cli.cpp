@@ -22,16 +22,24 @@
 namespace {
 
 const char* kUsage =
-    "usage: stltopo info [--json] [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n"
+    "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--no-topology] [--tolerance D]\n"
+    "                    [--max-triangles N] [--max-bytes N] FILE...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
+    "  --shells adds a report per shell, --defects every defect with its location (the\n"
+    "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
-    "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n";
+    "  OUT appears only when complete. A failure prints the error JSON on stderr (exit 1).\n"
+    "usage: stltopo split IN OUTDIR [--ascii|--binary]\n"
+    "  Writes each shell of IN to OUTDIR/<stem>-shell-<k>.stl (OUTDIR is created when\n"
+    "  missing), in IN's format unless told, and prints a JSON line per file with its shell\n"
+    "  report. A failure prints the error JSON on stderr (exit 1).\n";
 
 struct Args {
-  bool json = false, topology = true;
+  bool json = false, topology = true, shells = false, defects = false;
+  int64_t maxDefects = -1;  // -1: the default (1000 in JSON, 5 in the text report)
   double tolerance = 0;
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
@@ -136,10 +144,11 @@ struct Output {
   }
 };
 
-int convert(int argc, char** argv) {
-  std::vector<std::string> files;
-  stltopo::WriteOptions wo;
-  bool formatGiven = false;
+// The arguments of convert and split: two file names and the write options; split takes
+// only --ascii/--binary (colorsAndName false). 0, or the exit status of a usage error.
+int writeArgs(int argc, char** argv, bool colorsAndName, std::vector<std::string>& files, stltopo::WriteOptions& wo,
+              bool& formatGiven) {
+  formatGiven = false;
   for (int i = 2; i < argc; ++i) {
     std::string s = argv[i];
     if (s == "--") {  // the rest are file names
@@ -150,17 +159,17 @@ int convert(int argc, char** argv) {
       files.push_back(s);
       continue;
     }
-    bool takesValue = s == "--colors" || s == "--name";
+    bool takesValue = colorsAndName && (s == "--colors" || s == "--name");
     if (takesValue && i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str()); return 2; }
     std::string v = takesValue ? argv[++i] : "";
     if (s == "--ascii" || s == "--binary") {
       wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
       formatGiven = true;
-    } else if (s == "--name") {
+    } else if (takesValue && s == "--name") {
       wo.name = v;
-    } else if (s == "--colors" && (v == "viscam" || v == "magics" || v == "none")) {
+    } else if (takesValue && (v == "viscam" || v == "magics" || v == "none")) {
       wo.colors = v == "viscam" ? stltopo::WriteColors::VisCam : v == "magics" ? stltopo::WriteColors::Magics : stltopo::WriteColors::None;
-    } else if (s == "--colors") {
+    } else if (takesValue) {
       std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str());
       return 2;
     } else {
@@ -168,6 +177,14 @@ int convert(int argc, char** argv) {
       return 2;
     }
   }
+  return 0;
+}
+
+int convert(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::WriteOptions wo;
+  bool formatGiven;
+  if (int rc = writeArgs(argc, argv, true, files, wo, formatGiven)) return rc;
   if (files.size() != 2) { std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage); return 2; }
   stltopo::Mesh mesh;
   stltopo::Status s = readFile(files[0], stltopo::ReadOptions{}, mesh);
@@ -183,6 +200,56 @@ int convert(int argc, char** argv) {
   if (!s.ok()) {
     std::fprintf(stderr, "%s\n", stltopo::errorJson(files[1], s).c_str());
     return 1;
+  }
+  return 0;
+}
+
+// The file of shell k: OUTDIR/<stem>-shell-<k>.stl, the stem being IN's file name without
+// its last extension ("stdin" for '-'). bin/stltopo.mjs splitPath() is the same rule.
+std::string splitPath(const std::string& in, std::string dir, uint32_t k) {
+  std::string base = in == "-" ? "stdin" : in.substr(in.rfind('/') == std::string::npos ? 0 : in.rfind('/') + 1);
+  size_t dot = base.rfind('.');
+  if (in != "-" && dot != std::string::npos && dot > 0) base.resize(dot);
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  return (dir == "/" ? dir : dir + "/") + base + "-shell-" + std::to_string(k) + ".stl";
+}
+
+int split(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::WriteOptions wo;
+  bool formatGiven;
+  if (int rc = writeArgs(argc, argv, false, files, wo, formatGiven)) return rc;
+  if (files.size() != 2) { std::fprintf(stderr, "stltopo: split needs IN and OUTDIR\n%s", kUsage); return 2; }
+  const std::string& in = files[0];
+  const std::string& dir = files[1];
+  auto fail = [](const std::string& file, const stltopo::Status& s) {
+    std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
+    return 1;
+  };
+  stltopo::Mesh mesh;
+  stltopo::Status s = readFile(in, stltopo::ReadOptions{}, mesh);
+  stltopo::Topology topo;
+  stltopo::TopologyOptions to;
+  to.prevAndFace = false;
+  to.triangleShell = true;
+  if (s.ok()) s = stltopo::buildTopology(mesh, topo, to);
+  stltopo::Array<stltopo::Shell> shells;
+  if (s.ok()) s = stltopo::findShellsAndDefects(mesh, topo, &shells, nullptr);
+  if (!s.ok()) return fail(in, s);
+  struct stat st;
+  if (mkdir(dir.c_str(), 0777) != 0 && !(errno == EEXIST && stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode)))
+    return fail(dir, stltopo::Status::error(stltopo::Code::WriteFailed, "cannot create the folder " + dir + ": " + std::strerror(errno)));
+  if (!formatGiven) wo.format = mesh.format;
+  std::signal(SIGXFSZ, SIG_IGN);  // over a file size limit, write() fails instead (write-failed)
+  for (uint32_t k = 0; k < shells.size(); ++k) {
+    const std::string path = splitPath(in, dir, k);
+    stltopo::Mesh part;
+    s = stltopo::extractShell(mesh, topo, k, part);
+    Output out;
+    if (s.ok()) s = out.open(path);
+    if (s.ok()) s = out.close(stltopo::writeStl(part, Output::sink, &out, wo));
+    if (!s.ok()) return fail(path, s);
+    std::printf("%s\n", stltopo::splitLineJson(path, shells[k], k).c_str());
   }
   return 0;
 }
@@ -204,6 +271,7 @@ int main(int argc, char** argv) {
   if (cmd == "--help" || cmd == "-h" || cmd == "help") { std::fputs(kUsage, stdout); return 0; }
   if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
   if (cmd == "convert") return convert(argc, argv);
+  if (cmd == "split") return split(argc, argv);
   if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
   bool endOfOptions = false;
   for (int i = 2; i < argc; ++i) {
@@ -215,6 +283,15 @@ int main(int argc, char** argv) {
     if (!endOfOptions && s == "--") endOfOptions = true;
     else if (!endOfOptions && s == "--json") a.json = true;
     else if (!endOfOptions && s == "--no-topology") a.topology = false;
+    else if (!endOfOptions && s == "--shells") a.shells = true;
+    else if (!endOfOptions && s == "--defects") a.defects = true;
+    else if (!endOfOptions && s == "--max-defects") {
+      const char* v = value("--max-defects");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-' || n > 0xFFFFFFFFull) { std::fprintf(stderr, "stltopo: bad --max-defects '%s'\n", v); return 2; }
+      a.maxDefects = int64_t(n);
+    }
     else if (!endOfOptions && s == "--tolerance") {
       const char* v = value("--tolerance");
       char* end;
@@ -240,6 +317,13 @@ int main(int argc, char** argv) {
     }
   }
   if (a.files.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
+  if (!a.topology && (a.shells || a.defects)) {
+    std::fprintf(stderr, "stltopo: --shells and --defects need the topology (not --no-topology)\n");
+    return 2;
+  }
+
+  // The text report always lists the first few defects of each kind.
+  const bool defects = a.defects || !a.json;
 
   int rc = 0;
   stltopo::ReadOptions ro;
@@ -248,11 +332,18 @@ int main(int argc, char** argv) {
   stltopo::TopologyOptions to;
   to.tolerance = a.tolerance;
   to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
+  to.triangleShell = a.topology && (a.shells || defects);
+  stltopo::ReportExtras extras;
+  extras.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
   for (const std::string& file : a.files) {
     stltopo::Mesh mesh;
     stltopo::Topology topo;
     stltopo::Status s = readFile(file, ro, mesh);
     if (s.ok() && a.topology) s = stltopo::buildTopology(mesh, topo, to);
+    stltopo::Array<stltopo::Shell> shells;
+    stltopo::Defects found;
+    if (s.ok() && a.topology && to.triangleShell)
+      s = stltopo::findShellsAndDefects(mesh, topo, a.shells ? &shells : nullptr, defects ? &found : nullptr);
     if (!s.ok()) {
       rc = 1;
       if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
@@ -260,8 +351,10 @@ int main(int argc, char** argv) {
       continue;
     }
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
-    if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t).c_str());
-    else std::fputs(stltopo::infoText(file, mesh, t).c_str(), stdout);
+    extras.shells = a.shells && t ? &shells : nullptr;
+    extras.defects = defects && t ? &found : nullptr;
+    if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t, extras).c_str());
+    else std::fputs(stltopo::infoText(file, mesh, t, extras).c_str(), stdout);
   }
   return rc;
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "stltopo/mesh.h"
+#include "stltopo/shells.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
 
@@ -22,6 +23,19 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
 // The CLI's human-readable report (several lines, each ending in a newline); `topo` may
 // be null as for infoJson.
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo);
+// What `info --shells` and `--defects` add to the report: the results of
+// findShellsAndDefects on the same mesh and topology. A null member adds nothing.
+struct ReportExtras {
+  const Array<Shell>* shells = nullptr;  // JSON: "shellList"; text: a line per shell
+  const Defects* defects = nullptr;      // JSON: "defects"; text: the first maxDefects of each kind
+  uint32_t maxDefects = 1000;            // items per defect kind, and entries of each loop's
+                                         // vertex and cut-edge lists (JSON)
+};
+// infoJson with "shellList" and then "defects" as the last keys (`topo` must not be null
+// when `extras` has a member). Keeps the guarantees of infoJson.
+std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras);
+// infoText with the shell lines and then the defect lines after the topology's.
+std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras);
 // JSON object for a failed file: {"file":..,"error":{code,message,location}}.
 std::string errorJson(const std::string& file, const Status& error);
 // Escapes a string as a JSON string literal (with quotes); invalid UTF-8 becomes U+FFFD.

@@ -18,6 +18,7 @@
 #include "stltopo/read.h"
 #include "stltopo/topology.h"
 #include "stltopo/report.h"
+#include "stltopo/shells.h"
 #include "stltopo/indexed.h"
 #include "stltopo/write.h"
 #include "stltopo/edit.h"

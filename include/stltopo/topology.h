@@ -18,6 +18,9 @@ struct TopologyOptions {
   // bytes per half-edge, about 24 per triangle. Navigation through prev or face (lPrev,
   // oNext, lFace, rFace, ...) and validate() need them.
   bool prevAndFace = true;
+  // true: also build Topology::triangleShell (the shell of each triangle, for the shell
+  // report and extractShell): 4 more bytes per triangle in the result, and at the peak.
+  bool triangleShell = false;
 };
 
 // Edge classes per half-edge pair (index k = e >> 1).
@@ -57,6 +60,10 @@ struct Topology {
   Array<uint8_t> triangleDegenerate;   // per triangle: 1 if two corners weld together
   Array<uint8_t> vertexNonManifold;    // per vertex: 1 if its outgoing half-edges form > 1 vnext cycle
 
+  // Shells (edge-connected components of the non-degenerate triangles), numbered in the
+  // order of their lowest triangle id. Built when TopologyOptions::triangleShell, else empty.
+  Array<uint32_t> triangleShell;       // per triangle: its shell, kInvalid if degenerate
+
   // Undirected-edge counts (an undirected edge may hold several pairs when cut).
   uint32_t nEdges = 0, nBoundaryEdges = 0, nNonManifoldEdges = 0, nInconsistentEdges = 0;
   uint32_t nNonManifoldVertices = 0, nDegenerate = 0, nShells = 0, nUsedVertices = 0;
@@ -92,10 +99,11 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
 // Checks the invariants of `topo` against `mesh`: array lengths, next a permutation with
 // prev its inverse, faces and triangles, vertex and loop lookups, pairKind against the
 // sides of each pair, loopIsSeam, vertexNonManifold, every count (edges by kind, holes,
-// seams, used vertices, degenerate triangles, shells). Returns Ok, the first violation as
-// invalid (message names the check; Status::element the half-edge, vertex, face, loop or
-// count), or out-of-memory for its work arrays. Needs prev and face (an empty topology of
-// prevAndFace = false is reported as invalid). Reads only; O(n).
+// seams, used vertices, degenerate triangles, shells), triangleShell when it was built.
+// Returns Ok, the first violation as invalid (message names the check; Status::element
+// the half-edge, vertex, face, loop or count), or out-of-memory for its work arrays.
+// Needs prev and face (an empty topology of prevAndFace = false is reported as invalid).
+// Reads only; O(n).
 Status validate(const Mesh& mesh, const Topology& topo);
 
 // Navigation. face[e] is the left face of e.

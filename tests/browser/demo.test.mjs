@@ -264,6 +264,72 @@ test('edit mode: remove a triangle, fill the hole, flip the shell, download and 
   await closePage(page);
 });
 
+test('shells and defects: the lists match the CLI, a click isolates a shell or frames a defect (screenshots)', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=unit-sphere');
+  // Spider: 18 shells, holes, seams, flipped faces, non-manifold vertices, degenerate triangles.
+  assert.equal(await loadThroughInput(page, SPIDER), 'ready');
+  const want = JSON.parse(execFileSync(cli, ['info', '--json', '--shells', '--defects', SPIDER], { encoding: 'utf8' }));
+  const shells = await page.evaluate(() => [...document.querySelectorAll('[data-shell]')].map((e) => Number(e.dataset.shell)));
+  assert.deepEqual(shells, want.shellList.map((s) => s.id));
+  const counts = await page.evaluate(() => Object.fromEntries(
+    [...document.querySelectorAll('[data-defect-count]')].map((e) => [e.dataset.defectCount, Number(e.textContent)])));
+  for (const [kind, list] of Object.entries(want.defects)) {
+    if (list.count) assert.equal(counts[kind], list.count, kind);
+    else assert.ok(!(kind in counts), `${kind} listed without defects`);
+  }
+  // A shell: isolated, its figures in the stats panel.
+  const pick = want.shellList.findIndex((s) => !s.closed);
+  await page.click(`[data-shell="${pick}"]`);
+  await page.waitForTimeout(600);
+  const shown = await page.evaluate(() => Object.fromEntries(
+    [...document.querySelectorAll('[data-shell-stat]')].map((e) => [e.dataset.shellStat, e.textContent])));
+  for (const key of ['triangles', 'vertices', 'edges', 'closed', 'manifold', 'orientation', 'holes', 'seams', 'volume']) {
+    assertClose(parseStat(shown[key]), want.shellList[pick][key], `shell ${pick} ${key}`);
+  }
+  assert.equal(await page.evaluate((id) => document.querySelector(`[data-shell="${id}"]`).classList.contains('active'), pick), true);
+  await page.screenshot({ path: path.join(artifacts, 'demo-shell.png') });
+  // Clicking it again shows every shell again.
+  await page.click(`[data-shell="${pick}"]`);
+  assert.equal(await page.evaluate(() => document.querySelector('#shell-stats')), null);
+  // A defect of each kind that has one: framed and highlighted.
+  for (const kind of Object.keys(want.defects).filter((k) => want.defects[k].count > 0)) {
+    await page.click(`[data-defect-kind="${kind}"][data-defect-index="0"]`);
+    assert.equal(await page.evaluate(() => document.body.dataset.focusedDefect), `${kind}:0`);
+    assert.equal(await page.evaluate((k) => document.querySelector(`[data-defect-kind="${k}"][data-defect-index="0"]`)
+      .classList.contains('active'), kind), true);
+  }
+  await page.waitForTimeout(600);
+  await page.screenshot({ path: path.join(artifacts, 'demo-defect.png') });
+  // Two cubes sharing an edge: one shell, not closed, outward.
+  assert.equal(await loadThroughInput(page, SHARED), 'ready');
+  assert.equal(await page.evaluate(() => document.querySelectorAll('[data-shell]').length), 1);
+  assert.match(await page.evaluate(() => document.querySelector('[data-shell="0"] .orientation').textContent), /^not closed · outward/);
+  await page.close();
+});
+
+test('an inward shell gets its own colour and count', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=unit-sphere');
+  // Two cubes, the second one inside out (generated here: 24 triangles).
+  const tris = [];
+  const quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+  for (const [ox, flip] of [[0, false], [3, true]]) {
+    const v = (i) => [ox + (i & 1), (i >> 1) & 1, (i >> 2) & 1];
+    for (const [a, b, c, d] of quads) for (const t of [[a, b, c], [a, c, d]]) tris.push((flip ? [t[0], t[2], t[1]] : t).map(v));
+  }
+  const buf = Buffer.alloc(84 + 50 * tris.length);
+  buf.writeUInt32LE(tris.length, 80);
+  tris.forEach((t, i) => t.flat().forEach((x, k) => buf.writeFloatLE(x, 84 + 50 * i + 12 + 4 * k)));
+  const n = await loadCount(page);
+  await page.setInputFiles('#file-input', { name: 'inside-out.stl', mimeType: 'model/stl', buffer: buf });
+  assert.equal(await settle(page, n), 'ready');
+  const rows = await page.evaluate(() => [...document.querySelectorAll('[data-shell] .orientation')].map((e) => e.className));
+  assert.deepEqual(rows, ['orientation outward', 'orientation inward']);
+  assert.equal(await page.evaluate(() => document.querySelector('[data-count="inwardShells"]').textContent), '1');
+  await page.close();
+});
+
 test('drag and drop of a file onto the page', async () => {
   const page = await newPage();
   await openDemo(page, '?sample=unit-sphere');

@@ -102,6 +102,45 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
 }
 
+// The shell report and the defect lists of the report-only topology with triangleShell:
+// the shells' counts add up to the whole report's, the lists have its counts, and each
+// (of the first few) shell extracted on its own is one shell with the same report.
+inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full) {
+  to.prevAndFace = false;
+  to.triangleShell = true;
+  Topology t;
+  FUZZ_CHECK(buildTopology(m, t, to).ok());
+  Array<Shell> shells;
+  Defects d;
+  Status s = findShellsAndDefects(m, t, &shells, &d);
+  if (!s.ok()) {
+    std::fprintf(stderr, "findShellsAndDefects: %s\n", s.message.c_str());
+    FUZZ_CHECK(s.ok());
+  }
+  FUZZ_CHECK(shells.size() == full.nShells);
+  uint64_t tris = 0, edges = 0, bnd = 0, nme = 0, inc = 0, holes = 0, seams = 0;
+  for (const Shell& sh : shells) {
+    tris += sh.triangles; edges += sh.edges; bnd += sh.boundaryEdges; nme += sh.nonManifoldEdges;
+    inc += sh.inconsistentEdges; holes += sh.holes; seams += sh.seams;
+  }
+  FUZZ_CHECK(tris == full.nTriangles - full.nDegenerate && edges == full.nEdges && bnd == full.nBoundaryEdges);
+  FUZZ_CHECK(nme == full.nNonManifoldEdges && inc == full.nInconsistentEdges && holes == full.nHoles && seams == full.nSeams);
+  FUZZ_CHECK(d.nonManifoldEdgeVertices.size() == 2 * size_t(full.nNonManifoldEdges));
+  FUZZ_CHECK(d.inconsistentEdgeVertices.size() == 2 * size_t(full.nInconsistentEdges));
+  FUZZ_CHECK(d.nonManifoldVertices.size() == full.nNonManifoldVertices && d.degenerateTriangles.size() == full.nDegenerate);
+  std::string j = infoJson("f", m, &t, ReportExtras{&shells, &d, 3});
+  FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
+  for (uint32_t i = 0; i < shells.size() && i < 4; ++i) {
+    Mesh part;
+    FUZZ_CHECK(extractShell(m, t, i, part).ok());
+    FUZZ_CHECK(part.nTriangles() == shells[i].triangles && part.nVertices() >= 3);
+    if (to.tolerance > 0) continue;  // welded vertices apart from the others may weld differently alone
+    Topology pt;
+    FUZZ_CHECK(buildTopology(part, pt, to).ok());
+    FUZZ_CHECK(pt.nShells == 1 && pt.nEdges == shells[i].edges && pt.nUsedVertices == shells[i].vertices);
+  }
+}
+
 using gen::sameArray;
 
 inline bool sameStatus(const Status& a, const Status& b) {

@@ -46,6 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   to.tolerance = tol;
   Topology t;
   fuzz::checkTopology(m, to, t);
+  fuzz::checkShells(m, to, t);
 
   const uint32_t nv = m.nVertices();
   FUZZ_CHECK(t.vertexWeld.size() == nv);

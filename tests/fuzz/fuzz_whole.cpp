@@ -16,6 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::checkMesh(m, o);
   Topology t;
   fuzz::checkTopology(m, TopologyOptions{}, t);
+  fuzz::checkShells(m, TopologyOptions{}, t);
 
   // maxTriangles = exactly enough (and keepNormals, which only adds the normals array)
   // reads the same; one fewer never yields more triangles.

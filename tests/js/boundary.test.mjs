@@ -18,16 +18,22 @@ const counts = (m) => ({
   vertex: m.nVertices, triangle: m.nTriangles, halfedge: m.nHalfedges, pair: m.nHalfedges / 2,
   loop: m.loops ? m.loops.offsets.length - 1 : 0, 'loop+1': m.loops ? m.loops.offsets.length : 0,
   'loop entry': m.loops ? m.loops.halfedges.length : 0,
+  'non-manifold edge': m.defects ? m.defectCount('nonManifoldEdges') : 0,
+  'non-manifold edge+1': m.defects ? m.defectCount('nonManifoldEdges') + 1 : 0,
+  'edge entry': m.defects ? m.defects.nonManifoldEdgeTriangles.length : 0,
+  'inconsistent edge': m.defects ? m.defectCount('inconsistentEdges') : 0,
+  'non-manifold vertex': m.defects ? m.defectCount('nonManifoldVertices') : 0,
+  'degenerate triangle': m.defects ? m.defectCount('degenerateTriangles') : 0,
 });
 const at = (m, d) => (d.group ? m[d.group] && m[d.group][d.key] : m[d.key]);
 
 test('every row of the array table is on the mesh: its type, its length, null when absent', async () => {
   assert.ok(layout.length >= 21);
-  // VisCAM colours, normals kept, topology: every condition holds.
+  // VisCAM colours, normals kept, topology, shells: every condition holds.
   const g = gridStl(3);
   new DataView(g.buffer).setUint16(84 + 48, 0x8000 | 31, true);
   for (const view of [false, true]) {
-    const m = await loadStl(g, { normals: true, view });
+    const m = await loadStl(g, { normals: true, view, shells: true });
     const n = counts(m);
     // The rows of fromIndexed() meshes, on one of the grid's own arrays.
     const fi = await fromIndexed(m.positions, m.triangles, { view });
@@ -128,7 +134,8 @@ test('the entry points export the public API only (no _internal, no fileSource),
   const pkg = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
   // ./worker-thread and ./stltopo-wasm.wasm: the files a bundler is pointed at (README, Bundlers).
   assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
-  const pub = ['EdgeKind', 'Mesh', 'StlError', 'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
+  const pub = ['DEFECT_KINDS', 'EdgeKind', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'init', 'kInvalid', 'loadStl',
+    'loadStlFile', 'toStl', 'writeStl'];
   // The editable mesh lives where it is made: the main entries only.
   assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh', 'kLoopFaceBit'].sort());
   assert.deepEqual(Object.keys(worker).sort(), pub);

@@ -60,6 +60,21 @@ test('--json and text, all fixtures in one run, with missing files and a directo
   assertSameRun(['info', '--max-bytes', '-1', '--max-triangles', ' +70000', '--json', ...files.slice(0, 10)]);
 });
 
+test('--shells --defects [--max-defects N]: byte-identical on every fixture, JSON and text', { skip }, () => {
+  const all = [...files, 'no/such/file.stl'];
+  const a = assertSameRun(['info', '--json', '--shells', '--defects', ...all]);
+  assert.equal(a.stdout.toString().trimEnd().split('\n').length, all.length);
+  assert.match(a.stdout.toString(), /"shellList":\[\{"id":0,/);
+  assertSameRun(['info', '--json', '--defects', '--max-defects', '2', ...files]);
+  assertSameRun(['info', '--json', '--shells', '--max-defects', '0', ...files]);
+  assertSameRun(['info', '--shells', '--defects', '--max-defects', '3', ...files]);
+  assertSameRun(['info', '--json', '--shells', '--defects', '--tolerance', '0.001', ...files.slice(0, 30)]);
+  // Plain text lists the first defects too.
+  const text = assertSameRun(['info', ...files]).stdout.toString();
+  assert.match(text, /\n  non-manifold edge \d+-\d+: \[/);
+  assert.match(text, /\n  hole \d+: \d+ edges, perimeter /);
+});
+
 test('all good files: exit code 0', { skip }, () => {
   const a = assertSameRun(['info', '--json', path.relative(root, fixture('bunny.stl')), path.relative(root, fixture('busted.STL'))]);
   assert.equal(a.status, 0);
@@ -76,7 +91,10 @@ test('usage errors and help: exit code 2 / 0, same messages', { skip }, () => {
   for (const args of [[], ['frobnicate'], ['info'], ['info', '--bogus'], ['info', '--tolerance'], ['info', '--tolerance', 'x', 'f'],
     ['info', '--tolerance', '-1', 'f'], ['info', '--max-triangles', '0', 'f'], ['info', '--max-triangles', '5000000000', 'f'],
     ['info', '--max-triangles', '12x', 'f'], ['info', '--max-bytes', '0', 'f'], ['info', '--max-bytes'], ['info', '--max-bytes', 'x', 'f'],
-    ['--help'], ['help'], ['--version'], ['info', '--', '--json']]) {
+    ['--help'], ['help'], ['--version'], ['info', '--', '--json'], ['info', '--shells', '--no-topology', 'f'],
+    ['info', '--defects', '--no-topology', 'f'], ['info', '--max-defects'], ['info', '--max-defects', '-1', 'f'],
+    ['info', '--max-defects', ' -0', 'f'], ['info', '--max-defects', '', 'f'], ['info', '--max-defects', '4294967296', 'f'],
+    ['info', '--max-defects', 'x', 'f']]) {
     assertSameRun(args);
   }
   assert.equal(wasm([]).status, 2);

@@ -17,6 +17,17 @@
       order, ignoring the "file" field (multi-file run vs one run per file, or
       stdin "-" vs a path: streaming must not change the result).
 
+  compare.py shells CLI.jsonl REF.jsonl [N|- [DEFAULT.jsonl]]
+      Compares the "shellList" and "defects" of `info --json --shells --defects
+      [--max-defects N]` with the reference's (run with --shells --defects and the
+      default of 1000 items): the same keys in the same order, integers, strings,
+      booleans and nulls equal, floats within the relative tolerance. With N, the
+      reference's lists are first cut to N items (and each hole's vertex list and
+      each seam's cutEdges to N entries), as the CLI must have done ('-': no
+      cut). With DEFAULT.jsonl (the CLI's plain `info --json`), also checks that
+      the other keys are the default output's and that the default output has
+      neither shellList nor defects.
+
   compare.py manifest REF.jsonl
       Cross-checks the reference itself against the numbers that
       shared/fixtures/MANIFEST.md states for each fixture. Those numbers were
@@ -452,6 +463,94 @@ def cmd_manifest(ref_path):
     return 1 if bad or missing else 0
 
 
+def tree_diff(a, b, where, out):
+    """Differences between two JSON values: keys in order, numbers within REL_TOL
+    (an integer printed without a fraction may stand for a float)."""
+    if len(out) > 20:
+        return
+    if isinstance(b, dict):
+        if not isinstance(a, dict) or list(a) != list(b):
+            out.append('%s: keys %s, reference %s' % (where, list(a) if isinstance(a, dict) else type(a).__name__,
+                                                      list(b)))
+            return
+        for k in b:
+            tree_diff(a[k], b[k], where + '.' + k, out)
+    elif isinstance(b, list):
+        if not isinstance(a, list) or len(a) != len(b):
+            out.append('%s: length %s, reference %d' % (where, len(a) if isinstance(a, list) else type(a).__name__,
+                                                       len(b)))
+            return
+        for i, (x, y) in enumerate(zip(a, b)):
+            tree_diff(x, y, '%s[%d]' % (where, i), out)
+    elif isinstance(b, bool) or b is None or isinstance(b, str):
+        if type(a) is not type(b) or a != b:
+            out.append('%s: CLI %r, reference %r' % (where, a, b))
+    elif isinstance(b, int) and isinstance(a, int) and not isinstance(a, bool):
+        if a != b:
+            out.append('%s: CLI %r, reference %r' % (where, a, b))
+    elif not close(a, b, 1e-12) or isinstance(a, bool):
+        out.append('%s: CLI %r, reference %r' % (where, a, b))
+
+
+def cut_reference(ref, n):
+    """The reference's defect lists as `--max-defects n` prints them."""
+    out = {}
+    for kind, v in ref.items():
+        items = []
+        for it in v['items'][:n]:
+            it = dict(it)
+            for k in ('vertices', 'cutEdges'):
+                if kind in ('holes', 'seams') and k in it:
+                    it[k] = it[k][:n]
+            items.append(it)
+        out[kind] = {'count': v['count'], 'items': items}
+    return out
+
+
+def cmd_shells(cli_path, ref_path, n=None, default_path=None):
+    cli, _ = load(cli_path)
+    ref, ref_order = load(ref_path)
+    default = load(default_path)[0] if default_path else None
+    bad = 0
+    for line in cli.get('__invalid__', []):
+        print('CLI output: ' + line)
+        bad += 1
+    for f in ref_order:
+        r = ref[f]
+        c = cli.get(f)
+        diffs = []
+        if c is None:
+            diffs.append('no CLI output for this file')
+        elif 'error' in r or 'error' in c:
+            if ('error' in r) != ('error' in c):
+                diffs.append('error in only one of them')
+        else:
+            for k in ('shellList', 'defects'):
+                if k not in c:
+                    diffs.append('no "%s"' % k)
+                    continue
+                want = cut_reference(r[k], int(n)) if k == 'defects' and n is not None else r[k]
+                tree_diff(c[k], want, k, diffs)
+            if c['__keys__'][-2:] != ['shellList', 'defects']:
+                diffs.append('shellList and defects are not the last keys: %s' % c['__keys__'])
+            if default is not None:
+                d = default.get(f)
+                rest = {k: v for k, v in c.items() if k not in ('shellList', 'defects', '__keys__')}
+                base = {k: v for k, v in (d or {}).items() if k != '__keys__'}
+                if rest != base:
+                    diffs.append('the other keys differ from the default output')
+                if d is not None and ('shellList' in d or 'defects' in d):
+                    diffs.append('the default output has shellList or defects')
+        if diffs:
+            bad += 1
+            print('== %s' % f)
+            for x in diffs:
+                print('   ' + x)
+    print('compared shells and defects of %d files%s: %d differ'
+          % (len(ref_order), '' if n is None else ' (--max-defects %s)' % n, bad))
+    return 1 if bad else 0
+
+
 def cmd_same(a_path, b_path):
     bad = 0
     with open(a_path, encoding='utf-8') as fa, open(b_path, encoding='utf-8') as fb:
@@ -480,6 +579,9 @@ def main(argv):
         return cmd_cli(*argv[1:])
     if len(argv) == 3 and argv[0] == 'same':
         return cmd_same(argv[1], argv[2])
+    if len(argv) in (3, 4, 5) and argv[0] == 'shells':
+        n = argv[3] if len(argv) >= 4 and argv[3] != '-' else None
+        return cmd_shells(argv[1], argv[2], n, argv[4] if len(argv) == 5 else None)
     if len(argv) == 2 and argv[0] == 'manifest':
         return cmd_manifest(argv[1])
     sys.stderr.write(__doc__)

@@ -146,15 +146,19 @@ def cases():
     flipped = cb[:]
     flipped[3] = (flipped[3][0], flipped[3][2], flipped[3][1])
     add('cube_flipped_face', binary(flipped), inconsistentEdges=3, holes=0, watertight=False,
-        boundaryEdges=0)
+        boundaryEdges=0, orientations=['inconsistent'], closed=[False],
+        defectCounts={'inconsistentEdges': 3, 'seams': 2, 'holes': 0})
     add('cube_plus_degenerate', binary(cb + [((0, 0, 0), (0, 0, 0), (1, 1, 1))]),
         degenerateTriangles=1, edges=18, watertight=True, genus=0, triangles=13)
     # two cubes sharing the edge x=1,y=1 (z in [0,1])
     add('two_cubes_shared_edge', binary(cb + cube((1, 1, 0))), nonManifoldEdges=1,
-        holes=0, seams=0, boundaryEdges=0, watertight=False, manifold=False, shells=1)
+        holes=0, seams=0, boundaryEdges=0, watertight=False, manifold=False, shells=1,
+        orientations=['outward'], closed=[False], shellManifold=[False],
+        defectCounts={'nonManifoldEdges': 1, 'nonManifoldVertices': 2})
     # two cubes touching at the corner (1,1,1)
     add('two_cubes_shared_corner', binary(cb + cube((1, 1, 1))), nonManifoldVertices=1,
-        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3, genus=None)
+        nonManifoldEdges=0, watertight=True, manifold=False, shells=2, eulerCharacteristic=3, genus=None,
+        closed=[True, True], shellManifold=[True, True], orientations=['outward', 'outward'])
     add('torus', binary(torus()), eulerCharacteristic=0, genus=1, watertight=True, manifold=True)
     add('torus_two_holes', binary(torus(removed=((0, 0), (6, 4)))), holes=2, holeSizes=[4, 4],
         boundaryEdges=8, genus=None)
@@ -164,7 +168,24 @@ def cases():
         boundaryEdges=24, manifold=False)
     # soup of separate triangles
     add('soup3', binary([((i, 0, 0), (i + 0.5, 1, 0), (i, 0, 1)) for i in range(0, 9, 3)]),
-        holes=3, holeSizes=[3, 3, 3], shells=3, boundaryEdges=9)
+        holes=3, holeSizes=[3, 3, 3], shells=3, boundaryEdges=9, orientations=['open'] * 3,
+        shellManifold=[True] * 3)
+
+    # shells and defects (issue 16); expectations on the shell list and defect lists:
+    #   orientations/closed/shellManifold/shellSolids: per shell, in shell order
+    #   defectCounts: {kind: count}; degenerateCorners: the items' corners
+    add('two_cubes_one_inside_out', binary(cb + [(t[0], t[2], t[1]) for t in cube((3, 0, 0), 2)]),
+        shells=2, orientations=['outward', 'inward'], closed=[True, True], shellManifold=[True, True])
+    add('bowtie', binary([((0, 0, 0), (1, -1, 0), (1, 1, 0)), ((0, 0, 0), (-1, 1, 0), (-1, -1, 0))]),
+        shells=2, orientations=['open', 'open'], shellManifold=[True, True], manifold=False,
+        defectCounts={'nonManifoldVertices': 1, 'holes': 2})
+    add('pillow_flat', binary([((0, 0, 0), (1, 0, 0), (0, 1, 0)), ((0, 0, 0), (0, 1, 0), (1, 0, 0))]),
+        orientations=['flat'], closed=[True])
+    add('degenerate_corners', binary(cb + [((0, 0, 0), (0, 0, 0), (1, 0, 0)), ((0, 0, 0), (1, 0, 0), (1, 0, 0)),
+                                           ((1, 0, 0), (0, 0, 0), (1, 0, 0)), ((2, 2, 2), (2, 2, 2), (2, 2, 2))]),
+        degenerateTriangles=4, degenerateCorners=[[0, 1], [1, 2], [0, 2], [0, 1, 2]], orientations=['outward'])
+    add('shell_across_solids', ascii_stl([('a', cb[:6]), ('b', cb[6:]), ('c', cube((3, 0, 0)))]),
+        shells=2, shellSolids=['mixed', 2], orientations=['outward', 'outward'])
 
     # reading
     add('minus_zero', binary([((0.0, 0, 0), (1, 0, 0), (0, 1, 0)),
@@ -212,7 +233,8 @@ def cases():
     # topology corner cases
     fin = ((0, 0, 0), (1, 0, 0), (0.5, -1, 0.5))  # a fin on the cube's edge (0,0,0)-(1,0,0)
     add('cube_with_fin', binary(cb + [fin]), nonManifoldEdges=1, boundaryEdges=2, seams=1,
-        holes=0, watertight=False)
+        holes=0, watertight=False, orientations=['open'], shellManifold=[False],
+        defectCounts={'nonManifoldEdges': 1, 'seams': 1})
     add('cube_with_two_fins', binary(cb + [fin, ((1, 0, 0), (0, 0, 0), (0.5, -1, -0.5))]),
         nonManifoldEdges=1, watertight=False)
     add('cube_twice', binary(cb + cb), nonManifoldEdges=18, holes=0, seams=0, shells=1)
@@ -303,11 +325,21 @@ def check():
     bad = 0
     for name, data, expect in cases():
         try:
-            got = ref.info(name, data, self_check=True)
+            got = ref.info(name, data, self_check=True, shells=True, defects=1000)
         except ref.StlError as e:
             got = {'error': e.code}
+        per_shell = {'orientations': 'orientation', 'closed': 'closed', 'shellManifold': 'manifold',
+                     'shellSolids': 'solid'}
         for k, v in expect.items():
-            if k == 'error':
+            if 'error' in got and k != 'error':
+                g = ('error', got['error'])
+            elif k in per_shell:
+                g = [x[per_shell[k]] for x in got['shellList']]
+            elif k == 'defectCounts':
+                g = {kind: got['defects'][kind]['count'] for kind in v}
+            elif k == 'degenerateCorners':
+                g = [x['corners'] for x in got['defects']['degenerateTriangles']['items']]
+            elif k == 'error':
                 g = got.get('error')
             elif 'error' in got:
                 g = ('error', got['error'])

@@ -8,6 +8,8 @@ opinion. Standard library only; simple and slow on purpose (dicts, lists).
 
 Usage: stl_reference.py FILE...   (one JSON object per line per file)
        stl_reference.py --self-check FILE...  (also checks the half-edge invariants)
+       stl_reference.py [--shells] [--defects [--max-defects N]] FILE...
+           (also the shell list and the defect lists of issue 16)
 
 Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.
 """
@@ -399,6 +401,7 @@ def weld(raw):
         tris.append(tuple(t))
     m.positions = pos
     m.triangles = tris
+    m.corners = raw.corners
     m.solids = raw.solids
     m.warnings = raw.warnings
     m.degenerate = [len(set(t)) != 3 for t in tris]
@@ -628,12 +631,197 @@ def build_topology(mesh, self_check=False):
     tp.manifold = manifold
     tp.usedVertices = len(used)
     tp.halfedges = H
+    # kept for the shell list and the defect lists
+    tp.edge_sides = edges
+    tp.kind_of_side = kind_of_side
+    tp.side_of = side_of
+    tp.vert = vert
+    tp.nxt = nxt
+    tp.face = face
+    tp.loops = loops
+    tp.find = find
+    tp.nd = nd
     return tp
 
 
 # ---------------------------------------------------------------------------
+# Shells and defects (issue 16 "Per-shell report and a list of every defect with its
+# location"), from the issue's definitions.
 
-def info(path, data, self_check=False):
+def tri_figures(corners):
+    """(area, signed volume) of one triangle, with the formulas of the whole report."""
+    a, b, c = corners
+    e1 = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+    e2 = (c[0] - a[0], c[1] - a[1], c[2] - a[2])
+    cr = (e1[1] * e2[2] - e1[2] * e2[1],
+          e1[2] * e2[0] - e1[0] * e2[2],
+          e1[0] * e2[1] - e1[1] * e2[0])
+    area = 0.5 * math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2])
+    vol = (a[0] * (b[1] * c[2] - b[2] * c[1])
+           + a[1] * (b[2] * c[0] - b[0] * c[2])
+           + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0
+    return area, vol
+
+
+def box(points):
+    return {'min': [min(p[k] for p in points) for k in range(3)],
+            'max': [max(p[k] for p in points) for k in range(3)]}
+
+
+def shell_of_triangles(tp):
+    """triangle -> shell, shells numbered by their lowest triangle id."""
+    ids = {}
+    out = {}
+    for t in tp.nd:  # ascending
+        r = tp.find(t)
+        if r not in ids:
+            ids[r] = len(ids)
+        out[t] = ids[r]
+    return out
+
+
+def loop_shells(tp, shell_of):
+    # a boundary loop's half-edges are the twins of triangle sides
+    return [shell_of[tp.face[loop[0] ^ 1]] for loop in tp.loops]
+
+
+def vertex_cycles(tp, shell_of, T):
+    """[(vertex, shell)] for every vnext cycle (a cycle's shell: that of a triangle it touches)."""
+    seen = set()
+    out = []
+    for e0 in range(len(tp.vert)):
+        if e0 in seen:
+            continue
+        e = e0
+        shell = None
+        while e not in seen:
+            seen.add(e)
+            f = tp.face[e] if tp.face[e] < T else tp.face[e ^ 1]
+            shell = shell_of[f]
+            e = tp.nxt[e ^ 1]
+        out.append((tp.vert[e0], shell))
+    return out
+
+
+def shell_list(m, tp):
+    T = len(m.triangles)
+    shell_of = shell_of_triangles(tp)
+    n = len(set(shell_of.values()))
+    tris = [[] for _ in range(n)]
+    for t in tp.nd:
+        tris[shell_of[t]].append(t)
+    edges = [dict(e=0, bnd=0, nm=0, inc=0) for _ in range(n)]
+    for key, sides in tp.edge_sides.items():
+        c = edges[shell_of[sides[0] // 3]]
+        c['e'] += 1
+        k = tp.kind_of_side[sides[0]]
+        if k == BOUNDARY:
+            c['bnd'] += 1
+        elif k == NONMANIFOLD:
+            c['nm'] += 1
+        elif k == INCONSISTENT:
+            c['inc'] += 1
+    holes = [0] * n
+    seams = [0] * n
+    for loop, s in zip(tp.loops, loop_shells(tp, shell_of)):
+        if all(tp.kind_of_side[tp.side_of[e ^ 1]] == BOUNDARY for e in loop):
+            holes[s] += 1
+        else:
+            seams[s] += 1
+    cycles = {}
+    for v, s in vertex_cycles(tp, shell_of, T):
+        cycles[(v, s)] = cycles.get((v, s), 0) + 1
+    nmv = [0] * n
+    for (v, s), k in cycles.items():
+        if k > 1:
+            nmv[s] += 1
+    solid_of = []
+    for i, (name, count) in enumerate(m.solids):
+        solid_of += [i] * count
+    out = []
+    for s in range(n):
+        verts = {v for t in tris[s] for v in m.triangles[t]}
+        area = vol = 0.0
+        for t in tris[s]:
+            a, v = tri_figures(m.corners[t])
+            area += a
+            vol += v
+        c = edges[s]
+        V, E, F = len(verts), c['e'], len(tris[s])
+        chi = V - E + F
+        closed = c['bnd'] == 0 and c['nm'] == 0 and c['inc'] == 0
+        manifold = c['nm'] == 0 and nmv[s] == 0
+        if c['inc']:
+            orient = 'inconsistent'
+        elif c['bnd']:
+            orient = 'open'
+        else:
+            orient = 'outward' if vol > 0 else 'inward' if vol < 0 else 'flat'
+        solids = {solid_of[t] for t in tris[s]}
+        out.append({
+            'id': s, 'triangles': F, 'vertices': V, 'edges': E, 'boundaryEdges': c['bnd'],
+            'nonManifoldEdges': c['nm'], 'inconsistentEdges': c['inc'], 'nonManifoldVertices': nmv[s],
+            'holes': holes[s], 'seams': seams[s], 'eulerCharacteristic': chi,
+            'genus': (2 - chi) / 2 if closed and manifold else None,
+            'closed': closed, 'manifold': manifold, 'consistent': c['inc'] == 0,
+            'orientation': orient, 'solid': solids.pop() if len(solids) == 1 else 'mixed',
+            'bbox': box([p for t in tris[s] for p in m.corners[t]]),
+            'area': area, 'volume': vol,
+        })
+    return out
+
+
+def defect_lists(m, tp, max_n):
+    T = len(m.triangles)
+    pos = m.positions
+    shell_of = shell_of_triangles(tp)
+    lshell = loop_shells(tp, shell_of)
+    holes, seams = [], []
+    for h, loop in enumerate(tp.loops):
+        cut = [e for e in loop if tp.kind_of_side[tp.side_of[e ^ 1]] != BOUNDARY]
+        perim = 0.0
+        for e in loop:
+            a, c = pos[tp.vert[e]], pos[tp.vert[e ^ 1]]
+            perim += math.sqrt((a[0] - c[0]) ** 2 + (a[1] - c[1]) ** 2 + (a[2] - c[2]) ** 2)
+        item = {'id': h, 'edges': len(loop), 'perimeter': perim,
+                'vertices': [tp.vert[e] for e in loop][:max_n],
+                'bbox': box([pos[tp.vert[e]] for e in loop]), 'shell': lshell[h]}
+        if cut:
+            item['cutEdges'] = [[tp.vert[e], tp.vert[e ^ 1]] for e in cut][:max_n]
+            seams.append(item)
+        else:
+            holes.append(item)
+    nme, inc = [], []
+    for key in sorted(tp.edge_sides):
+        sides = tp.edge_sides[key]
+        k = tp.kind_of_side[sides[0]]
+        triangles = sorted(s // 3 for s in sides)
+        if k == NONMANIFOLD:
+            nme.append({'vertices': list(key), 'positions': [list(pos[key[0]]), list(pos[key[1]])],
+                        'triangles': triangles})
+        elif k == INCONSISTENT:
+            inc.append({'vertices': list(key), 'triangles': triangles})
+    cycles = {}
+    for v, _ in vertex_cycles(tp, shell_of, T):
+        cycles[v] = cycles.get(v, 0) + 1
+    nmv = [{'vertex': v, 'position': list(pos[v]), 'cycles': k} for v, k in sorted(cycles.items()) if k > 1]
+    deg = []
+    for t, (a, b, c) in enumerate(m.triangles):
+        if m.degenerate[t]:
+            corners = [0, 1, 2] if a == b == c else [0, 1] if a == b else [1, 2] if b == c else [0, 2]
+            deg.append({'triangle': t, 'corners': corners})
+
+    def kind(items):
+        return {'count': len(items), 'items': items[:max_n]}
+    return {'holes': kind(holes), 'seams': kind(seams), 'nonManifoldEdges': kind(nme),
+            'inconsistentEdges': kind(inc), 'nonManifoldVertices': kind(nmv),
+            'degenerateTriangles': kind(deg)}
+
+
+# ---------------------------------------------------------------------------
+
+def info(path, data, self_check=False, shells=False, defects=None):
+    """defects: None, or the maximum number of items per kind."""
     raw = read_stl(data)
     m = weld(raw)
     tp = build_topology(m, self_check)
@@ -655,19 +843,33 @@ def info(path, data, self_check=False):
               'nonManifoldVertices', 'holes', 'seams', 'holeSizes', 'shells',
               'eulerCharacteristic', 'genus', 'watertight', 'manifold'):
         out[k] = getattr(tp, k)
+    if shells:
+        out['shellList'] = shell_list(m, tp)
+    if defects is not None:
+        out['defects'] = defect_lists(m, tp, defects)
     return out
 
 
 def main(argv):
     self_check = False
+    shells = False
+    defects = None
+    max_defects = 1000
     files = []
-    for a in argv:
+    args = iter(argv)
+    for a in args:
         if a == '--self-check':
             self_check = True
+        elif a == '--shells':
+            shells = True
+        elif a == '--defects':
+            defects = True
+        elif a == '--max-defects':
+            max_defects = int(next(args))
         else:
             files.append(a)
     if not files:
-        sys.stderr.write('usage: stl_reference.py [--self-check] FILE...\n')
+        sys.stderr.write('usage: stl_reference.py [--self-check] [--shells] [--defects [--max-defects N]] FILE...\n')
         return 2
     out = sys.stdout
     status = 0
@@ -683,7 +885,7 @@ def main(argv):
             status = 1
         else:
             try:
-                obj = info(path, data, self_check)
+                obj = info(path, data, self_check, shells, max_defects if defects else None)
             except StlError as e:
                 err = {'code': e.code, 'message': e.message}
                 err.update(e.loc)

@@ -3,8 +3,11 @@
 //
 // Test hooks (kept stable): document.body.dataset.state is "loading" | "ready" | "error";
 // every statistic is an element [data-stat="<stltopo info --json key>"] whose text is the value;
-// each hole list entry carries data-hole="<hole id>"; the error code is in [data-error-code].
-import { loadStl, toStl } from 'stltopo/worker';
+// each hole list entry carries data-hole="<hole id>"; each shell entry data-shell="<shell id>"
+// (the selected one has class "active" and its figures are [data-shell-stat="<shellList key>"]);
+// each defect entry data-defect-kind="<kind>" data-defect-index="<i>" (the framed one is active,
+// and body[data-focused-defect] says "<kind>:<i>"); the error code is in [data-error-code].
+import { loadStl, toStl, DEFECT_KINDS } from 'stltopo/worker';
 import { Viewer, holeColor, colors } from './viewer.js';
 import { samples, defaultSampleId } from './samples.js';
 import { createEditor } from './edit.js';
@@ -70,6 +73,7 @@ async function load(source, { name, credit = '' } = {}) {
     }
     const mesh = await loadStl(input, {
       topology: true,
+      shells: true,
       signal: controller.signal,
       onProgress: (fraction, bytesRead) => {
         if (seq === loadSeq) showProgress(name, Number.isFinite(fraction) ? fraction : bytesRead / total, bytesRead);
@@ -285,6 +289,136 @@ function renderStats(stats, name) {
   file.textContent = name;
 }
 
+// Shells: the list (triangles, closed, orientation, volume); a click isolates and frames one,
+// and the stats panel shows its figures.
+let selectedShell = null;
+const shellStatKeys = [['triangles', 'Triangles'], ['vertices', 'Vertices'], ['edges', 'Edges'],
+  ['closed', 'Closed'], ['manifold', 'Manifold'], ['consistent', 'Consistent'], ['orientation', 'Orientation'],
+  ['boundaryEdges', 'Boundary edges'], ['nonManifoldEdges', 'Non-manifold edges'],
+  ['inconsistentEdges', 'Inconsistent edges'], ['nonManifoldVertices', 'Non-manifold vertices'], ['holes', 'Holes'],
+  ['seams', 'Seams'], ['eulerCharacteristic', 'Euler characteristic'], ['genus', 'Genus'], ['solid', 'Solid'],
+  ['bbox', 'Bounding box'], ['area', 'Surface area'], ['volume', 'Volume']];
+
+function renderShellStats(shell) {
+  document.querySelector('#shell-stats')?.remove();
+  if (!shell) return;
+  const group = document.createElement('div');
+  group.className = 'stats-group';
+  group.id = 'shell-stats';
+  group.innerHTML = `<h3>Shell #${shell.id}</h3>`;
+  const dl = document.createElement('dl');
+  for (const [key, label] of shellStatKeys) {
+    const dt = document.createElement('dt');
+    dt.textContent = label;
+    const dd = document.createElement('dd');
+    const span = document.createElement('span');
+    span.dataset.shellStat = key;
+    span.textContent = statText(shell[key]);
+    dd.append(span);
+    if (key === 'bbox') dd.className = 'long';
+    if ((['closed', 'manifold', 'consistent'].includes(key) && shell[key] === false) ||
+        (key.endsWith('Edges') || key === 'nonManifoldVertices' || key === 'holes' || key === 'seams') && shell[key] > 0) {
+      dd.classList.add('bad');
+    }
+    dl.append(dt, dd);
+  }
+  group.append(dl);
+  $('#stats').prepend(group);
+}
+
+function renderShells(mesh) {
+  const ol = $('#shell-list');
+  ol.textContent = '';
+  selectedShell = null;
+  const shells = mesh.shells ?? [];
+  $('#shells-panel').hidden = shells.length === 0;
+  const fragment = document.createDocumentFragment();
+  for (const shell of shells.slice(0, 2000)) {
+    const li = document.createElement('li');
+    li.dataset.shell = String(shell.id);
+    li.title = `Isolate shell ${shell.id}`;
+    const color = shell.orientation === 'inward' ? colors.inward : colors.front;
+    li.innerHTML = `<i class="swatch big" style="--c:${color}"></i><span class="id">#${shell.id}</span>` +
+      `<span class="edges">${shell.triangles} tri${shell.triangles === 1 ? '' : 's'}</span>` +
+      `<span class="orientation ${shell.orientation}">${shell.closed ? 'closed' : 'not closed'} · ${shell.orientation}` +
+      ` · V ${+shell.volume.toPrecision(3)}</span>`;
+    li.addEventListener('click', () => {
+      const wasActive = li.classList.contains('active');
+      document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
+      delete document.body.dataset.focusedDefect;
+      selectedShell = wasActive ? null : shell.id;
+      if (!wasActive) li.classList.add('active');
+      viewer.isolateShell(selectedShell);
+      renderShellStats(wasActive ? null : shell);
+    });
+    fragment.append(li);
+  }
+  ol.append(fragment);
+}
+
+// Defects, grouped by kind; a click frames and highlights one.
+const defectLabels = {
+  holes: 'Holes', seams: 'Seams', nonManifoldEdges: 'Non-manifold edges', inconsistentEdges: 'Inconsistent edges',
+  nonManifoldVertices: 'Non-manifold vertices', degenerateTriangles: 'Degenerate triangles',
+};
+const kMaxDefectItems = 200; // per kind in the list (the counts say how many there are)
+
+function defectText(kind, d) {
+  switch (kind) {
+    case 'holes':
+    case 'seams': return `#${d.id} · ${d.edges} edges · shell ${d.shell}`;
+    case 'nonManifoldEdges': return `edge ${d.vertices[0]}–${d.vertices[1]} · ${d.triangles.length} triangles`;
+    case 'inconsistentEdges': return `edge ${d.vertices[0]}–${d.vertices[1]} · triangles ${d.triangles[0]}, ${d.triangles[1]}`;
+    case 'nonManifoldVertices': return `vertex ${d.vertex} · ${d.cycles} cycles`;
+    default: return `triangle ${d.triangle} · corners ${d.corners.join(', ')} coincide`;
+  }
+}
+
+function renderDefects(mesh) {
+  const root = $('#defect-list');
+  root.textContent = '';
+  let any = false;
+  for (const kind of DEFECT_KINDS) {
+    const n = mesh.defects ? mesh.defectCount(kind) : 0;
+    if (!n) continue;
+    any = true;
+    const details = document.createElement('details');
+    details.className = 'defect-kind';
+    details.dataset.kind = kind;
+    details.open = true;
+    details.innerHTML = `<summary>${defectLabels[kind]} <span class="count" data-defect-count="${kind}">${n}</span></summary>`;
+    const ol = document.createElement('ol');
+    for (let i = 0; i < Math.min(n, kMaxDefectItems); i++) {
+      const d = mesh.defect(kind, i);
+      const li = document.createElement('li');
+      li.dataset.defectKind = kind;
+      li.dataset.defectIndex = String(i);
+      li.textContent = defectText(kind, d);
+      li.addEventListener('click', () => {
+        document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
+        if (selectedShell !== null) {
+          selectedShell = null;
+          viewer.isolateShell(null);
+          renderShellStats(null);
+        }
+        li.classList.add('active');
+        document.body.dataset.focusedDefect = `${kind}:${i}`;
+        viewer.focusDefect(kind, d);
+      });
+      ol.append(li);
+    }
+    if (n > kMaxDefectItems) {
+      const more = document.createElement('li');
+      more.className = 'more';
+      more.textContent = `… and ${n - kMaxDefectItems} more`;
+      ol.append(more);
+    }
+    details.append(ol);
+    root.append(details);
+  }
+  $('#defects-panel').hidden = !any;
+}
+
 function renderLoops(list, loops, kind, colorOf) {
   const ol = $(list);
   ol.textContent = '';
@@ -299,7 +433,13 @@ function renderLoops(list, loops, kind, colorOf) {
     li.addEventListener('click', () => {
       if (kind === 'hole') editor.selectHole(loop.id);
       const wasActive = li.classList.contains('active');
-      document.querySelectorAll('.loop-list li.active').forEach((e) => e.classList.remove('active'));
+      document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
+      delete document.body.dataset.focusedDefect;
+      if (selectedShell !== null) {
+        selectedShell = null;
+        renderShellStats(null);
+        viewer.isolateShell(null);
+      }
       if (wasActive) {
         viewer.frameAll();
         return;
@@ -353,6 +493,12 @@ function showMesh(mesh, { name, credit, parseMs, sceneMs, totalMs }) {
   const seams = mesh.seams ?? [];
   renderLoops('#hole-list', holes, 'hole', (h) => holeColor(h.id));
   renderLoops('#seam-list', seams, 'seam', () => colors.seams);
+  renderShells(mesh);
+  renderDefects(mesh);
+  const inward = (mesh.shells ?? []).filter((sh) => sh.orientation === 'inward').length;
+  const inwardCount = document.querySelector('[data-count="inwardShells"]');
+  inwardCount.textContent = String(inward);
+  inwardCount.closest('.toggle')?.classList.toggle('problem', inward > 0);
   $('#holes-empty').hidden = holes.length > 0;
   $('#seams-panel').hidden = seams.length === 0;
   const warnings = mesh.warnings ?? [];
@@ -378,6 +524,12 @@ function clearPanels() {
   $('#hole-list').textContent = '';
   $('#seam-list').textContent = '';
   $('#seams-panel').hidden = true;
+  $('#shell-list').textContent = '';
+  $('#shells-panel').hidden = true;
+  $('#defect-list').textContent = '';
+  $('#defects-panel').hidden = true;
+  selectedShell = null;
+  delete document.body.dataset.focusedDefect;
   $('#warnings-panel').hidden = true;
   $('#holes-empty').hidden = false;
   $('#verdict').textContent = '';
@@ -448,7 +600,14 @@ $('#cancel-button').addEventListener('click', () => {
 });
 $('#error-close').addEventListener('click', hideError);
 $('#frame-button').addEventListener('click', () => {
-  document.querySelectorAll('.loop-list li.active').forEach((e) => e.classList.remove('active'));
+  document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
+  delete document.body.dataset.focusedDefect;
+  if (selectedShell !== null) {
+    selectedShell = null;
+    renderShellStats(null);
+    viewer.isolateShell(null);
+    return;
+  }
   viewer.frameAll();
 });
 

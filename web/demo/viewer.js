@@ -15,6 +15,8 @@ export const colors = {
   nonManifold: '#ff1f1f',
   inconsistent: '#ff2bd6',
   nonManifoldVertex: '#ffffff',
+  inward: '#7b3fe4',
+  highlight: '#ffffff',
   wire: '#1b222b',
 };
 
@@ -145,7 +147,8 @@ export class Viewer {
     this.model = new THREE.Group();
     this.scene.add(this.model);
     this.layers = {}; // name → Object3D, toggled by setLayerVisible
-    this.visible = { wireframe: false, backFaces: true, holes: true, seams: true, nonManifold: true, inconsistent: true, nonManifoldVertices: true };
+    this.visible = { wireframe: false, backFaces: true, holes: true, seams: true, nonManifold: true, inconsistent: true, nonManifoldVertices: true, inward: true };
+    this.isolated = null; // the shell shown on its own, or null
     this.sprite = circleSprite();
     this.backUniforms = { color: { value: new THREE.Color(colors.back) }, mix: { value: 1 } };
     this.animation = null;
@@ -195,6 +198,8 @@ export class Viewer {
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
+    this.surfaces = [];
+    this.isolated = null;
     this.requestRender();
   }
 
@@ -228,7 +233,22 @@ export class Viewer {
       }
       return new THREE.Mesh(geometry, material);
     };
-    this.model.add(surface(THREE.FrontSide, 1), surface(THREE.BackSide, 4));
+    this.surfaces = [surface(THREE.FrontSide, 1), surface(THREE.BackSide, 4)];
+    this.model.add(...this.surfaces);
+    this.surface = surface;
+
+    // Inward shells (closed, volume < 0): their front faces drawn again in their own colour,
+    // in front of the surface.
+    const inward = (mesh.shells ?? []).filter((s) => s.orientation === 'inward').map((s) => s.id);
+    if (inward.length) {
+      const sub = this.shellGeometry(new Set(inward));
+      const m = new THREE.Mesh(sub, new THREE.MeshStandardMaterial({
+        flatShading: true, roughness: 0.75, metalness: 0.05, color: colors.inward,
+        polygonOffset: true, polygonOffsetFactor: 0.5, polygonOffsetUnits: 0.5,
+      }));
+      this.layers.inward = m;
+      this.model.add(m);
+    }
 
     const diag = geometry.boundingSphere.radius * 2 || 1;
     this.diag = diag;
@@ -344,7 +364,7 @@ export class Viewer {
 
   applyVisibility() {
     const v = this.visible;
-    for (const name of ['holes', 'seams', 'nonManifold', 'inconsistent', 'nonManifoldVertices']) {
+    for (const name of ['holes', 'seams', 'nonManifold', 'inconsistent', 'nonManifoldVertices', 'inward']) {
       if (this.layers[name]) this.layers[name].visible = v[name];
     }
     this.backUniforms.mix.value = v.backFaces ? 1 : 0;
@@ -380,6 +400,99 @@ export class Viewer {
       this.camera.position.copy(toPos);
       this.controls.target.copy(centre);
     }
+    this.requestRender();
+  }
+
+  /** A geometry of the triangles of the shells in `ids` (a Set), sharing the main geometry's attributes. */
+  shellGeometry(ids) {
+    const ts = this.mesh.triangleShell;
+    const g = new THREE.BufferGeometry();
+    for (const [name, attr] of Object.entries(this.geometry.attributes)) g.setAttribute(name, attr);
+    const index = this.geometry.index?.array;
+    const out = [];
+    for (let t = 0; t < ts.length; t++) {
+      if (!ids.has(ts[t])) continue;
+      if (index) out.push(index[3 * t], index[3 * t + 1], index[3 * t + 2]);
+      else out.push(3 * t, 3 * t + 1, 3 * t + 2);
+    }
+    g.setIndex(out);
+    return g;
+  }
+
+  /** Shows only shell `id` (null: all of them again) and frames it. */
+  isolateShell(id) {
+    if (this.isolated) {
+      this.model.remove(this.isolated);
+      this.isolated.traverse((o) => {
+        if (o.geometry !== this.geometry) o.geometry?.dispose();
+        o.material?.dispose();
+      });
+      this.isolated = null;
+    }
+    for (const s of this.surfaces ?? []) s.visible = id === null;
+    if (this.layers.inward) this.layers.inward.visible = id === null && this.visible.inward;
+    if (id === null || !this.mesh?.shells) {
+      this.frameAll();
+      return;
+    }
+    const shell = this.mesh.shells[id];
+    const sub = this.shellGeometry(new Set([id]));
+    const group = new THREE.Group();
+    group.add(this.surface(THREE.FrontSide, 1), this.surface(THREE.BackSide, 4));
+    for (const m of group.children) m.geometry = sub;
+    if (shell.orientation === 'inward') group.children[0].material.color.set(colors.inward);
+    group.userData.shell = id;
+    this.isolated = group;
+    this.model.add(group);
+    this.frameBox(shell.bbox);
+  }
+
+  /** Frames an axis-aligned box { min, max } from the current viewing direction. */
+  frameBox({ min, max }, animate = true) {
+    const a = new THREE.Vector3(...min), b = new THREE.Vector3(...max);
+    const centre = a.clone().add(b).multiplyScalar(0.5);
+    const radius = Math.max(a.distanceTo(b) / 2, (this.diag || 1) * 0.02);
+    const dir = this.camera.position.clone().sub(this.controls.target);
+    this.lookAt(centre, radius, dir.lengthSq() > 0 ? dir : new THREE.Vector3(0.9, -1.5, 0.9), animate);
+  }
+
+  /**
+   * Frames one defect (an item of mesh.defect(kind, i)) and highlights it: a loop for holes
+   * and seams, the edge for edge defects, the point for a vertex, the corners of a triangle.
+   */
+  focusDefect(kind, item) {
+    if (kind === 'holes' || kind === 'seams') {
+      this.focusLoop({ vertices: item.vertices }, kind === 'holes' ? holeColor(item.id) : colors.seams);
+      return;
+    }
+    const p = this.mesh.positions;
+    const at = (v) => [p[3 * v], p[3 * v + 1], p[3 * v + 2]];
+    let pts;
+    if (kind === 'nonManifoldEdges' || kind === 'inconsistentEdges') pts = item.vertices.map(at);
+    else if (kind === 'nonManifoldVertices') pts = [at(item.vertex)];
+    else pts = [0, 1, 2].map((c) => at(this.mesh.triangles[3 * item.triangle + c]));
+    const min = [0, 1, 2].map((k) => Math.min(...pts.map((q) => q[k])));
+    const max = [0, 1, 2].map((k) => Math.max(...pts.map((q) => q[k])));
+    this.frameBox({ min, max });
+    this.setHighlight(null);
+    const group = new THREE.Group();
+    const color = kind === 'inconsistentEdges' ? colors.inconsistent : kind === 'nonManifoldEdges' ? colors.nonManifold
+      : kind === 'nonManifoldVertices' ? colors.nonManifoldVertex : colors.seams;
+    if (pts.length >= 2) {
+      const segs = [];
+      for (let i = 0; i < pts.length; i++) segs.push(...pts[i], ...pts[(i + 1) % pts.length]);
+      const xyz = new Float32Array(pts.length === 2 ? segs.slice(0, 6) : segs);
+      const white = new Float32Array(xyz.length).fill(1);
+      const c = new THREE.Color(color);
+      const rgb = new Float32Array(xyz.length);
+      for (let i = 0; i < rgb.length; i += 3) rgb.set([c.r, c.g, c.b], i);
+      group.add(this.lines(xyz, white, { width: 11, depthTest: false, order: 20 }));
+      group.add(this.lines(xyz, rgb, { width: 6, depthTest: false, order: 21 }));
+    }
+    group.add(this.rings(pts.flat(), color));
+    group.userData.defect = kind;
+    this.highlight = group;
+    this.model.add(group);
     this.requestRender();
   }
 

@@ -49,7 +49,83 @@ export interface LoadOptions {
   view?: boolean;
   /** Parse in a Web Worker (worker_threads in Node); arrays are transferred. */
   worker?: boolean;
+  /**
+   * Also build mesh.triangleShell, mesh.shells and mesh.defects (the shell report and every
+   * defect with its location; 4 more bytes per triangle). Default false.
+   */
+  shells?: boolean;
 }
+
+/** How a shell is wound: inconsistent edges, else boundary edges, else the sign of its volume. */
+export type Orientation = 'inconsistent' | 'open' | 'outward' | 'inward' | 'flat';
+
+/** One shell's report: the fields of `stltopo info --json --shells` ("shellList"). */
+export interface Shell {
+  /** Its index: shells are numbered by their lowest triangle id. */
+  id: number;
+  triangles: number;
+  /** Vertices its triangles use (a vertex where shells touch counts in each). */
+  vertices: number;
+  edges: number;
+  boundaryEdges: number;
+  nonManifoldEdges: number;
+  inconsistentEdges: number;
+  /** Vertices with more than one vnext cycle within this shell. */
+  nonManifoldVertices: number;
+  holes: number;
+  seams: number;
+  eulerCharacteristic: number;
+  /** (2 - eulerCharacteristic) / 2 when closed and manifold, else null. */
+  genus: number | null;
+  /** No boundary, non-manifold or inconsistent edge. */
+  closed: boolean;
+  manifold: boolean;
+  /** No inconsistent edge. */
+  consistent: boolean;
+  orientation: Orientation;
+  /** The index of the solid holding all of its triangles, 'mixed', or null without solids. */
+  solid: number | 'mixed' | null;
+  bbox: { min: [number, number, number]; max: [number, number, number] };
+  area: number;
+  /** Signed volume (sum of the signed tetrahedra from the origin), float64. */
+  volume: number;
+}
+
+/** The kinds of defect, in the order of the report. */
+export type DefectKind = 'holes' | 'seams' | 'nonManifoldEdges' | 'inconsistentEdges' | 'nonManifoldVertices' |
+  'degenerateTriangles';
+
+/** One defect as mesh.defect() gives it: the item shapes of `info --json --defects`. */
+export type Defect =
+  | { id: number; edges: number; perimeter: number; vertices: number[]; bbox: { min: number[]; max: number[] };
+      shell: number; cutEdges?: [number, number][] }
+  | { vertices: [number, number]; positions: [number[], number[]]; triangles: number[] }
+  | { vertices: [number, number]; triangles: [number, number] }
+  | { vertex: number; position: number[]; cycles: number }
+  | { triangle: number; corners: number[] };
+
+/** The kinds of defect, in the order of the report. */
+export declare const DEFECT_KINDS: readonly DefectKind[];
+
+/** One shell as an indexed mesh of its own (extractShell). */
+export interface IndexedShell {
+  /** Its vertices, compacted and numbered by first appearance in corner order. */
+  positions: Float32Array;
+  triangles: Uint32Array;
+  attributes: Uint16Array;
+  normals: Float32Array | null;
+  colors: Uint8Array | null;
+  colorValid: Uint8Array | null;
+  colorConvention: 'none' | 'viscam' | 'magics';
+  /** The solids it has triangles in (names kept), firstTriangle/triangleCount in its own numbering. */
+  solids: Solid[];
+}
+
+/**
+ * Shell s of a mesh loaded with { shells: true } as an indexed mesh: its triangles in file
+ * order, positions compacted, attribute words, normals and colours kept.
+ */
+export declare function extractShell(mesh: Mesh, s: number): IndexedShell;
 
 export interface Solid {
   name: string;
@@ -138,6 +214,12 @@ export declare class Mesh<T extends boolean = boolean> {
   holes: BoundaryLoop[];
   /** Boundary loops that contain cut (inconsistent or non-manifold) sides. */
   seams: BoundaryLoop[];
+  /** The report of each shell, with { shells: true }; else null. */
+  shells: Shell[] | null;
+  /** The number of defects of a kind; throws invalid-argument without { shells: true }. */
+  defectCount(kind: DefectKind): number;
+  /** Defect i of a kind (0 <= i < defectCount(kind)) as an object; lists are not cut. */
+  defect(kind: DefectKind, i: number): Defect;
   // BEGIN arrays: written by scripts/gen-api-docs.mjs from the bindings' array table
   /** x,y,z of vertex v at 3v..3v+2. 3 per vertex. */
   positions: Float32Array;
@@ -190,6 +272,31 @@ export declare class Mesh<T extends boolean = boolean> {
     /** 1 when the vertex's outgoing half-edges form more than one vnext cycle. 1 per vertex. */
     vertexNonManifold: Uint8Array;
   }>;
+  /** Per triangle: its shell (numbered by lowest triangle id), kInvalid if degenerate. 1 per triangle; null without { shells: true }. */
+  triangleShell: Uint32Array | null;
+  /** Every defect with its location, as flat arrays (mesh.defect(kind, i) gives one as an object). Null without { shells: true }. */
+  defects: {
+    /** Non-manifold edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex. 2 per non-manifold edge. */
+    nonManifoldEdgeVertices: Uint32Array;
+    /** Non-manifold edge i's triangles are nonManifoldEdgeTriangles[offsets[i] .. offsets[i+1]). one more than the non-manifold edges. */
+    nonManifoldEdgeOffsets: Uint32Array;
+    /** Every triangle with a side on each non-manifold edge, ascending. 1 per edge entry. */
+    nonManifoldEdgeTriangles: Uint32Array;
+    /** Inconsistent edge i joins vertices [2i] < [2i+1]; ordered by (smaller, larger) vertex. 2 per inconsistent edge. */
+    inconsistentEdgeVertices: Uint32Array;
+    /** The two triangles of inconsistent edge i, [2i] < [2i+1]. 2 per inconsistent edge. */
+    inconsistentEdgeTriangles: Uint32Array;
+    /** The non-manifold vertices, ascending. 1 per non-manifold vertex. */
+    nonManifoldVertices: Uint32Array;
+    /** The number of vnext cycles of each (>= 2). 1 per non-manifold vertex. */
+    nonManifoldVertexCycles: Uint32Array;
+    /** The degenerate triangles, ascending. 1 per degenerate triangle. */
+    degenerateTriangles: Uint32Array;
+    /** Corners that weld: bit 0 corners 0,1; bit 1 corners 1,2; bit 2 corners 2,0 (7: all three). 1 per degenerate triangle. */
+    degenerateCorners: Uint8Array;
+    /** Per boundary loop h: its shell. 1 per loop. */
+    loopShell: Uint32Array;
+  } | null;
   /** fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it). 1 per input vertex; null for meshes of loadStl(). */
   inputVertexMap: Uint32Array | null;
   // END arrays

@@ -23,6 +23,7 @@ export function isPresent(d, raw) {
     case 'normals': return raw.hasNormals;
     case 'colors': return raw.colorConvention !== 'none';
     case 'topology': return raw.hasTopology;
+    case 'shells': return !!raw.hasShells;
     case 'indexed': return !!raw.indexed;
     default: throw new Error(`stltopo: array ${d.name} has an unknown condition '${d.when}'`);
   }
@@ -189,6 +190,10 @@ export class Mesh {
     const { holes, seams } = buildLoops(arrays, raw.nTriangles);
     this.holes = holes;
     this.seams = seams;
+    /** The report of each shell (the fields of `info --json --shells`), with { shells: true }. */
+    this.shells = raw.hasShells ? JSON.parse(raw.shellsJson) : null;
+    // The bbox as the float32 values themselves (the JSON has their shortest digits).
+    for (const s of this.shells || []) s.bbox = { min: s.bbox.min.map(Math.fround), max: s.bbox.max.map(Math.fround) };
     const stats = JSON.parse(raw.statsJson);
     delete stats.file;
     this.stats = stats;
@@ -233,6 +238,19 @@ export class Mesh {
       e = next[(e ^ 1) >>> 0];
       if (e === e0) return;
     }
+  }
+
+  /** The number of defects of a kind (DEFECT_KINDS); needs { shells: true }. */
+  defectCount(kind) {
+    return defectCount(this, kind);
+  }
+
+  /**
+   * Defect i of a kind as an object, in the shape of `info --json --defects` items (no
+   * list cut); needs { shells: true }.
+   */
+  defect(kind, i) {
+    return defectItem(this, kind, i);
   }
 
   /** Checks every topology invariant: { ok: true } or the first violation. */
@@ -291,6 +309,88 @@ function validateArrays(M, mesh, layout, counts) {
   }
 }
 
+
+/** The kinds of defect, in the order of the report. */
+export const DEFECT_KINDS = Object.freeze(['holes', 'seams', 'nonManifoldEdges', 'inconsistentEdges',
+  'nonManifoldVertices', 'degenerateTriangles']);
+
+function defectsOf(mesh) {
+  if (!mesh.defects) throw stlError('invalid-argument', 'the mesh has no defect lists (load it with { shells: true })');
+  return mesh.defects;
+}
+
+function defectCount(mesh, kind) {
+  const d = defectsOf(mesh);
+  switch (kind) {
+    case 'holes': return mesh.holes.length;
+    case 'seams': return mesh.seams.length;
+    case 'nonManifoldEdges': return d.nonManifoldEdgeVertices.length / 2;
+    case 'inconsistentEdges': return d.inconsistentEdgeVertices.length / 2;
+    case 'nonManifoldVertices': return d.nonManifoldVertices.length;
+    case 'degenerateTriangles': return d.degenerateTriangles.length;
+    default: throw stlError('invalid-argument', `unknown defect kind '${kind}' (one of ${DEFECT_KINDS.join(', ')})`);
+  }
+}
+
+function position(mesh, v) {
+  const p = mesh.positions;
+  return [p[3 * v], p[3 * v + 1], p[3 * v + 2]];
+}
+
+function box(mesh, vertices) {
+  const min = position(mesh, vertices[0]);
+  const max = min.slice();
+  for (const v of vertices) {
+    const q = position(mesh, v);
+    for (let k = 0; k < 3; ++k) {
+      if (q[k] < min[k]) min[k] = q[k];
+      if (q[k] > max[k]) max[k] = q[k];
+    }
+  }
+  return { min, max };
+}
+
+const CORNERS = { 1: [0, 1], 2: [1, 2], 4: [0, 2], 7: [0, 1, 2] };
+
+function defectItem(mesh, kind, i) {
+  const n = defectCount(mesh, kind);
+  if (!Number.isInteger(i) || i < 0 || i >= n) throw stlError('invalid-argument', `no ${kind} item ${i} (there are ${n})`);
+  const d = mesh.defects;
+  switch (kind) {
+    case 'holes':
+    case 'seams': {
+      const loop = mesh[kind][i];
+      const vertices = Array.from(loop.vertices);
+      const item = { id: loop.id, edges: loop.edgeCount, perimeter: loop.perimeter, vertices, bbox: box(mesh, vertices),
+        shell: d.loopShell[loop.id] };
+      if (kind === 'seams') {
+        const pairKind = mesh.problems.pairKind;
+        item.cutEdges = [];
+        for (let k = 0; k < loop.halfedges.length; ++k) {
+          const e = loop.halfedges[k];
+          if (pairKind[e >>> 1] !== EdgeKind.Boundary) {
+            item.cutEdges.push([vertices[k], vertices[(k + 1) % vertices.length]]);
+          }
+        }
+      }
+      return item;
+    }
+    case 'nonManifoldEdges': {
+      const a = d.nonManifoldEdgeVertices[2 * i], b = d.nonManifoldEdgeVertices[2 * i + 1];
+      const tris = d.nonManifoldEdgeTriangles.subarray(d.nonManifoldEdgeOffsets[i], d.nonManifoldEdgeOffsets[i + 1]);
+      return { vertices: [a, b], positions: [position(mesh, a), position(mesh, b)], triangles: Array.from(tris) };
+    }
+    case 'inconsistentEdges':
+      return { vertices: [d.inconsistentEdgeVertices[2 * i], d.inconsistentEdgeVertices[2 * i + 1]],
+        triangles: [d.inconsistentEdgeTriangles[2 * i], d.inconsistentEdgeTriangles[2 * i + 1]] };
+    case 'nonManifoldVertices': {
+      const v = d.nonManifoldVertices[i];
+      return { vertex: v, position: position(mesh, v), cycles: d.nonManifoldVertexCycles[i] };
+    }
+    default:
+      return { triangle: d.degenerateTriangles[i], corners: CORNERS[d.degenerateCorners[i]].slice() };
+  }
+}
 
 /** The plain data a writer needs from a mesh: cloneable, for a worker thread. */
 export function writeInput(mesh) {

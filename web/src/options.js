@@ -9,6 +9,7 @@ export const DEFAULTS = Object.freeze({
   maxBytes: 0, // unlimited
   normals: false,
   view: false,
+  shells: false, // triangleShell, mesh.shells and mesh.defects (4 bytes more per triangle)
 });
 
 /**
@@ -27,6 +28,7 @@ export function normalizeOptions(options) {
     signal: options.signal || null,
     onProgress: options.onProgress || null,
     view: !!options.view,
+    shells: !!options.shells,
   };
   const weld = options.weld;
   if (weld !== undefined && weld !== 'exact') {
@@ -59,6 +61,7 @@ export function plainOptions(o) {
     maxTriangles: o.maxTriangles,
     maxBytes: o.maxBytes,
     normals: o.normals,
+    shells: o.shells,
   };
 }
 

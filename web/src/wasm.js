@@ -111,7 +111,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
         }
       }
       // prev and face only where they are read from wasm: views and validate().
-      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate);
+      const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
       if (st) throw fromStatus(st);
       progress(true);
       return session;
@@ -140,11 +140,13 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       nTriangles: meta.nTriangles,
       hasTopology: meta.hasTopology,
       hasNormals: meta.hasNormals,
+      hasShells: meta.hasShells,
+      shellsJson: session.shellListJson(),
       indexed: meta.indexed,
       solids: meta.solids,
       warnings: meta.warnings,
       counts: meta.counts,
-      statsJson: session.infoJson(''),
+      statsJson: session.infoJson('', false, false, 0),
       validation: validate && meta.hasTopology ? toValidation(session.validate()) : null,
       layout: entry.layout,
       arrays: {},
@@ -212,7 +214,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       put('colors', o.colors);
       put('colorValid', o.colorValid);
       session.setMeta('none', o.solids);
-      const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate);
+      const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
       if (st) throw fromStatus(st);
       return session;
     } catch (e) {
@@ -341,6 +343,34 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     }
   }
 
+  // For the npm CLI's split: reads a source as the native CLI does (default options, the
+  // report-only topology with shells) and yields { shells: n } once it is read, then per
+  // shell k { k, line(file) } followed by the chunks of its STL file (format: the input's
+  // unless writeOptions.format says).
+  async function* split(source, writeOptions) {
+    const entry = await getModule();
+    const o = { ...normalizeOptions({ topology: true, shells: true }), tolerance: 0 };
+    const w = normalizeWriteOptions(writeOptions);
+    let session = null;
+    try {
+      session = await readSession(entry, source, o);
+      if (writeOptions.format === undefined) w.format = session.meta().format === 'ascii' ? 'ascii' : 'binary';
+      const n = JSON.parse(session.shellListJson()).length;
+      yield { shells: n };
+      for (let k = 0; k < n; ++k) {
+        const s = session;
+        yield { k, line: (file) => s.splitLine(file, k) };
+        const st = session.selectShell(k);
+        if (st) throw fromStatus(st);
+        yield* sessionChunks(entry, session, w);
+      }
+    } catch (e) {
+      throw wasmFailure(entry, e);
+    } finally {
+      if (session && !entry.dead) session.delete();
+    }
+  }
+
   /** All chunks of writeStl(), in order (toStl() makes a Blob or one array of them). */
   async function stlChunks(mesh, options) {
     const chunks = [];
@@ -362,15 +392,23 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     return loadFromSource(toSource(input), o);
   }
 
-  // For the npm CLI: the native CLI's JSON line or text for one input.
+  // For the npm CLI: the native CLI's JSON line or text for one input (the text report
+  // always lists the first defects of each kind, as the native one does).
   async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
-    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes }) {
+    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
+    maxDefects = -1 }) {
     const entry = await getModule();
-    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes }), tolerance, keepMessageBytes: !json };
+    const withDefects = defects || !json;
+    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects }), tolerance,
+      keepMessageBytes: !json };
+    const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
     let session = null;
     try {
       session = await readSession(entry, source, o);
-      return { ok: true, text: json ? `${session.infoJson(file)}\n` : session.infoText(file) };
+      return {
+        ok: true,
+        text: json ? `${session.infoJson(file, shells, withDefects, max)}\n` : session.infoText(file, shells, withDefects, max),
+      };
     } catch (e) {
       const err = wasmFailure(entry, e);
       if (!(err instanceof StlError)) throw err;
@@ -403,6 +441,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     indexedRaw,
     writeHere,
     convert,
+    split,
     normalizeWriteOptions,
     normalizeIndexedOptions,
   };
