@@ -97,6 +97,7 @@ const BIN = {
   genmesh: path.join(BUILD, 'bench/genmesh'),
   stages: path.join(BUILD, 'bench/stltopo_stages'),
   procstat: path.join(BUILD, 'bench/procstat'),
+  edits: path.join(BUILD, 'bench/stltopo_edits'),
   cli: path.join(BUILD, 'stltopo'),
   admesh: process.env.ADMESH || 'admesh',
 };
@@ -683,6 +684,38 @@ md.push(table(
     t.values.map((v) => `${v.case} ${f(v.value, 2)}`).join('; '),
   ]),
 ));
+// Edits per CPU second (EditableMesh), native and wasm: the same sequence of edits at each size
+// (100k, and 1M unless --quick), so that the rates show whether an edit slows down as the mesh
+// grows. Medians of opt.reps alternated runs.
+const editSizes = opt.tiny ? ['tiny'] : opt.quick ? ['100k'] : ['100k', '1M'];
+const editCount = opt.tiny ? 300 : 5000;
+const edits = {};
+for (let rep = 0; rep < opt.reps; ++rep) {
+  for (const size of editSizes) {
+    const file = meshFile(size);
+    ensureMesh(file, SIZES[size], []);
+    for (const [who, cmd, args] of [['native', BIN.edits, [file, String(editCount), '--json']],
+      ['wasm', process.execPath, [path.join(root, 'bench/edits.mjs'), file, String(editCount), '--json']]]) {
+      const r = run(cmd, args);
+      if (r.status !== 0) {
+        errors.push(`edits ${who} ${size}: ${r.stderr.trim().split('\n').pop()}`);
+        continue;
+      }
+      for (const e of lastJsonLine(r.stdout).edits) ((edits[`${who} ${size}`] ??= {})[e.op] ??= []).push(e);
+    }
+  }
+}
+const editCols = Object.keys(edits);
+if (editCols.length) {
+  md.push('');
+  md.push(`### Edits per CPU second (EditableMesh; ${editCount} of each kind on random elements; bench/edits.cpp, bench/edits.mjs)`);
+  md.push('');
+  const ops = Object.keys(edits[editCols[0]]);
+  md.push(table(['edit', ...editCols], ops.map((op) => [op, ...editCols.map((k) => {
+    const xs = edits[k][op] ?? [];
+    return xs.length ? `${Math.round(median(xs.map((e) => e.perCpuSecond)) / 1000)}k` : 'n/a';
+  })])));
+}
 const text = md.join('\n');
 console.log(text);
 
@@ -702,6 +735,8 @@ const json = {
     wasmHeap: 'WebAssembly.Memory buffer byteLength after the first call (high-water mark of linear memory; includes the initial heap)',
   },
   cases: results,
+  edits: Object.fromEntries(Object.entries(edits).map(([k, v]) => [k, Object.fromEntries(Object.entries(v).map(([op, xs]) => [op, {
+    perCpuSecond: Math.round(median(xs.map((e) => e.perCpuSecond))), attempts: xs[0].attempts, done: xs[0].done }]))])),
   targets,
   errors,
 };

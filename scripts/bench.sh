@@ -23,7 +23,7 @@ fi
 
 # The native harness: genmesh, stltopo_stages, procstat and the CLI, Release.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_BENCH=ON -DSTLTOPO_BUILD_TESTS=OFF >&2
-cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_cli >&2
+cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_edits stltopo_cli >&2
 
 export STLTOPO_BENCH_BUILD_DIR="$BUILD_DIR"
 exec node bench/run.mjs "$@"

@@ -22,7 +22,7 @@ while [ $# -gt 0 ]; do
     *) echo "fuzz.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_whole fuzz_stream fuzz_tolerance fuzz_number)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_whole fuzz_stream fuzz_tolerance fuzz_number fuzz_write fuzz_edit)
 case "$minutes" in ''|*[!0-9]*) echo "fuzz.sh: --minutes needs a whole number" >&2; exit 2 ;; esac
 
 bash scripts/deps.sh native fuzz
@@ -41,6 +41,7 @@ status=0
 for t in "${targets[@]}"; do
   bin=$B/tests/fuzz/$t
   seeds=tests/fuzz/seeds/$t
+  [ -d "$seeds" ] || seeds=tests/fuzz/seeds/fuzz_whole  # fuzz_write starts from the STL files too
   art=$B/artifacts/$t
   mkdir -p "$art"
   if [ -n "${FUZZ_SMOKE_SECONDS:-}" ]; then

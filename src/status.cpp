@@ -128,7 +128,7 @@ namespace {
 constexpr const char* kCodeNames[] = {
     "ok",         "empty",         "not-stl", "truncated",     "unexpected-end",   "ascii-syntax",
     "non-finite", "too-large",     "out-of-memory", "invalid-argument", "aborted", "invalid",
-    "trailing-bytes", "missing-endsolid", "name-truncated", "invalid-index", "write-failed", "wasm-load",
+    "trailing-bytes", "missing-endsolid", "name-truncated", "invalid-index", "write-failed", "wasm-load", "edit-refused",
 };
 static_assert(sizeof(kCodeNames) / sizeof(kCodeNames[0]) == size_t(kCodeCount), "one name per Code");
 }  // namespace

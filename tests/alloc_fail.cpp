@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <functional>
 #include <string>
 
 #include "stl_gen.h"
@@ -161,4 +162,90 @@ TEST(AllocFail, LargeAllocationsFailAtEverySize) {
       EXPECT_EQ(run(bytes, to, 0).json, good.json);
     }
   }
+}
+
+// ---------------------------------------------------------------------------
+// Edits: each allocation of each kind of edit fails in turn. The edit then returns
+// out-of-memory and changes nothing, or succeeds (the allocation had a fallback) with the
+// same result as without the failure; the mesh stays consistent either way.
+
+#include "edit_check.h"
+
+namespace {
+
+using Edit = std::function<Status(EditableMesh&)>;
+
+void makeOpenTorus(EditableMesh& em) {
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(gen::torus(6, 5, {7})), m).ok());
+  ASSERT_TRUE(em.init(m).ok());
+  AttributeRules avg;
+  avg.merge = avg.split = Rule::Average;
+  ASSERT_TRUE(em.addAttribute("temp", Element::Vertex, ValueType::F64, 2, nullptr, avg).ok());
+  ASSERT_TRUE(em.addAttribute("crease", Element::Edge, ValueType::U8, 1, nullptr, avg).ok());
+}
+
+void sweepEdit(const char* name, const Edit& edit) {
+  SCOPED_TRACE(name);
+  EditableMesh good;
+  makeOpenTorus(good);
+  seen = 0;
+  countdown = 0;
+  armed = true;
+  Status s = edit(good);
+  armed = false;
+  ASSERT_TRUE(s.ok()) << s.message;
+  const long n = seen;
+  const std::string goodJson = good.infoJson("f");
+  long failures = 0;
+  for (long k = 1; k <= n; ++k) {
+    SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+    EditableMesh em;
+    makeOpenTorus(em);
+    editcheck::Snapshot before(em);
+    seen = 0;
+    countdown = k;
+    armed = true;
+    Status r = edit(em);
+    armed = false;
+    countdown = 0;
+    if (!r.ok()) {
+      EXPECT_EQ(r.code, Code::OutOfMemory) << r.message;
+      EXPECT_TRUE(editcheck::Snapshot(em) == before) << "a failed edit changed the mesh";
+      ++failures;
+    } else {
+      EXPECT_EQ(em.infoJson("f"), goodJson);
+    }
+    EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  }
+  EXPECT_GT(n, 0);
+}
+
+}  // namespace
+
+TEST(AllocFail, EditsFailCleanly) {
+  sweepEdit("removeTriangle", [](EditableMesh& em) { return em.removeTriangle(5); });
+  sweepEdit("addTriangle", [](EditableMesh& em) {
+    uint32_t b = em.loops().loopHalfedge[0];
+    return em.addTriangle(em.vert()[b], em.vert()[b ^ 1u], em.vert()[em.next()[b] ^ 1u]);
+  });
+  sweepEdit("addVertex", [](EditableMesh& em) { return em.addVertex(1, 2, 3); });
+  sweepEdit("flipEdge", [](EditableMesh& em) { return em.flipEdge(em.triangleHalfedge()[20]); });
+  sweepEdit("splitEdge", [](EditableMesh& em) { return em.splitEdge(em.triangleHalfedge()[20], 0.25); });
+  uint32_t collapsible = kInvalid;  // the first triangle side from 30 on whose collapse is done
+  for (uint32_t t = 30; t < 60 && collapsible == kInvalid; ++t) {
+    EditableMesh trial;
+    makeOpenTorus(trial);
+    if (trial.collapseEdge(trial.triangleHalfedge()[t]).ok()) collapsible = t;
+  }
+  ASSERT_NE(collapsible, kInvalid);
+  sweepEdit("collapseEdge", [&](EditableMesh& em) { return em.collapseEdge(em.triangleHalfedge()[collapsible]); });
+  sweepEdit("reverseTriangle", [](EditableMesh& em) { return em.reverseTriangle(3); });
+  sweepEdit("reverseShell", [](EditableMesh& em) { return em.reverseShell(3); });
+  sweepEdit("fillHole", [](EditableMesh& em) {
+    Array<uint32_t> added;
+    return em.fillHole(em.loops().loopHalfedge[0], FillMethod::Ear, &added);
+  });
+  sweepEdit("compact", [](EditableMesh& em) { return em.compact(); });
+  sweepEdit("reserve", [](EditableMesh& em) { return em.reserve(100, 100); });
 }

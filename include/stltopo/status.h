@@ -35,9 +35,11 @@ enum class Code : uint8_t {
   WriteFailed,     // "write-failed": the output sink refused the data
   // errors of the JS layer (the core never returns them; named here so that JS errors print as the core's)
   WasmLoad,        // "wasm-load": the npm package could not fetch or compile its wasm, or start its worker
+  // errors (continued)
+  EditRefused,     // "edit-refused": an EditableMesh edit was refused; nothing changed
   // New codes go above this line; kCodeCount and the name table in status.cpp follow.
 };
-inline constexpr int kCodeCount = int(Code::WasmLoad) + 1;
+inline constexpr int kCodeCount = int(Code::EditRefused) + 1;
 
 // The stable name of a code ("truncated"), "unknown" for a value outside the enum.
 const char* codeName(Code c);

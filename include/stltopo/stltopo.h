@@ -20,3 +20,4 @@
 #include "stltopo/report.h"
 #include "stltopo/indexed.h"
 #include "stltopo/write.h"
+#include "stltopo/edit.h"

@@ -213,6 +213,57 @@ test('file input: closed, open and broken fixtures show the CLI statistics', asy
   await closePage(page);
 });
 
+test('edit mode: remove a triangle, fill the hole, flip the shell, download and read it back', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=shared');
+  assert.equal(await loadThroughInput(page, SPHERE), 'ready');
+  const before = cliStats(SPHERE);
+  await page.check('#edit-mode');
+  await page.waitForFunction(() => document.body.dataset.editing === 'true');
+  const box = await page.locator('#viewport canvas').boundingBox();
+  const centre = [box.x + box.width / 2, box.y + box.height / 2];
+  const edits = () => page.evaluate(() => Number(document.body.dataset.edits));
+  const stat = async (key) => parseStat((await pageStats(page))[key]);
+
+  // A click removes the triangle under it: one hole of 3 edges in the list.
+  await page.mouse.click(...centre);
+  await page.waitForFunction(() => document.body.dataset.edits === '1');
+  assert.equal(await stat('holes'), 1);
+  assert.equal(await stat('triangles'), before.triangles - 1);
+  const holes = await page.evaluate(() => [...document.querySelectorAll('[data-hole]')].map((e) => Number(e.querySelector('[data-edges]').dataset.edges)));
+  assert.deepEqual(holes, [3]);
+
+  // Select it and fill it (ear clipping): closed again.
+  await page.click('[data-hole="0"]');
+  await page.click('#fill-ear');
+  await page.waitForFunction(() => document.body.dataset.edits === '2', null, { timeout: 5000 }).catch(async (e) => {
+    throw new Error(`${e.message}; status: ${await page.textContent('#edit-status')}; errors: ${page.errors.map((x) => x.stack).join(' | ')}`);
+  });
+  assert.equal(await stat('holes'), 0);
+  assert.equal(await stat('watertight'), true);
+  assert.equal(await stat('triangles'), before.triangles);
+
+  // Flip the shell: still closed, the volume changes sign.
+  await page.check('input[name="edit-tool"][value="shell"]');
+  await page.mouse.click(...centre);
+  await page.waitForFunction(() => document.body.dataset.edits === '3');
+  assert.ok((await stat('volume')) < 0, 'the flipped sphere has a negative volume');
+  assert.equal(await stat('watertight'), true);
+
+  // Download, and read the file back with the native CLI: the page's statistics.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#edit-download')]);
+  const saved = path.join(artifacts, 'demo-edited.stl');
+  await download.saveAs(saved);
+  const back = cliStats(saved);
+  const shown = await pageStats(page);
+  for (const key of ['triangles', 'vertices', 'edges', 'holes', 'watertight', 'manifold', 'shells', 'eulerCharacteristic']) {
+    assert.deepEqual(back[key], parseStat(shown[key]), key);
+  }
+  assertClose(back.volume, parseStat(shown.volume), 'volume');
+  assert.ok(back.volume < 0);
+  await closePage(page);
+});
+
 test('drag and drop of a file onto the page', async () => {
   const page = await newPage();
   await openDemo(page, '?sample=unit-sphere');

@@ -7,10 +7,13 @@ seeds/fuzz_whole/. The other targets take a few parameter bytes in front of the 
 bytes, so their seeds are the same files with prefixes:
   fuzz_stream:    [flags][n chunk sizes]   (n = (flags & 7) + 1)
   fuzz_tolerance: [mode][mantissa]         (see fuzz_tolerance.cpp)
+  fuzz_edit:      [base][parameters][edit bytes] (see fuzz_edit.cpp): generated bases and
+                  the small STL seeds (base 3 or 7, a 2-byte length), with random edit bytes
 fuzz_number takes up to 9 number tokens separated by spaces (NUMBER_SEEDS).
 Run again after changing it: python3 tests/fuzz/make_seeds.py
 """
 import math
+import random
 import os
 import shutil
 import struct
@@ -166,7 +169,7 @@ def main():
         with open(path, "rb") as fh:
             raw["regress_" + name] = fh.read()
     shutil.rmtree(SEEDS, ignore_errors=True)
-    dirs = {t: os.path.join(SEEDS, t) for t in ("fuzz_whole", "fuzz_stream", "fuzz_tolerance", "fuzz_number")}
+    dirs = {t: os.path.join(SEEDS, t) for t in ("fuzz_whole", "fuzz_stream", "fuzz_tolerance", "fuzz_number", "fuzz_edit")}
     for d in dirs.values():
         os.makedirs(d)
     # Stream prefixes: (flags, chunk sizes); the flags select options (see fuzz_stream.cpp).
@@ -183,6 +186,16 @@ def main():
         mode, mant = tolerances[i % len(tolerances)]
         with open(os.path.join(dirs["fuzz_tolerance"], name), "wb") as fh:
             fh.write(bytes([mode, mant]) + data)
+    # Edit seeds: each base with a few hundred random edit bytes (fixed seed, so the corpus
+    # is the same on every run).
+    rng = random.Random(15)
+    edit_bases = [bytes([0, 4, 3, 0]), bytes([0, 7, 5, 0x2D]), bytes([1]), bytes([2])]
+    for name, data in sorted(raw.items()):
+        if data and len(data) <= 8000 and not name.startswith("regress_") and name.endswith(".stl"):
+            edit_bases.append(bytes([3 if len(edit_bases) % 2 else 7, len(data) & 0xFF, len(data) >> 8]) + data)
+    for i, b in enumerate(edit_bases):
+        with open(os.path.join(dirs["fuzz_edit"], "edit_%02d" % i), "wb") as fh:
+            fh.write(b + bytes(rng.randrange(256) for _ in range(600)))
     for i, tokens in enumerate(NUMBER_SEEDS):
         with open(os.path.join(dirs["fuzz_number"], "numbers_%02d" % i), "w") as fh:
             fh.write(tokens)

@@ -7,6 +7,7 @@
 import { loadStl, toStl } from 'stltopo/worker';
 import { Viewer, holeColor, colors } from './viewer.js';
 import { samples, defaultSampleId } from './samples.js';
+import { createEditor } from './edit.js';
 
 const $ = (selector) => document.querySelector(selector);
 const viewer = new Viewer($('#viewport'));
@@ -31,6 +32,7 @@ const badWhenNonZero = new Set(['degenerateTriangles', 'normalMismatches', 'boun
 const badWhenFalse = new Set(['watertight', 'manifold']);
 
 let current = null; // { seq, controller, name } of the load in flight
+let loaded = null; // { mesh, name } on screen (the edit mode starts from it)
 let loadSeq = 0;
 let hasModel = false;
 
@@ -78,10 +80,12 @@ async function load(source, { name, credit = '' } = {}) {
     showProgress(name, 1, total, 'building the view…');
     await nextFrame();
     if (seq !== loadSeq) return;
+    await stopEditing();
     const sceneMs = viewer.setMesh(mesh);
     hasModel = true;
     shown = { mesh, name };
     $('#download').hidden = false;
+    loaded = { mesh, name };
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     hideProgress();
     current = null;
@@ -293,6 +297,7 @@ function renderLoops(list, loops, kind, colorOf) {
       `<span class="edges" data-edges="${loop.edgeCount}">${loop.edgeCount} edge${loop.edgeCount === 1 ? '' : 's'}</span>` +
       `<span class="perimeter">perimeter ${+loop.perimeter.toPrecision(4)}</span>`;
     li.addEventListener('click', () => {
+      if (kind === 'hole') editor.selectHole(loop.id);
       const wasActive = li.classList.contains('active');
       document.querySelectorAll('.loop-list li.active').forEach((e) => e.classList.remove('active'));
       if (wasActive) {
@@ -501,3 +506,54 @@ if (params.get('url')) {
 } else {
   loadSample(params.get('sample') ?? defaultSampleId);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Edit mode
+
+const editor = createEditor({
+  viewer,
+  show(em) {
+    viewer.setMesh(em, { keepView: true });
+    showMesh(em, { name: loaded?.name ?? '', credit: '', parseMs: 0, sceneMs: 0, totalMs: 0 });
+  },
+  status(text) { $('#edit-status').textContent = text; },
+});
+const tool = () => document.querySelector('input[name="edit-tool"]:checked').value;
+
+async function stopEditing() {
+  if (!editor.mesh) return;
+  editor.stop();
+  $('#edit-mode').checked = false;
+  $('#edit-tools').hidden = true;
+  document.body.dataset.editing = 'false';
+}
+
+$('#edit-mode').addEventListener('change', async (event) => {
+  if (!event.target.checked) {
+    await stopEditing();
+    if (loaded) {
+      viewer.setMesh(loaded.mesh, { keepView: true });
+      showMesh(loaded.mesh, { name: loaded.name, credit: '', parseMs: 0, sceneMs: 0, totalMs: 0 });
+    }
+    return;
+  }
+  if (!loaded) {
+    event.target.checked = false;
+    return;
+  }
+  await editor.start(loaded.mesh);
+  $('#edit-tools').hidden = false;
+  document.body.dataset.editing = 'true';
+});
+// A click (not a drag of the view) on the model edits it.
+let down = null;
+$('#viewport').addEventListener('pointerdown', (e) => { down = { x: e.clientX, y: e.clientY }; });
+$('#viewport').addEventListener('pointerup', (e) => {
+  if (!editor.mesh || !down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
+  if (e.target !== viewer.renderer.domElement) return;
+  editor.click(viewer.pick(e.clientX, e.clientY), tool());
+});
+$('#fill-fan').addEventListener('click', () => editor.fill('fan'));
+$('#fill-ear').addEventListener('click', () => editor.fill('ear'));
+$('#undo-button').addEventListener('click', () => editor.undo());
+$('#edit-download').addEventListener('click', () => editor.download(loaded?.name ?? 'mesh'));

@@ -185,23 +185,23 @@ export class Viewer {
   }
 
   /** Drops the current mesh and frees its GPU buffers (and wasm memory for borrowed views). */
-  clear() {
+  clear(next = null) {
     this.model.traverse((o) => {
       o.geometry?.dispose();
       if (o.material) for (const m of [].concat(o.material)) m.dispose();
     });
     this.model.clear();
     this.layers = {};
-    this.mesh?.dispose?.();
+    if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
     this.requestRender();
   }
 
   /** Shows a mesh from loadStl(); returns the number of milliseconds spent building the scene. */
-  setMesh(mesh) {
+  setMesh(mesh, { keepView = false } = {}) {
     const t0 = performance.now();
-    this.clear();
+    this.clear(mesh);
     this.mesh = mesh;
     const geometry = meshToGeometry(mesh);
     this.geometry = geometry;
@@ -292,8 +292,19 @@ export class Viewer {
       }
     }
     this.applyVisibility();
-    this.frameAll(false);
+    if (!keepView) this.frameAll(false);
+    this.requestRender();
     return performance.now() - t0;
+  }
+
+  /** The triangle under the client point (x, y), or null (edit mode's click). */
+  pick(clientX, clientY) {
+    const r = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - r.left) / r.width) * 2 - 1, -((clientY - r.top) / r.height) * 2 + 1);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, this.camera);
+    const hit = ray.intersectObjects(this.model.children.filter((o) => o.isMesh), false)[0];
+    return hit ? hit.faceIndex : null;
   }
 
   /** Screen-sized rings (always on top) at `xyz` (3 floats each), one colour or one per ring. */

@@ -8,7 +8,7 @@ export declare const EdgeKind: Readonly<{ Interior: 0; Boundary: 1; Inconsistent
 
 export type ErrorCode =
   | 'empty' | 'not-stl' | 'truncated' | 'unexpected-end' | 'ascii-syntax' | 'non-finite' | 'too-large'
-  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'invalid' | 'invalid-index' | 'write-failed' | 'wasm-load';
+  | 'out-of-memory' | 'invalid-argument' | 'aborted' | 'invalid' | 'invalid-index' | 'write-failed' | 'wasm-load' | 'edit-refused';
 export type WarningCode = 'trailing-bytes' | 'missing-endsolid' | 'name-truncated';
 
 /** Every failure of loadStl: the same codes and messages as the C++ core. */
@@ -312,3 +312,102 @@ export interface InitOptions {
  * StlError 'wasm-load', whose message names the URL and what came back.
  */
 export declare function init(options: InitOptions): void;
+
+/** The face word of a boundary half-edge in an EditableMesh: kLoopFaceBit | loop id. */
+export declare const kLoopFaceBit: 2147483648;
+
+export type AttributeElement = 'vertex' | 'triangle' | 'edge';
+/** a, b: the two values (components numbers each); t: b's weight. Return the new value, or null to refuse the edit. */
+export type AttributeRuleFn = (a: Float64Array, b: Float64Array, t: number) => ArrayLike<number> | null | false;
+export type AttributeRule = 'keepFirst' | 'average' | 'fail' | AttributeRuleFn;
+export type AttributeValues = Uint8Array | Int8Array | Uint16Array | Int16Array | Uint32Array | Int32Array | Float32Array | Float64Array;
+
+export interface IndexedMeshInput {
+  positions: Float32Array;
+  triangles: Uint32Array;
+  attributes?: Uint16Array;
+  colors?: Uint8Array;
+  colorValid?: Uint8Array;
+  colorConvention?: 'none' | 'viscam' | 'magics';
+  normals?: Float32Array;
+  solids?: { name: string; firstTriangle: number; triangleCount: number }[];
+  format?: 'binary' | 'ascii' | 'unknown';
+}
+
+/** A loop of an EditableMesh: face is kLoopFaceBit | id. */
+export interface EditableLoop {
+  id: number;
+  face: number;
+  halfedges: Uint32Array;
+  vertices: Uint32Array;
+  edgeCount: number;
+  perimeter: number;
+}
+
+/**
+ * Local edits on a copy of a mesh in wasm memory (docs/EDITING.md). Ids are slots: removed
+ * elements leave dead slots until compact(). Arrays and stats are copies, made when read
+ * after an edit. A refused edit throws StlError('edit-refused') and changes nothing.
+ */
+export declare class EditableMesh {
+  static from(source: Mesh | IndexedMeshInput, options?: { tolerance?: number }): Promise<EditableMesh>;
+  readonly nVertices: number;
+  readonly nTriangles: number;
+  readonly nHalfedges: number;
+  readonly nLiveTriangles: number;
+  readonly nLiveVertices: number;
+  readonly format: 'binary' | 'ascii' | 'unknown';
+  readonly colorConvention: 'none' | 'viscam' | 'magics';
+  readonly warnings: Warning[];
+  readonly attributes: Uint16Array | null;
+  readonly colors: Uint8Array | null;
+  readonly colorValid: Uint8Array | null;
+  readonly normals: Float32Array | null;
+  readonly positions: Float32Array;
+  readonly triangles: Uint32Array;
+  readonly halfedges: { readonly next: Uint32Array; readonly prev: Uint32Array; readonly vert: Uint32Array; readonly face: Uint32Array };
+  readonly triangleHalfedge: Uint32Array;
+  readonly vertexHalfedge: Uint32Array;
+  readonly problems: { pairKind: Uint8Array; triangleDegenerate: Uint8Array; vertexNonManifold: Uint8Array };
+  readonly stats: Stats;
+  readonly holes: EditableLoop[];
+  readonly seams: EditableLoop[];
+  triangleAlive(t: number): boolean;
+  halfedgeAlive(e: number): boolean;
+  validate(): ValidateResult;
+  reserve(vertices: number, triangles: number): void;
+  removeTriangle(t: number): void;
+  addVertex(x: number, y: number, z: number): number;
+  addTriangle(a: number, b: number, c: number, options?: { nonManifold?: boolean }): number;
+  flipEdge(e: number): void;
+  splitEdge(e: number, t?: number): number;
+  collapseEdge(e: number, t?: number): number;
+  reverseTriangle(t: number): void;
+  reverseShell(t: number): void;
+  fillHole(hole: number | EditableLoop, options?: { method?: 'fan' | 'ear' }): Uint32Array;
+  compact(): { vertices: Uint32Array; triangles: Uint32Array; halfedges: Uint32Array };
+  /** The STL file of the (compacted) mesh, whole. */
+  toStl(options?: WriteOptions): Uint8Array;
+  addAttribute(name: string, element: AttributeElement, values: AttributeValues,
+    options?: { components?: number; merge?: AttributeRule; split?: AttributeRule }): void;
+  attribute(name: string): AttributeValues | null;
+  attributeNames(): string[];
+  dispose(): void;
+  sym(e: number): number;
+  twin(e: number): number;
+  org(e: number): number;
+  dst(e: number): number;
+  lFace(e: number): number;
+  rFace(e: number): number;
+  lNext(e: number): number;
+  lPrev(e: number): number;
+  vnext(e: number): number;
+  oPrev(e: number): number;
+  oNext(e: number): number;
+  rPrev(e: number): number;
+  rNext(e: number): number;
+  dNext(e: number): number;
+  dPrev(e: number): number;
+  faceHalfedges(e0: number): Generator<number>;
+  outgoingHalfedges(e0: number): Generator<number>;
+}

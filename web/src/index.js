@@ -1,6 +1,7 @@
 // stltopo, browser (and default) entry. See index.d.ts and docs/JS-API.md.
 import { createInstance } from './instance.js';
 import { stlError } from './errors.js';
+import { createEditableMesh } from './edit.js';
 
 const api = createInstance(() => import('./worker.js'));
 
@@ -18,6 +19,9 @@ export async function toStl(mesh, options) {
   return new Blob(await api.stlChunks(mesh, options), { type: 'model/stl' });
 }
 
+/** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
+export const EditableMesh = createEditableMesh(api.internal.getModule);
+
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {
   throw stlError('invalid-argument', 'loadStlFile() needs Node; use loadStl(file) with a File/Blob');
@@ -26,3 +30,4 @@ export async function loadStlFile() {
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
+export { kLoopFaceBit } from './edit.js';

@@ -1,6 +1,7 @@
 // stltopo, Node entry: the same API as index.js, plus loadStlFile(path).
 import { api, fileSource } from './instance.node.js';
 import { stlError } from './errors.js';
+import { createEditableMesh } from './edit.js';
 import { normalizeOptions } from './options.js';
 import { concatBytes } from './wasm.js';
 
@@ -12,6 +13,9 @@ export const writeStl = api.writeStl;
 export async function toStl(mesh, options) {
   return concatBytes(...(await api.stlChunks(mesh, options)));
 }
+
+/** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
+export const EditableMesh = createEditableMesh(api.internal.getModule);
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {
@@ -29,3 +33,4 @@ export async function loadStlFile(path, options) {
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind } from './mesh.js';
+export { kLoopFaceBit } from './edit.js';

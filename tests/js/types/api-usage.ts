@@ -2,7 +2,7 @@
 // of 'stltopo', 'stltopo/worker' and 'stltopo/three' through the package's
 // "exports" (self-reference), so the .d.ts files must match the package.
 import {
-  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl,
+  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh, kLoopFaceBit,
   type IndexedOptions, type WriteOptions,
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
@@ -133,3 +133,19 @@ export const badWriteFormat: WriteOptions = { format: 'obj' };
 export const badFormat: Mesh['format'] = 'obj';
 // @ts-expect-error: weld takes 'exact' or { tolerance }
 export const badWeld: LoadOptions = { weld: 'loose' };
+
+// EditableMesh: the edits, attributes and results are typed.
+export async function editing(mesh: Mesh): Promise<number> {
+  const em: EditableMesh = await EditableMesh.from(mesh, { tolerance: 0 });
+  const indexed = await EditableMesh.from({ positions: new Float32Array(9), triangles: new Uint32Array([0, 1, 2]) });
+  em.removeTriangle(0);
+  const filled: Uint32Array = em.fillHole(em.holes[0], { method: 'ear' });
+  const v: number = em.splitEdge(0, 0.25) + em.collapseEdge(1) + em.addTriangle(0, 1, 2, { nonManifold: true });
+  em.addAttribute('temp', 'vertex', new Float32Array(em.nVertices), { merge: (a, b, t) => [a[0] * (1 - t) + b[0] * t], split: 'average' });
+  const maps = em.compact();
+  const face: number = em.halfedges.face[0] & kLoopFaceBit;
+  const ok = em.validate().ok ? 1 : 0;
+  em.dispose();
+  indexed.dispose();
+  return filled.length + v + maps.triangles.length + face + ok + em.stats.triangles;
+}

@@ -1,0 +1,298 @@
+// Embind bindings of the EditableMesh (raw, underscore-prefixed; the JS class is in
+// web/src/edit.js). As in bindings.cpp nothing throws: a failed edit returns a status
+// object {code, message, element?}; a successful one returns null or its result.
+#include <emscripten/bind.h>
+#include <emscripten/val.h>
+
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "stltopo/edit.h"
+#include "stltopo/stltopo.h"
+
+using emscripten::typed_memory_view;
+using emscripten::val;
+
+namespace {
+
+using stltopo::Array;
+using stltopo::Code;
+using stltopo::EditableMesh;
+using stltopo::Status;
+
+val editStatus(const Status& s) {
+  if (s.ok()) return val::null();
+  val o = val::object();
+  o.set("code", val(stltopo::codeName(s.code)));
+  o.set("message", val(s.message));
+  if (s.element != stltopo::kInvalid) o.set("element", val(s.element));
+  return o;
+}
+
+template <class T>
+val toJs(const Array<T>& a, bool copy) {
+  val v(typed_memory_view(a.size(), a.data()));
+  return copy ? v.call<val>("slice") : v;
+}
+
+uint32_t u32(double x) { return x >= 0 && x <= 4294967295.0 ? uint32_t(x) : stltopo::kInvalid; }
+
+// A JS function (a, b, t) -> array of `components` numbers, or null/false to refuse.
+stltopo::RuleCallback jsRule(val fn) {
+  if (fn.isNull() || fn.isUndefined()) return nullptr;
+  return [fn](const double* a, const double* b, double t, double* out, uint32_t n) {
+    val r = fn(val(typed_memory_view(n, a)).call<val>("slice"), val(typed_memory_view(n, b)).call<val>("slice"), val(t));
+    if (r.isNull() || r.isUndefined() || (r.isFalse())) return false;
+    if (r["length"].as<uint32_t>() < n) return false;
+    for (uint32_t k = 0; k < n; ++k) out[k] = r[k].as<double>();
+    return true;
+  };
+}
+
+class EditSession {
+ public:
+  // Staging: JS fills the mesh arrays of the mesh to edit, then init().
+  val upload(const std::string& name, double n) {
+    Array<float>* f = nullptr;
+    Array<uint32_t>* u = nullptr;
+    Array<uint16_t>* w = nullptr;
+    Array<uint8_t>* b = nullptr;
+    if (name == "positions") f = &staged_.positions;
+    else if (name == "normals") f = &staged_.normals;
+    else if (name == "triangles") u = &staged_.triangles;
+    else if (name == "attributes") w = &staged_.attributes;
+    else if (name == "colors") b = &staged_.colors;
+    else if (name == "colorValid") b = &staged_.colorValid;
+    size_t k = n >= 0 ? size_t(n) : 0;
+    if (f && f->resize(k)) return val(typed_memory_view(f->size(), f->data()));
+    if (u && u->resize(k)) return val(typed_memory_view(u->size(), u->data()));
+    if (w && w->resize(k)) return val(typed_memory_view(w->size(), w->data()));
+    if (b && b->resize(k)) return val(typed_memory_view(b->size(), b->data()));
+    return val::null();
+  }
+  void addSolid(const std::string& name, double first, double count) {
+    stltopo::Solid s;
+    s.name = name;
+    s.firstTriangle = u32(first);
+    s.triangleCount = u32(count);
+    staged_.solids.push_back(std::move(s));
+  }
+  void setFormat(const std::string& format, const std::string& colors) {
+    staged_.format = format == "binary" ? stltopo::Format::Binary : format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Unknown;
+    staged_.colorConvention = colors == "viscam" ? stltopo::ColorConvention::VisCam
+                              : colors == "magics" ? stltopo::ColorConvention::Magics
+                                                   : stltopo::ColorConvention::None;
+  }
+  val init(double tolerance) {
+    const uint32_t nv = staged_.nVertices();
+    if (staged_.positions.size() % 3 != 0 || staged_.triangles.size() % 3 != 0)
+      return editStatus(Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element"));
+    for (size_t i = 0; i < staged_.triangles.size(); ++i)
+      if (staged_.triangles[i] >= nv) {
+        Status s = Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
+        s.triangle = uint32_t(i / 3);
+        return editStatus(s);
+      }
+    stltopo::TopologyOptions o;
+    o.tolerance = tolerance > 0 ? tolerance : 0;
+    Status s = em_.init(staged_, o);
+    staged_ = stltopo::Mesh{};
+    return editStatus(s);
+  }
+
+  // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
+  val reserve(double vertices, double triangles) { return editStatus(em_.reserve(u32(vertices), u32(triangles))); }
+  val removeTriangle(double t) { return editStatus(em_.removeTriangle(u32(t))); }
+  val addVertex(double x, double y, double z) {
+    uint32_t v = 0;
+    Status s = em_.addVertex(float(x), float(y), float(z), &v);
+    return s.ok() ? val(v) : editStatus(s);
+  }
+  val addTriangle(double a, double b, double c, bool nonManifold) {
+    uint32_t t = 0;
+    Status s = em_.addTriangle(u32(a), u32(b), u32(c), &t, nonManifold);
+    return s.ok() ? val(t) : editStatus(s);
+  }
+  val flipEdge(double e) { return editStatus(em_.flipEdge(u32(e))); }
+  val splitEdge(double e, double t) {
+    uint32_t v = 0;
+    Status s = em_.splitEdge(u32(e), t, &v);
+    return s.ok() ? val(v) : editStatus(s);
+  }
+  val collapseEdge(double e, double t) {
+    uint32_t v = 0;
+    Status s = em_.collapseEdge(u32(e), t, &v);
+    return s.ok() ? val(v) : editStatus(s);
+  }
+  val reverseTriangle(double t) { return editStatus(em_.reverseTriangle(u32(t))); }
+  val reverseShell(double t) { return editStatus(em_.reverseShell(u32(t))); }
+  val fill(double id, bool byLoop, bool ear) {
+    Array<uint32_t> out;
+    stltopo::FillMethod m = ear ? stltopo::FillMethod::Ear : stltopo::FillMethod::Fan;
+    Status s = byLoop ? em_.fillLoop(u32(id), m, &out) : em_.fillHole(u32(id), m, &out);
+    return s.ok() ? toJs(out, true) : editStatus(s);
+  }
+  val compact() {
+    stltopo::CompactMaps maps;
+    Status s = em_.compact(&maps);
+    if (!s.ok()) return editStatus(s);
+    val o = val::object();
+    o.set("vertices", toJs(maps.vertices, true));
+    o.set("triangles", toJs(maps.triangles, true));
+    o.set("halfedges", toJs(maps.halfedges, true));
+    return o;
+  }
+
+  // Reading.
+  val counts() const {
+    val o = val::object();
+    o.set("nVertices", val(em_.nVertices()));
+    o.set("nTriangles", val(em_.nTriangles()));
+    o.set("nHalfedges", val(em_.nHalfedges()));
+    o.set("nLiveVertices", val(em_.nLiveVertices()));
+    o.set("nLiveTriangles", val(em_.nLiveTriangles()));
+    o.set("nLiveHalfedges", val(em_.nLiveHalfedges()));
+    return o;
+  }
+  std::string infoJson(const std::string& file) { return em_.infoJson(file); }
+  val array(const std::string& n, bool copy) {
+    if (n == "positions") return toJs(em_.positions(), copy);
+    if (n == "triangles") return toJs(em_.triangles(), copy);
+    if (n == "next") return toJs(em_.next(), copy);
+    if (n == "prev") return toJs(em_.prev(), copy);
+    if (n == "vert") return toJs(em_.vert(), copy);
+    if (n == "face") {
+      em_.loops();  // numbers the loops: the face words of boundary half-edges
+      return toJs(em_.faceWords(), copy);
+    }
+    if (n == "pairKind") return toJs(em_.pairKind(), copy);
+    if (n == "triangleHalfedge") return toJs(em_.triangleHalfedge(), copy);
+    if (n == "vertexHalfedge") return toJs(em_.vertexHalfedge(), copy);
+    if (n == "triangleDegenerate") return toJs(em_.triangleDegenerateFlags(), copy);
+    if (n == "vertexNonManifold") return toJs(em_.vertexNonManifoldFlags(), copy);
+    const stltopo::EditLoops& l = em_.loops();
+    if (n == "loopHalfedge") return toJs(l.loopHalfedge, copy);
+    if (n == "loopOffsets") return toJs(l.loopOffsets, copy);
+    if (n == "loopHalfedges") return toJs(l.loopHalfedges, copy);
+    if (n == "loopIsSeam") return toJs(l.loopIsSeam, copy);
+    if (n == "loopPerimeter") return toJs(l.loopPerimeter, copy);
+    return val::null();
+  }
+  val validate() const { return editStatus(em_.validate()); }
+
+  // The STL file of the compacted mesh (toMesh + writeStl), whole: a Uint8Array or a status.
+  // format: "binary" | "ascii"; colors: "as-mesh" | "none" | "viscam" | "magics"; normals:
+  // "stored" | "computed".
+  val toStl(const std::string& format, const std::string& colors, const std::string& normals, val name) const {
+    stltopo::Mesh m;
+    Status s = em_.toMesh(m);
+    if (!s.ok()) return editStatus(s);
+    stltopo::WriteOptions o;
+    o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+    o.colors = colors == "none" ? stltopo::WriteColors::None
+               : colors == "viscam" ? stltopo::WriteColors::VisCam
+               : colors == "magics" ? stltopo::WriteColors::Magics
+                                    : stltopo::WriteColors::AsMesh;
+    o.storedNormals = normals != "computed";
+    if (name.isString()) o.name = name.as<std::string>();
+    Array<uint8_t> out;
+    bool grown = true;
+    auto sink = [](void* user, const uint8_t* data, size_t n) {
+      auto* st = static_cast<std::pair<Array<uint8_t>*, bool*>*>(user);
+      size_t at = st->first->size();
+      if (!st->first->resize(at + n)) return *st->second = false;
+      std::memcpy(st->first->data() + at, data, n);
+      return true;
+    };
+    std::pair<Array<uint8_t>*, bool*> user{&out, &grown};
+    s = stltopo::writeStl(m, sink, &user, o);
+    if (!grown) return editStatus(Status::error(Code::OutOfMemory, "could not allocate the STL bytes"));
+    return s.ok() ? toJs(out, true) : editStatus(s);
+  }
+
+  // Attributes. element: 0 vertex, 1 triangle, 2 edge; type: ValueType index; rules:
+  // 0 keepFirst, 1 average, 2 fail, 3 custom (with mergeFn / splitFn).
+  val addAttribute(const std::string& name, int element, int type, double components, int merge, int split, val mergeFn,
+                   val splitFn) {
+    if (element < 0 || element > 2 || type < 0 || type > 7 || merge < 0 || merge > 3 || split < 0 || split > 3)
+      return editStatus(Status::error(Code::InvalidArgument, "unknown attribute element, type or rule"));
+    stltopo::AttributeRules r;
+    r.merge = stltopo::Rule(merge);
+    r.split = stltopo::Rule(split);
+    r.mergeFn = jsRule(mergeFn);
+    r.splitFn = jsRule(splitFn);
+    return editStatus(em_.addAttribute(name, stltopo::Element(element), stltopo::ValueType(type), u32(components), nullptr, r));
+  }
+  // The attribute's values: a view (copy = false, to fill right away) or a copy; null when
+  // there is no such attribute.
+  val attribute(const std::string& name, bool copy) const {
+    const stltopo::AttributeView* a = em_.attribute(name);
+    if (!a) return val::null();
+    size_t n = a->count * a->components;
+    val v = val::null();
+    switch (a->type) {
+      case stltopo::ValueType::U8: v = val(typed_memory_view(n, static_cast<uint8_t*>(a->data))); break;
+      case stltopo::ValueType::I8: v = val(typed_memory_view(n, static_cast<int8_t*>(a->data))); break;
+      case stltopo::ValueType::U16: v = val(typed_memory_view(n, static_cast<uint16_t*>(a->data))); break;
+      case stltopo::ValueType::I16: v = val(typed_memory_view(n, static_cast<int16_t*>(a->data))); break;
+      case stltopo::ValueType::U32: v = val(typed_memory_view(n, static_cast<uint32_t*>(a->data))); break;
+      case stltopo::ValueType::I32: v = val(typed_memory_view(n, static_cast<int32_t*>(a->data))); break;
+      case stltopo::ValueType::F32: v = val(typed_memory_view(n, static_cast<float*>(a->data))); break;
+      case stltopo::ValueType::F64: v = val(typed_memory_view(n, static_cast<double*>(a->data))); break;
+    }
+    return copy ? v.call<val>("slice") : v;
+  }
+  val attributeInfo(const std::string& name) const {
+    const stltopo::AttributeView* a = em_.attribute(name);
+    if (!a) return val::null();
+    val o = val::object();
+    o.set("element", val(int(a->element)));
+    o.set("type", val(int(a->type)));
+    o.set("components", val(a->components));
+    return o;
+  }
+  val attributeNames() const {
+    val out = val::array();
+    for (const std::string& n : em_.attributeNames()) out.call<void>("push", val(n));
+    return out;
+  }
+
+  EditableMesh& mesh() { return em_; }
+
+ private:
+  stltopo::Mesh staged_;
+  EditableMesh em_;
+};
+
+}  // namespace
+
+EMSCRIPTEN_BINDINGS(stltopo_edit) {
+  using emscripten::class_;
+  class_<EditSession>("_EditableMesh")
+      .constructor<>()
+      .function("upload", &EditSession::upload)
+      .function("addSolid", &EditSession::addSolid)
+      .function("setFormat", &EditSession::setFormat)
+      .function("init", &EditSession::init)
+      .function("reserve", &EditSession::reserve)
+      .function("removeTriangle", &EditSession::removeTriangle)
+      .function("addVertex", &EditSession::addVertex)
+      .function("addTriangle", &EditSession::addTriangle)
+      .function("flipEdge", &EditSession::flipEdge)
+      .function("splitEdge", &EditSession::splitEdge)
+      .function("collapseEdge", &EditSession::collapseEdge)
+      .function("reverseTriangle", &EditSession::reverseTriangle)
+      .function("reverseShell", &EditSession::reverseShell)
+      .function("fill", &EditSession::fill)
+      .function("compact", &EditSession::compact)
+      .function("counts", &EditSession::counts)
+      .function("infoJson", &EditSession::infoJson)
+      .function("array", &EditSession::array)
+      .function("validate", &EditSession::validate)
+      .function("toStl", &EditSession::toStl)
+      .function("addAttribute", &EditSession::addAttribute)
+      .function("attribute", &EditSession::attribute)
+      .function("attributeInfo", &EditSession::attributeInfo)
+      .function("attributeNames", &EditSession::attributeNames);
+}

@@ -1,0 +1,319 @@
+// stltopo editing: an EditableMesh holds a mesh and its half-edge topology in the same
+// flat arrays as Mesh + Topology, and changes them by local operations (remove, add, flip,
+// split, collapse, reverse, fill) that the caller asks for. The core still never repairs
+// on its own.
+//
+// Ids. Vertices, triangles and half-edges are slots in growable arrays; an edit never
+// moves a live element to another slot, except as noted below. Removed elements leave
+// dead slots (holes in the numbering) until compact() renumbers everything densely, in
+// the same order, and returns the old -> new maps.
+//   - Vertex ids: stable until compact(). A vertex dies only in collapseEdge(); a vertex
+//     that no triangle uses stays alive (addTriangle can use it again) but compact() and
+//     toMesh() drop it, as a file could not hold it.
+//   - Triangle ids: stable until compact(). New triangles take new ids at the end; the
+//     operations that replace triangles (flip, split, collapse, reverse) keep the ids of
+//     the triangles they change and say which new ones they add.
+//   - Half-edge ids: twin(e) = e ^ 1 as in Topology; pair k = e >> 1 holds the two
+//     half-edges of one triangle side and its partner (another triangle's side, or a
+//     boundary half-edge). A triangle side keeps its half-edge id as long as its edge keeps
+//     the same partner for it. When an edge with three or more sides gains or loses a side,
+//     its sides are paired again by the rule buildTopology uses (first unpaired with first
+//     unpaired, opposite directions, in side order 3t + c), and the half-edges of the sides
+//     whose partner changed move to other slots.
+//   - Face ids: face[e] < kLoopFaceBit is a triangle id. A boundary half-edge has
+//     face[e] = kLoopFaceBit | h, where h is its boundary loop in the loop numbering; that
+//     numbering is rebuilt (O(n)) when loops are read after an edit changed the boundary
+//     (loops(), face(e)), and until then the face word of a changed boundary half-edge is
+//     kStaleLoopFace. Loop h is numbered as buildTopology would number it on the
+//     compacted mesh: loops in order of their earliest triangle side, each listed in next
+//     order from the twin of that side.
+//
+// After every edit, the topology is the one buildTopology gives for the current
+// triangles: toMesh()/compact() produce a Mesh and Topology whose arrays equal
+// buildTopology(mesh) array by array, and the counts (stats()) equal that build's.
+//
+// Costs. Every edit is O(local size): the triangles around the vertices it touches (plus
+// the hole for fillHole, the shell for reverseShell). stats() and loops() are O(n) when
+// read after an edit, O(1) otherwise; toMesh() and compact() are O(n).
+//
+// Refused edits. An edit that cannot be done returns Code::EditRefused (or
+// InvalidArgument for a dead or out-of-range id, OutOfMemory when memory runs out) and
+// changes nothing: every array and every attribute stays as it was.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+
+namespace stltopo {
+
+inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // face word of a boundary half-edge
+inline constexpr uint32_t kStaleLoopFace = kLoopFaceBit | 0x7FFFFFFEu;  // loop not numbered yet
+
+// ---------------------------------------------------------------------------
+// Attributes: named arrays of numbers per vertex, per triangle or per edge (pair k =
+// e >> 1; an edge cut into several pairs has a value per pair), each value `components`
+// numbers of one type. Each attribute has two rules:
+//   merge: two elements become one. collapseEdge merges its two vertices (weights 1 - t and
+//     t) and, on each side of the edge, the two edges that become one (weights 1/2);
+//     flipEdge gives each of its two new triangles the merge of the two it replaces (the
+//     triangle's own value first).
+//   split: one value is made from two for a new element between them, or one element is
+//     cut in parts. splitEdge makes its vertex from the edge's two (weights 1 - t, t), cuts
+//     the edge in two and each triangle on it in two (each part gets split(x, x, t)).
+// Rules: KeepFirst (the first value: the triangle's own, the edge's origin vertex, the
+// remaining vertex of a collapse), Average (weighted in double, rounded to nearest and
+// clamped for integer types), Fail (the edit is refused unless the values are equal) and
+// Custom (a callback; returning false refuses the edit). Elements made from nothing (added
+// and filled triangles, new vertices, edges inside them) get the attribute's default.
+enum class Element : uint8_t { Vertex, Triangle, Edge };
+enum class ValueType : uint8_t { U8, I8, U16, I16, U32, I32, F32, F64 };
+enum class Rule : uint8_t { KeepFirst, Average, Fail, Custom };
+size_t valueTypeSize(ValueType t);
+
+// Custom rule: writes `components` numbers to `out` from a and b (b's weight is t). false
+// refuses the edit.
+using RuleCallback = std::function<bool(const double* a, const double* b, double t, double* out, uint32_t components)>;
+
+struct AttributeRules {
+  Rule merge = Rule::KeepFirst;
+  Rule split = Rule::KeepFirst;
+  RuleCallback mergeFn, splitFn;  // for Rule::Custom
+};
+
+// What attribute() returns. `data` holds count * components values of `type`, indexed by
+// element slot (dead slots hold leftovers). Valid until the next edit or addAttribute.
+struct AttributeView {
+  Element element = Element::Vertex;
+  ValueType type = ValueType::F32;
+  uint32_t components = 0;
+  void* data = nullptr;
+  size_t count = 0;
+};
+
+// The names of the attributes an EditableMesh creates from a Mesh.
+inline constexpr const char* kAttrWord = "attribute";   // Triangle, U16 x1: the binary attribute word
+inline constexpr const char* kAttrColor = "color";      // Triangle, U8 x3, if the mesh has colours
+inline constexpr const char* kAttrColorValid = "colorValid";  // Triangle, U8 x1, with "color"
+inline constexpr const char* kAttrNormal = "normal";    // Triangle, F32 x3, if the mesh kept normals
+
+enum class FillMethod : uint8_t { Fan, Ear };
+
+// Whole-mesh figures: the fields infoJson prints, as a fresh build of the compacted mesh
+// gives them.
+struct EditStats {
+  uint32_t triangles = 0, vertices = 0, degenerate = 0;
+  uint32_t edges = 0, boundaryEdges = 0, nonManifoldEdges = 0, inconsistentEdges = 0;
+  uint32_t nonManifoldVertices = 0, usedVertices = 0, holes = 0, seams = 0, shells = 0;
+  int64_t eulerCharacteristic = 0;
+  bool watertight = false, manifold = true;
+};
+
+// Boundary loops in the current loop numbering, laid out as in Topology.
+struct EditLoops {
+  Array<uint32_t> loopHalfedge, loopOffsets, loopHalfedges;
+  Array<uint8_t> loopIsSeam;
+  Array<double> loopPerimeter;
+  uint32_t nLoops() const { return uint32_t(loopHalfedge.size()); }
+};
+
+// Old -> new ids of compact() and toMesh(); kInvalid for dropped elements.
+struct CompactMaps {
+  Array<uint32_t> vertices, triangles, halfedges;
+};
+
+class EditableMesh {
+ public:
+  EditableMesh() = default;
+  EditableMesh(const EditableMesh&) = delete;
+  EditableMesh& operator=(const EditableMesh&) = delete;
+  EditableMesh(EditableMesh&&) noexcept = default;
+  EditableMesh& operator=(EditableMesh&&) noexcept = default;
+
+  // Takes `mesh` and its topology (built by buildTopology with prevAndFace = true, from this
+  // mesh). Half-edge and loop ids are the topology's. With a tolerance weld the triangles
+  // use the representatives (vertexWeld); the other vertices stay, unused. The mesh's
+  // attribute words, colours and kept normals become triangle attributes. O(n). Errors:
+  // InvalidArgument (topology without prev/face, or of another mesh), OutOfMemory; `*this`
+  // is then empty.
+  Status init(const Mesh& mesh, const Topology& topo);
+  // Builds the topology (prevAndFace forced on) and takes both.
+  Status init(const Mesh& mesh, const TopologyOptions& options = {});
+
+  // Slot counts: the lengths of the arrays, dead slots included.
+  uint32_t nVertices() const { return uint32_t(positions_.size() / 3); }
+  uint32_t nTriangles() const { return uint32_t(triangles_.size() / 3); }
+  uint32_t nHalfedges() const { return uint32_t(next_.size()); }
+  uint32_t nLiveTriangles() const { return nLiveTriangles_; }
+  uint32_t nLiveVertices() const { return nLiveVertices_; }
+  uint32_t nLiveHalfedges() const { return 2 * nLivePairs_; }
+
+  bool vertexAlive(uint32_t v) const { return v < nVertices() && !vertexDead_[v]; }
+  bool triangleAlive(uint32_t t) const { return t < nTriangles() && triangles_[3 * size_t(t)] != kInvalid; }
+  bool halfedgeAlive(uint32_t e) const { return e < nHalfedges() && vert_[e] != kInvalid; }
+  bool isBoundary(uint32_t e) const { return (face_[e] & kLoopFaceBit) != 0 && face_[e] != kInvalid; }
+  bool triangleDegenerate(uint32_t t) const { return degenerate_[t] != 0; }
+  bool vertexNonManifold(uint32_t v) const { return vertexNonManifold_[v] != 0; }
+
+  // The arrays, laid out as Mesh and Topology (dead triangles: kInvalid corners; dead
+  // half-edges: kInvalid in every word; dead vertices: positions left as they were).
+  const Array<float>& positions() const { return positions_; }
+  const Array<uint32_t>& triangles() const { return triangles_; }
+  const Array<uint32_t>& next() const { return next_; }
+  const Array<uint32_t>& prev() const { return prev_; }
+  const Array<uint32_t>& vert() const { return vert_; }
+  // The face words; those of changed boundary half-edges are kStaleLoopFace until loops()
+  // or face(e) renumbers the loops.
+  const Array<uint32_t>& faceWords() const { return face_; }
+  const Array<uint8_t>& pairKind() const { return pairKind_; }
+  const Array<uint32_t>& triangleHalfedge() const { return triangleHalfedge_; }
+  const Array<uint32_t>& vertexHalfedge() const { return vertexHalfedge_; }
+  const Array<uint8_t>& triangleDegenerateFlags() const { return degenerate_; }
+  const Array<uint8_t>& vertexNonManifoldFlags() const { return vertexNonManifold_; }
+
+  // face[e] with the loop numbering brought up to date (O(n) after an edit, else O(1)).
+  uint32_t face(uint32_t e);
+  const EditLoops& loops();
+  const EditStats& stats();
+  // infoJson of the compacted mesh (O(n)); "" when memory runs out.
+  std::string infoJson(const std::string& file);
+
+  // Room for `vertices` more vertices and `triangles` more triangles (and their half-edges
+  // and attributes) without reallocating: the arrays otherwise grow by doubling, which
+  // makes the one edit that crosses a capacity O(n). OutOfMemory changes nothing.
+  Status reserve(uint32_t vertices, uint32_t triangles);
+
+  // --- Edits ---------------------------------------------------------------------------
+  // A new vertex (unused until a triangle uses it). Vertex attributes get their default.
+  Status addVertex(float x, float y, float z, uint32_t* out = nullptr);
+  // Removes triangle t. Its sides that had a partner become boundary sides: the hole grows,
+  // appears, splits or joins another as the fan rule says. Its vertices stay.
+  Status removeTriangle(uint32_t t);
+  // Adds triangle (a, b, c), returning its id. Each side pairs with an opposite boundary
+  // side on the same edge. Refused when two corners are the same vertex, and, unless
+  // allowNonManifold, when a side would land on an edge that has two sides already
+  // (non-manifold) or on a boundary side running the same way (inconsistent).
+  Status addTriangle(uint32_t a, uint32_t b, uint32_t c, uint32_t* out = nullptr, bool allowNonManifold = false);
+  // Flips the interior edge of e: triangles (a, b, c) = face(e) and (b, a, d) = face(twin e)
+  // become (c, a, d) and (d, b, c), keeping their ids (the first is face(e)'s); the new
+  // edge c-d takes the old edge's attribute values. Refused on a boundary, inconsistent or
+  // non-manifold edge, when c == d or when the edge c-d exists already.
+  Status flipEdge(uint32_t e);
+  // Splits the edge of e = a -> b at (1 - t) a + t b, 0 < t < 1: every triangle side on
+  // that edge (one on a boundary, two inside, more on a non-manifold edge) is cut, and
+  // each of its triangles (a, b, c) becomes (a, m, c), keeping its id, and (m, b, c), a new
+  // id. Returns m: 1 vertex, 2 + (sides) edges and (sides) triangles more.
+  Status splitEdge(uint32_t e, double t = 0.5, uint32_t* newVertex = nullptr);
+  // Collapses the edge of e = a -> b: b is merged into a, which moves to (1 - t) a + t b and
+  // is returned; the triangles on the edge are removed (their ids die) and the others at b
+  // now use a. Refused unless the edge is an interior or boundary edge whose two vertices
+  // are manifold and have only interior and boundary edges; when the link condition fails
+  // (a and b have a common neighbour other than the edge's opposite vertices, a triangle
+  // a-c-d and b-c-d both exist, or both are boundary vertices joined by an interior edge);
+  // when the result would lose a whole shell; and when a remaining triangle at a or b
+  // would fold over (its normal turns by more than 90 degrees).
+  Status collapseEdge(uint32_t e, double t = 0.5, uint32_t* remaining = nullptr);
+  // Reverses the winding of triangle t (corners (a, b, c) -> (a, c, b)); a kept normal is
+  // negated.
+  Status reverseTriangle(uint32_t t);
+  // Reverses every triangle of the shell of triangle t (triangles connected through shared
+  // edges, as Topology::nShells counts them).
+  Status reverseShell(uint32_t t);
+  // Fills the boundary loop of the boundary half-edge e with new triangles, returned in
+  // `out`: a fan from the loop's first vertex, or ear clipping in the loop's best-fitting
+  // (Newell) plane. A loop that passes a vertex more than once is cut there into simple
+  // loops, each filled on its own. Refused for seams (loops with cut sides), for a part of
+  // two edges, and when a new inner edge would land on an existing edge.
+  Status fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out = nullptr);
+  // Same for loop h of loops().
+  Status fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out = nullptr);
+
+  // --- Attributes -----------------------------------------------------------------------
+  // Adds (or replaces) attribute `name`. `values`: count * components values of `type` for
+  // the current slots (count = nVertices(), nTriangles() or nHalfedges() / 2), or null for
+  // all defaults. `defaultValue`: `components` numbers, or null for zeros. InvalidArgument
+  // for zero components or an empty name.
+  Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
+                      const void* values, const AttributeRules& rules = {}, const double* defaultValue = nullptr);
+  // Null when there is no such attribute.
+  const AttributeView* attribute(const std::string& name) const;
+  bool removeAttribute(const std::string& name);
+  std::vector<std::string> attributeNames() const;
+
+  // --- Output ---------------------------------------------------------------------------
+  // The live mesh renumbered densely in the same order (vertices that no live triangle
+  // uses are dropped), with the attribute word, colours and normals from the triangle
+  // attributes and the figures (area, volume, bbox, normal mismatches) computed as the
+  // reader computes them, and, when `topo` is given, its topology, equal to
+  // buildTopology(out) in every array. Solids keep their triangles; triangles added by
+  // edits belong to the last solid. O(n). OutOfMemory leaves `out` unspecified.
+  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr) const;
+  // Renumbers this mesh densely (toMesh + init): ids become the compacted ones.
+  Status compact(CompactMaps* maps = nullptr);
+
+  // Checks the editable structure (corner lists, side half-edges, counts, pairing rule) and
+  // then validate() on toMesh()'s output. O(n). Code::Invalid with the element.
+  Status validate() const;
+
+  struct Impl;  // the edit machinery (edit.cpp)
+
+ private:
+  friend struct Impl;
+  // Mesh.
+  Array<float> positions_;
+  Array<uint32_t> triangles_;
+  Array<uint8_t> vertexDead_;
+  Array<uint8_t> degenerate_;
+  // Corner lists: corner 3t + c is in the doubly linked list of the vertex it uses.
+  Array<uint32_t> cornerNext_, cornerPrev_, vertexCorner_, vertexCornerCount_;
+  // Half-edges.
+  Array<uint32_t> sideHalfedge_;  // per side 3t + c (corner c -> c + 1): its half-edge
+  Array<uint32_t> next_, prev_, vert_, face_;
+  Array<uint8_t> pairKind_;
+  Array<uint32_t> freePairs_;
+  Array<uint32_t> triangleHalfedge_, vertexHalfedge_;
+  Array<uint8_t> vertexNonManifold_;
+  // Counts kept up to date by every edit.
+  uint32_t nLiveTriangles_ = 0, nLiveVertices_ = 0, nLivePairs_ = 0, nDegenerate_ = 0;
+  uint32_t nEdges_ = 0, nBoundaryEdges_ = 0, nNonManifoldEdges_ = 0, nInconsistentEdges_ = 0;
+  uint32_t nNonManifoldVertices_ = 0;
+  // Computed when read.
+  bool loopsStale_ = true, statsStale_ = true;
+  EditLoops loops_;
+  EditStats stats_;
+  // File-level data carried to toMesh().
+  Format format_ = Format::Unknown;
+  ColorConvention colorConvention_ = ColorConvention::None;
+  std::vector<Solid> solids_;       // names; firstTriangle of the original ranges
+  std::vector<Status> warnings_;
+  // Attributes.
+  struct Attribute {
+    std::string name;
+    AttributeView view;
+    Array<uint8_t> bytes;
+    AttributeRules rules;
+    std::vector<double> defaultValue;
+  };
+  std::vector<Attribute> attributes_;
+  // Scratch for edits, kept between edits so that an edit does not allocate.
+  Array<uint32_t> stamp_;  // per vertex: == epoch_ when in the current set
+  uint32_t epoch_ = 0;
+  Array<uint32_t> triStamp_;  // per triangle: == triEpoch_ when in the current set
+  uint32_t triEpoch_ = 0;
+  Array<uint32_t> chRemoved_, chRewritten_, chRewrittenCorners_, chAdded_;  // the change
+  Array<uint32_t> touchedVertices_, dirtyTriangles_, sides_, oldSlots_, pairs_, claimed_;
+  Array<uint64_t> touchedEdges_;
+  struct Detached {
+    uint64_t edge;  // lo << 32 | hi
+    uint32_t he;
+    uint32_t lowToHigh;
+  };
+  Array<Detached> detached_;
+};
+
+}  // namespace stltopo

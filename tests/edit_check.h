@@ -1,0 +1,259 @@
+// Test helper for the EditableMesh: compares an edited mesh with a fresh buildTopology of
+// its compacted form, array by array. Shared by test_edit.cpp and the fuzz target.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "stltopo/edit.h"
+#include "stl_gen.h"
+
+namespace editcheck {
+
+// "" when the edited mesh is consistent: its own validate() holds, toMesh()'s topology
+// equals buildTopology(toMesh()'s mesh) in every array and count, and stats() and loops()
+// agree with that build. Else the first difference.
+inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
+  using namespace stltopo;
+  Status s = em.validate();
+  if (!s.ok()) return "validate: " + s.message;
+  Mesh m;
+  Topology t;
+  s = em.toMesh(m, &t);
+  if (!s.ok()) return "toMesh: " + s.message;
+  Topology f;
+  s = buildTopology(m, f);
+  if (!s.ok()) return "buildTopology: " + s.message;
+#define EDITCHECK_SAME(x) \
+  if (!gen::sameArray(t.x, f.x)) return "array " #x " differs from a fresh build";
+  EDITCHECK_SAME(next) EDITCHECK_SAME(prev) EDITCHECK_SAME(vert) EDITCHECK_SAME(face) EDITCHECK_SAME(pairKind)
+  EDITCHECK_SAME(triangleHalfedge) EDITCHECK_SAME(vertexHalfedge) EDITCHECK_SAME(vertexWeld)
+  EDITCHECK_SAME(loopHalfedge) EDITCHECK_SAME(loopOffsets) EDITCHECK_SAME(loopHalfedges) EDITCHECK_SAME(loopIsSeam)
+  EDITCHECK_SAME(loopPerimeter) EDITCHECK_SAME(triangleDegenerate) EDITCHECK_SAME(vertexNonManifold)
+#undef EDITCHECK_SAME
+#define EDITCHECK_COUNT(x) \
+  if (t.x != f.x) return "count " #x " differs from a fresh build: " + std::to_string(t.x) + " vs " + std::to_string(f.x);
+  EDITCHECK_COUNT(nTriangles) EDITCHECK_COUNT(nVertices) EDITCHECK_COUNT(nEdges) EDITCHECK_COUNT(nBoundaryEdges)
+  EDITCHECK_COUNT(nNonManifoldEdges) EDITCHECK_COUNT(nInconsistentEdges) EDITCHECK_COUNT(nNonManifoldVertices)
+  EDITCHECK_COUNT(nDegenerate) EDITCHECK_COUNT(nShells) EDITCHECK_COUNT(nUsedVertices) EDITCHECK_COUNT(nHoles)
+  EDITCHECK_COUNT(nSeams) EDITCHECK_COUNT(nWeldedVertices)
+#undef EDITCHECK_COUNT
+  if (infoJson("f", m, &t) != infoJson("f", m, &f)) return "infoJson differs from a fresh build";
+  if (em.infoJson("f") != infoJson("f", m, &f)) return "EditableMesh::infoJson differs from a fresh build";
+  const EditStats& st = em.stats();
+  if (st.triangles != f.nTriangles || st.vertices != f.nVertices || st.degenerate != f.nDegenerate ||
+      st.edges != f.nEdges || st.boundaryEdges != f.nBoundaryEdges || st.nonManifoldEdges != f.nNonManifoldEdges ||
+      st.inconsistentEdges != f.nInconsistentEdges || st.nonManifoldVertices != f.nNonManifoldVertices ||
+      st.usedVertices != f.nUsedVertices || st.holes != f.nHoles || st.seams != f.nSeams || st.shells != f.nShells ||
+      st.eulerCharacteristic != f.eulerCharacteristic() || st.watertight != f.watertight() || st.manifold != f.manifold())
+    return "stats() differ from a fresh build";
+  const EditLoops& l = em.loops();
+  if (!gen::sameArray(l.loopOffsets, f.loopOffsets) || !gen::sameArray(l.loopIsSeam, f.loopIsSeam) ||
+      !gen::sameArray(l.loopPerimeter, f.loopPerimeter))
+    return "loops() differ from a fresh build";
+  for (uint32_t h = 0; h < l.nLoops(); ++h)
+    for (uint32_t i = l.loopOffsets[h]; i < l.loopOffsets[h + 1]; ++i) {
+      uint32_t e = l.loopHalfedges[i];
+      if (em.face(e) != (kLoopFaceBit | h)) return "face of a loop half-edge is not its loop";
+    }
+  return "";
+}
+
+// A copy of every array and attribute and the stats, to show that a refused edit
+// changed nothing.
+struct Snapshot {
+  std::vector<std::vector<uint8_t>> arrays;
+  template <class T>
+  void add(const stltopo::Array<T>& a) {
+    const uint8_t* p = reinterpret_cast<const uint8_t*>(a.data());
+    arrays.emplace_back(p, p + a.size() * sizeof(T));
+  }
+  explicit Snapshot(stltopo::EditableMesh& em) {
+    const stltopo::EditStats& st = em.stats();  // first: reading the stats numbers the loops
+    add(em.positions()); add(em.triangles()); add(em.next()); add(em.prev()); add(em.vert()); add(em.faceWords());
+    add(em.pairKind()); add(em.triangleHalfedge()); add(em.vertexHalfedge());
+    for (const std::string& n : em.attributeNames()) {
+      const stltopo::AttributeView* v = em.attribute(n);
+      const uint8_t* p = static_cast<const uint8_t*>(v->data);
+      arrays.emplace_back(p, p + v->count * v->components * stltopo::valueTypeSize(v->type));
+    }
+    const int64_t counts[] = {st.triangles, st.vertices, st.degenerate, st.edges, st.boundaryEdges,
+                              st.nonManifoldEdges, st.inconsistentEdges, st.nonManifoldVertices, st.usedVertices,
+                              st.holes, st.seams, st.shells, st.eulerCharacteristic, st.watertight, st.manifold};
+    const uint8_t* p = reinterpret_cast<const uint8_t*>(counts);
+    arrays.emplace_back(p, p + sizeof counts);
+  }
+  bool operator==(const Snapshot& o) const { return arrays == o.arrays; }
+};
+
+// Random edits driven by a chooser: pick(n) returns a number in [0, n) (from a PRNG in the
+// tests, from the input bytes in the fuzz target).
+template <class Pick>
+class RandomEditor {
+ public:
+  RandomEditor(stltopo::EditableMesh& em, Pick& pick) : em_(em), pick_(pick) {}
+
+  // One edit; "" when it (or its refusal) checks out, else what went wrong. `what` says
+  // which edit it was.
+  std::string step(std::string& what, bool checkEachEdit = true) {
+    using namespace stltopo;
+    const uint32_t op = pick_(16);
+    const EditStats before = em_.stats();
+    Status s;
+    std::vector<uint8_t> dummy;
+    Snapshot* snap = nullptr;
+    Snapshot snapshot = checkEachEdit ? Snapshot(em_) : emptySnapshot();
+    if (checkEachEdit) snap = &snapshot;
+    char buf[160];
+    switch (op) {
+      case 0: case 1: {
+        uint32_t t = liveTriangle();
+        if (t == kInvalid) { what = "remove (no triangle)"; return ""; }
+        std::snprintf(buf, sizeof buf, "removeTriangle(%u)", t);
+        s = em_.removeTriangle(t);
+        break;
+      }
+      case 2: case 3: {  // a triangle that closes an ear of a boundary loop
+        uint32_t b = boundaryHalfedge();
+        if (b == kInvalid) { what = "add (no boundary)"; return ""; }
+        uint32_t u = em_.vert()[b], v = em_.vert()[b ^ 1u], w = em_.vert()[em_.next()[b] ^ 1u];
+        std::snprintf(buf, sizeof buf, "addTriangle(%u, %u, %u) on loop", u, v, w);
+        s = em_.addTriangle(u, v, w);
+        break;
+      }
+      case 4: {  // a triangle on a boundary edge to a new vertex
+        uint32_t b = boundaryHalfedge();
+        if (b == kInvalid) { what = "add (no boundary)"; return ""; }
+        uint32_t u = em_.vert()[b], v = em_.vert()[b ^ 1u], w;
+        const float* p = em_.positions().data();
+        s = em_.addVertex(p[3 * u] + 0.25f, p[3 * u + 1] - 0.5f, p[3 * v + 2] + 0.125f, &w);
+        if (!s.ok()) return "addVertex: " + s.message;
+        snapshot = checkEachEdit ? Snapshot(em_) : emptySnapshot();
+        std::snprintf(buf, sizeof buf, "addTriangle(%u, %u, new %u)", u, v, w);
+        s = em_.addTriangle(u, v, w);
+        break;
+      }
+      case 5: {
+        uint32_t n = em_.nVertices();
+        if (n == 0) { what = "add (no vertex)"; return ""; }
+        uint32_t a = pick_(n), b = pick_(n), c = pick_(n);
+        bool nm = pick_(2) == 1;
+        std::snprintf(buf, sizeof buf, "addTriangle(%u, %u, %u, nonManifold %d)", a, b, c, nm);
+        s = em_.addTriangle(a, b, c, nullptr, nm);
+        break;
+      }
+      case 6: case 7: {
+        uint32_t e = liveHalfedge();
+        if (e == kInvalid) { what = "flip (none)"; return ""; }
+        std::snprintf(buf, sizeof buf, "flipEdge(%u)", e);
+        s = em_.flipEdge(e);
+        break;
+      }
+      case 8: case 9: {
+        uint32_t e = liveHalfedge();
+        if (e == kInvalid) { what = "split (none)"; return ""; }
+        double t = (1 + pick_(7)) / 8.0;
+        std::snprintf(buf, sizeof buf, "splitEdge(%u, %g)", e, t);
+        s = em_.splitEdge(e, t);
+        break;
+      }
+      case 10: case 11: {
+        uint32_t e = liveHalfedge();
+        if (e == kInvalid) { what = "collapse (none)"; return ""; }
+        double t = pick_(3) / 2.0;
+        std::snprintf(buf, sizeof buf, "collapseEdge(%u, %g)", e, t);
+        s = em_.collapseEdge(e, t);
+        break;
+      }
+      case 12: {
+        uint32_t t = liveTriangle();
+        if (t == kInvalid) { what = "reverse (none)"; return ""; }
+        std::snprintf(buf, sizeof buf, "reverseTriangle(%u)", t);
+        s = em_.reverseTriangle(t);
+        break;
+      }
+      case 13: {
+        uint32_t t = liveTriangle();
+        if (t == kInvalid) { what = "reverseShell (none)"; return ""; }
+        std::snprintf(buf, sizeof buf, "reverseShell(%u)", t);
+        s = em_.reverseShell(t);
+        break;
+      }
+      case 14: {
+        uint32_t b = boundaryHalfedge();
+        if (b == kInvalid) { what = "fill (no boundary)"; return ""; }
+        FillMethod m = pick_(2) ? FillMethod::Ear : FillMethod::Fan;
+        std::snprintf(buf, sizeof buf, "fillHole(%u, %s)", b, m == FillMethod::Ear ? "ear" : "fan");
+        Array<uint32_t> added;
+        s = em_.fillHole(b, m, &added);
+        break;
+      }
+      default: {
+        if (pick_(4) != 0) { what = "nothing"; return ""; }
+        std::snprintf(buf, sizeof buf, "compact()");
+        const std::string json = em_.infoJson("f");
+        s = em_.compact();
+        if (s.ok() && em_.infoJson("f") != json) return std::string(buf) + " changed the report";
+        break;
+      }
+    }
+    what = buf;
+    if (!s.ok()) {
+      if (s.code != Code::EditRefused && s.code != Code::InvalidArgument) return what + ": unexpected " + s.message;
+      if (s.message.compare(0, std::strlen(codeName(s.code)) + 2, std::string(codeName(s.code)) + ": ") != 0)
+        return what + ": message without its code: " + s.message;
+      if (snap && !(Snapshot(em_) == *snap)) return what + " was refused (" + s.message + ") but changed the mesh";
+      return "";
+    }
+    ++done_;
+    const EditStats& after = em_.stats();
+    // Collapse and flip keep the topology of the surface, and so does a split, unless two
+    // triangles on the edge share their third vertex (the new edges to it become one, with
+    // four sides: non-manifold).
+    const bool splitMadeNonManifold = (op == 8 || op == 9) && after.nonManifoldEdges > before.nonManifoldEdges;
+    if (op >= 6 && op <= 11 && !splitMadeNonManifold &&
+        (after.eulerCharacteristic != before.eulerCharacteristic || after.shells != before.shells))
+      return what + " changed the Euler characteristic or the shells";
+    if (op >= 10 && op <= 11 &&
+        (after.nonManifoldEdges > before.nonManifoldEdges || after.nonManifoldVertices > before.nonManifoldVertices ||
+         after.inconsistentEdges > before.inconsistentEdges))
+      return what + " made the mesh less manifold";
+    if (!checkEachEdit) return "";
+    std::string d = differenceFromRebuild(em_);
+    return d.empty() ? "" : what + ": " + d;
+  }
+  uint32_t done() const { return done_; }
+
+ private:
+  static Snapshot emptySnapshot() {
+    static stltopo::EditableMesh empty;
+    return Snapshot(empty);
+  }
+  uint32_t liveTriangle() {
+    uint32_t n = em_.nTriangles();
+    if (em_.nLiveTriangles() == 0) return stltopo::kInvalid;
+    uint32_t t = pick_(n);
+    while (!em_.triangleAlive(t)) t = (t + 1) % n;
+    return t;
+  }
+  uint32_t liveHalfedge() {
+    uint32_t n = em_.nHalfedges();
+    if (em_.nLiveHalfedges() == 0) return stltopo::kInvalid;
+    uint32_t e = pick_(n);
+    while (!em_.halfedgeAlive(e)) e = (e + 1) % n;
+    return e;
+  }
+  uint32_t boundaryHalfedge() {
+    const stltopo::EditLoops& l = em_.loops();
+    if (l.nLoops() == 0) return stltopo::kInvalid;
+    uint32_t h = pick_(l.nLoops());
+    uint32_t len = l.loopOffsets[h + 1] - l.loopOffsets[h];
+    return l.loopHalfedges[l.loopOffsets[h] + pick_(len)];
+  }
+  stltopo::EditableMesh& em_;
+  Pick& pick_;
+  uint32_t done_ = 0;
+};
+
+}  // namespace editcheck

@@ -1,0 +1,183 @@
+// EditableMesh through the package: edits on a loaded file, refused edits as
+// StlError('edit-refused') that change nothing, attributes with JS rules, and the stats
+// of an edited mesh equal to a fresh load of the same triangles.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { loadStlFile, EditableMesh, StlError, kLoopFaceBit } from 'stltopo';
+import { fixture } from './helpers.mjs';
+import { api } from '../../dist/instance.node.js';
+
+const cubeFile = () => fixture('cubeBinary.stl');
+
+// Binary STL bytes of the live triangles of an editable mesh (for a fresh load).
+function stlBytes(em) {
+  const tri = em.triangles;
+  const p = em.positions;
+  const live = [];
+  for (let t = 0; t < tri.length / 3; ++t) if (tri[3 * t] !== 0xffffffff) live.push(t);
+  const out = new Uint8Array(84 + 50 * live.length);
+  const dv = new DataView(out.buffer);
+  dv.setUint32(80, live.length, true);
+  live.forEach((t, i) => {
+    for (let c = 0; c < 3; ++c)
+      for (let k = 0; k < 3; ++k) dv.setFloat32(84 + 50 * i + 12 + 12 * c + 4 * k, p[3 * tri[3 * t + c] + k], true);
+  });
+  return out;
+}
+
+async function freshStats(em) {
+  const { loadStl } = await import('stltopo');
+  const m = await loadStl(stlBytes(em));
+  const s = { ...m.stats };
+  return s;
+}
+
+// The topology figures that do not depend on the file's format or header.
+const TOPO_KEYS = ['triangles', 'vertices', 'degenerateTriangles', 'edges', 'boundaryEdges', 'nonManifoldEdges',
+  'inconsistentEdges', 'nonManifoldVertices', 'holes', 'seams', 'holeSizes', 'shells', 'eulerCharacteristic', 'genus',
+  'watertight', 'manifold', 'area', 'volume', 'bbox'];
+
+test('remove a cube face, fill the hole: stats follow and equal a fresh load', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  const em = await EditableMesh.from(mesh);
+  assert.equal(em.stats.watertight, true);
+  em.removeTriangle(0);
+  assert.deepEqual(em.holes.map((h) => h.edgeCount), [3]);
+  assert.equal(em.holes[0].face, (kLoopFaceBit | 0) >>> 0);
+  assert.equal(em.stats.boundaryEdges, 3);
+  const fresh = await freshStats(em);
+  for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
+  const added = em.fillHole(em.holes[0].id, { method: 'ear' });
+  assert.equal(added.length, 1);
+  assert.equal(em.stats.watertight, true);
+  assert.equal(em.stats.genus, 0);
+  assert.deepEqual(em.validate(), { ok: true });
+  em.dispose();
+  mesh.dispose?.();
+});
+
+const TETRA = {
+  positions: new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]),
+  triangles: new Uint32Array([0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2]),
+};
+
+test('a refused edit throws StlError edit-refused and changes nothing', async () => {
+  const em = await EditableMesh.from(TETRA);
+  assert.equal(em.stats.watertight, true);
+  const before = { tri: em.triangles.slice(), next: em.halfedges.next.slice(), stats: JSON.stringify(em.stats) };
+  // Collapsing any edge of a tetrahedron fails the link condition; flipping any edge
+  // would make an edge that exists.
+  for (let e = 0; e < em.nHalfedges; ++e) {
+    for (const edit of [() => em.collapseEdge(e), () => em.flipEdge(e)]) {
+      assert.throws(edit, (err) => err instanceof StlError && err.code === 'edit-refused' && /^edit-refused: /.test(err.message));
+    }
+  }
+  assert.deepEqual(em.triangles, before.tri);
+  assert.deepEqual(em.halfedges.next, before.next);
+  assert.equal(JSON.stringify(em.stats), before.stats);
+  assert.throws(() => em.removeTriangle(99), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  em.dispose();
+  assert.throws(() => em.stats, (e) => e instanceof StlError && e.code === 'invalid-argument');
+});
+
+test('split, flip, collapse and reverse on a sphere keep it closed; compact renumbers', async () => {
+  const em = await EditableMesh.from(await loadStlFile(fixture('test_sphere.stl')));
+  const chi = em.stats.eulerCharacteristic;
+  const v = em.splitEdge(0, 0.5);
+  assert.equal(v, em.nVertices - 1);
+  em.flipEdge(em.triangleHalfedge[3]);
+  const keep = em.collapseEdge(em.triangleHalfedge[40], 0);
+  assert.equal(typeof keep, 'number');
+  assert.equal(em.stats.eulerCharacteristic, chi);
+  em.reverseTriangle(5);
+  assert.equal(em.stats.inconsistentEdges, 3);
+  em.reverseTriangle(5);
+  em.reverseShell(0);
+  assert.ok(em.stats.volume < 0);
+  assert.equal(em.stats.watertight, true);
+  const maps = em.compact();
+  assert.ok(maps.triangles instanceof Uint32Array);
+  assert.equal(em.nTriangles, em.stats.triangles);
+  const fresh = await freshStats(em);
+  for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
+  assert.deepEqual(em.validate(), { ok: true });
+  // toStl() writes the edited mesh; it reads back with the same figures, binary and ASCII.
+  const { loadStl } = await import('stltopo');
+  for (const format of ['binary', 'ascii']) {
+    const back = await loadStl(em.toStl({ format }));
+    for (const k of TOPO_KEYS) assert.deepEqual(back.stats[k], em.stats[k], `${format} ${k}`);
+    // The same corners bit for bit (a file numbers its vertices by first appearance).
+    const xyz = (m) => { const out = new Float32Array(m.triangles.length * 3); m.triangles.forEach((v, i) => out.set(m.positions.subarray(3 * v, 3 * v + 3), 3 * i)); return out; };
+    assert.deepEqual(xyz(back), xyz(em), `${format} corner positions`);
+  }
+  // Navigation works on the editable arrays.
+  const e = em.triangleHalfedge[0];
+  assert.equal(em.dst(e), em.org(em.lNext(e)));
+  em.dispose();
+});
+
+test('attributes: average on split, a JS merge rule on collapse, fail refuses', async () => {
+  const em = await EditableMesh.from(await loadStlFile(fixture('test_sphere.stl')));
+  const temp = new Float32Array(em.nVertices).map((_, i) => i);
+  em.addAttribute('temp', 'vertex', temp, { merge: (a, b) => [Math.max(a[0], b[0])], split: 'average' });
+  const e = em.triangleHalfedge[0];
+  const a = em.org(e), b = em.dst(e);
+  const m = em.splitEdge(e, 0.25);
+  assert.equal(em.attribute('temp')[m], Math.fround(0.75 * a + 0.25 * b));
+  const e2 = em.triangleHalfedge[50];
+  const x = em.org(e2), y = em.dst(e2);
+  const keep = em.collapseEdge(e2);
+  assert.equal(keep, x);
+  assert.equal(em.attribute('temp')[keep], Math.max(x, y));
+  const label = new Uint8Array(em.nTriangles).fill(1);
+  label[0] = 2;
+  em.addAttribute('label', 'triangle', label, { merge: 'fail' });
+  const h = em.triangleHalfedge[0];
+  let refusedByLabel = false;
+  for (const f of [h, em.lNext(h), em.lNext(em.lNext(h))]) {
+    try {
+      em.flipEdge(f);
+    } catch (err) {
+      if (err.code === 'edit-refused' && /label/.test(err.message)) refusedByLabel = true;
+    }
+  }
+  assert.ok(refusedByLabel);
+  assert.ok(em.attributeNames().includes('attribute'));
+  // A rule that throws: its exception comes out of the edit, which changed nothing.
+  em.addAttribute('strict', 'vertex', new Uint8Array(em.nVertices), { split: () => { throw new Error('no splits here'); } });
+  const nv = em.nVertices;
+  assert.throws(() => em.splitEdge(em.triangleHalfedge[3]), /no splits here/);
+  assert.equal(em.nVertices, nv);
+  assert.deepEqual(em.validate(), { ok: true });
+  em.dispose();
+});
+
+test('an indexed mesh: addTriangle pairs with the boundary', async () => {
+  const positions = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]);
+  const triangles = new Uint32Array([0, 2, 1, 0, 1, 3, 1, 2, 3]);
+  const em = await EditableMesh.from({ positions, triangles });
+  assert.deepEqual(em.holes.map((h) => h.edgeCount), [3]);
+  assert.throws(() => em.addTriangle(0, 2, 3), (e) => e.code === 'edit-refused');
+  const t = em.addTriangle(0, 3, 2);
+  assert.equal(t, 3);
+  assert.equal(em.stats.watertight, true);
+  em.dispose();
+});
+
+test('the wasm heap returns to its baseline after many editable meshes', async () => {
+  const heap = async () => (await api.internal.heap()).inUse;
+  const mesh = await loadStlFile(fixture('test_sphere.stl'));
+  const round = async () => {
+    const em = await EditableMesh.from(mesh);
+    em.removeTriangle(0);
+    em.fillHole(em.holes[0].id, { method: 'ear' });
+    em.addAttribute('w', 'edge', new Float32Array(em.nHalfedges / 2), { merge: 'average' });
+    em.splitEdge(em.triangleHalfedge[5]);
+    void em.stats;
+    em.dispose();
+  };
+  await round();
+  const base = await heap();
+  for (let i = 0; i < 30; ++i) await round();
+  assert.equal(await heap(), base);
+});

@@ -1,0 +1,451 @@
+// EditableMesh: hand-checked edits on generated meshes, refused edits that change nothing,
+// attributes through edits, and randomized edit sequences on fixtures and generated
+// meshes, each checked against a fresh buildTopology of the compacted mesh.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <filesystem>
+#include <random>
+
+#include "stltopo/edit.h"
+#include "edit_check.h"
+#include "stl_gen.h"
+
+using namespace stltopo;
+
+namespace {
+
+Mesh readSoup(const gen::Soup& s) {
+  Mesh m;
+  Status st = gen::read(gen::binary(s), m);
+  EXPECT_TRUE(st.ok()) << st.message;
+  return m;
+}
+
+void makeEditable(const gen::Soup& s, EditableMesh& em) {
+  Mesh m = readSoup(s);
+  Status st = em.init(m);
+  ASSERT_TRUE(st.ok()) << st.message;
+  ASSERT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+std::vector<uint32_t> holeSizes(EditableMesh& em) {
+  std::vector<uint32_t> out;
+  const EditLoops& l = em.loops();
+  for (uint32_t h = 0; h < l.nLoops(); ++h)
+    if (!l.loopIsSeam[h]) out.push_back(l.loopOffsets[h + 1] - l.loopOffsets[h]);
+  return out;
+}
+
+using editcheck::Snapshot;
+
+gen::Soup tetrahedron() {
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return s;
+}
+
+}  // namespace
+
+TEST(Edit, UneditedMeshEqualsItsTopology) {
+  EditableMesh em;
+  makeEditable(gen::cube(), em);
+  EXPECT_EQ(em.stats().triangles, 12u);
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(em.stats().eulerCharacteristic, 2);
+}
+
+TEST(Edit, RemovingOneCubeFaceGivesOneHoleOfThreeEdges) {
+  EditableMesh em;
+  makeEditable(gen::cube(), em);
+  ASSERT_TRUE(em.removeTriangle(0).ok());
+  EXPECT_EQ(holeSizes(em), std::vector<uint32_t>{3});
+  EXPECT_EQ(em.stats().boundaryEdges, 3u);
+  EXPECT_FALSE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, RemovingTwoNeighbouringFacesGivesOneHoleOfFourEdges) {
+  EditableMesh em;
+  makeEditable(gen::cube(), em);
+  // Triangles 0 and 1 are the two halves of one side of the cube (they share an edge).
+  ASSERT_TRUE(em.removeTriangle(0).ok());
+  ASSERT_TRUE(em.removeTriangle(1).ok());
+  EXPECT_EQ(holeSizes(em), std::vector<uint32_t>{4});
+  EXPECT_EQ(em.stats().edges, 17u);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, RemovingTwoFacesTouchingAtAVertexGivesLoopsByTheFanRule) {
+  // Two triangles of a cube that share only vertex 0: (0,2,3) on the z = 0 side and
+  // (0,4,6)... the cube's quads are listed in gen::cube(); find a pair by their vertices.
+  gen::Soup s = gen::cube();
+  Mesh m = readSoup(s);
+  EditableMesh em;
+  ASSERT_TRUE(em.init(m).ok());
+  uint32_t t0 = kInvalid, t1 = kInvalid;
+  for (uint32_t a = 0; a < 12 && t0 == kInvalid; ++a)
+    for (uint32_t b = a + 1; b < 12; ++b) {
+      int shared = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) shared += m.triangles[3 * a + i] == m.triangles[3 * b + j];
+      if (shared == 1) {
+        t0 = a;
+        t1 = b;
+        break;
+      }
+    }
+  ASSERT_NE(t0, kInvalid);
+  ASSERT_TRUE(em.removeTriangle(t0).ok());
+  ASSERT_TRUE(em.removeTriangle(t1).ok());
+  // The two holes meet at one vertex. The fan rule continues a boundary through the fan of
+  // remaining triangles it arrives in, which ends at the other hole: one loop of 6 edges
+  // that passes the vertex twice. The vertex's remaining triangles are two fans, so it has
+  // two vnext cycles: non-manifold.
+  EXPECT_EQ(holeSizes(em), std::vector<uint32_t>{6});
+  EXPECT_EQ(em.stats().nonManifoldVertices, 1u);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // Filling it cuts the loop at the vertex into two triangles: closed again.
+  Array<uint32_t> added;
+  ASSERT_TRUE(em.fillLoop(0, FillMethod::Ear, &added).ok());
+  EXPECT_EQ(added.size(), 2u);
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, FillingAHoleBringsTheCubeBackToWatertightGenusZero) {
+  for (FillMethod method : {FillMethod::Fan, FillMethod::Ear}) {
+    EditableMesh em;
+    makeEditable(gen::cube(), em);
+    ASSERT_TRUE(em.removeTriangle(0).ok());
+    ASSERT_TRUE(em.removeTriangle(1).ok());
+    ASSERT_EQ(em.loops().nLoops(), 1u);
+    Array<uint32_t> added;
+    Status s = em.fillLoop(0, method, &added);
+    ASSERT_TRUE(s.ok()) << s.message;
+    EXPECT_EQ(added.size(), 2u);
+    const EditStats& st = em.stats();
+    EXPECT_TRUE(st.watertight);
+    EXPECT_TRUE(st.manifold);
+    EXPECT_EQ(st.eulerCharacteristic, 2);
+    EXPECT_EQ(st.shells, 1u);
+    EXPECT_EQ(em.loops().nLoops(), 0u);
+    EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+    Mesh m;
+    ASSERT_TRUE(em.toMesh(m).ok());
+    EXPECT_NEAR(m.volume, 1.0, 1e-12);
+  }
+}
+
+TEST(Edit, CollapsingAnEdgeOfATetrahedronIsRefused) {
+  EditableMesh em;
+  makeEditable(tetrahedron(), em);
+  ASSERT_TRUE(em.stats().watertight);
+  for (uint32_t e = 0; e < em.nHalfedges(); ++e) {
+    Snapshot before(em);
+    Status st = em.collapseEdge(e);
+    EXPECT_EQ(st.code, Code::EditRefused) << e;
+    EXPECT_NE(st.message.find("edit-refused: "), std::string::npos);
+    EXPECT_TRUE(Snapshot(em) == before);
+  }
+}
+
+TEST(Edit, SplittingAnEdgeAddsOneVertexThreeEdgesTwoTriangles) {
+  EditableMesh em;
+  makeEditable(gen::torus(6, 5), em);
+  EditStats before = em.stats();
+  uint32_t m = kInvalid, a = em.vert()[0], b = em.vert()[1];
+  ASSERT_TRUE(em.splitEdge(0, 0.25, &m).ok());
+  EditStats after = em.stats();
+  EXPECT_EQ(m, before.vertices);
+  EXPECT_EQ(after.vertices, before.vertices + 1);
+  EXPECT_EQ(after.edges, before.edges + 3);
+  EXPECT_EQ(after.triangles, before.triangles + 2);
+  EXPECT_EQ(after.eulerCharacteristic, 0);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // The new vertex lies at a quarter of the edge.
+  const float* p = em.positions().data();
+  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(p[3 * m + k], float(0.75 * p[3 * a + k] + 0.25 * p[3 * b + k]));
+}
+
+TEST(Edit, FlipKeepsTheCountsAndIsRefusedOnABoundary) {
+  EditableMesh em;
+  makeEditable(gen::torus(6, 5), em);
+  EditStats before = em.stats();
+  ASSERT_TRUE(em.flipEdge(0).ok());
+  EXPECT_EQ(em.stats().edges, before.edges);
+  EXPECT_EQ(em.stats().eulerCharacteristic, 0);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // Flipping back restores the edge.
+  ASSERT_TRUE(em.flipEdge(0).ok());
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+
+  EditableMesh open;
+  gen::Soup s = gen::cube();
+  s.f.erase(s.f.begin());
+  makeEditable(s, open);
+  uint32_t b = open.loops().loopHalfedge[0];
+  Snapshot snap(open);
+  Status st = open.flipEdge(b);
+  EXPECT_EQ(st.code, Code::EditRefused);
+  st = open.flipEdge(b ^ 1u);
+  EXPECT_EQ(st.code, Code::EditRefused);
+  EXPECT_TRUE(Snapshot(open) == snap);
+}
+
+TEST(Edit, FlipIsRefusedWhenTheNewEdgeExists) {
+  // Tetrahedron: the flipped edge of any edge joins the two other vertices, which are
+  // joined already.
+  EditableMesh em;
+  makeEditable(tetrahedron(), em);
+  Snapshot before(em);
+  Status st = em.flipEdge(0);
+  EXPECT_EQ(st.code, Code::EditRefused);
+  EXPECT_NE(st.message.find("exists already"), std::string::npos);
+  EXPECT_TRUE(Snapshot(em) == before);
+}
+
+TEST(Edit, CollapseOnATorusKeepsItATorusAndRefusedEditsChangeNothing) {
+  EditableMesh em;
+  makeEditable(gen::torus(8, 6), em);
+  uint32_t keep = kInvalid, a = em.vert()[0], b = em.vert()[1];
+  Status st = em.collapseEdge(0, 0.5, &keep);
+  ASSERT_TRUE(st.ok()) << st.message;
+  EXPECT_EQ(keep, a);
+  EXPECT_FALSE(em.vertexAlive(b));
+  EXPECT_EQ(em.stats().eulerCharacteristic, 0);
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_TRUE(em.stats().manifold);
+  EXPECT_EQ(em.stats().triangles, 8u * 6 * 2 - 2);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // Dead ids are refused as invalid arguments, and change nothing.
+  Snapshot before(em);
+  uint32_t dead = kInvalid;
+  for (uint32_t e = 0; e < em.nHalfedges() && dead == kInvalid; ++e)
+    if (!em.halfedgeAlive(e)) dead = e;
+  ASSERT_NE(dead, kInvalid);
+  EXPECT_EQ(em.collapseEdge(dead).code, Code::InvalidArgument);
+  EXPECT_EQ(em.removeTriangle(em.nTriangles()).code, Code::InvalidArgument);
+  EXPECT_EQ(em.addTriangle(b, a, keep).code, Code::InvalidArgument);
+  EXPECT_EQ(em.addTriangle(a, a, keep).code, Code::EditRefused);
+  EXPECT_EQ(em.splitEdge(2, 1.0).code, Code::InvalidArgument);
+  EXPECT_TRUE(Snapshot(em) == before);
+}
+
+TEST(Edit, AddTrianglePairsWithBoundarySidesAndRefusesNonManifoldEdges) {
+  gen::Soup s = gen::cube();
+  std::array<uint32_t, 3> removed = s.f[0];
+  EditableMesh em;
+  makeEditable(s, em);
+  Mesh m;
+  ASSERT_TRUE(em.toMesh(m).ok());
+  uint32_t a = m.triangles[0], b = m.triangles[1], c = m.triangles[2];
+  ASSERT_TRUE(em.removeTriangle(0).ok());
+  (void)removed;
+  // The same way round again closes it; the other way round is inconsistent.
+  Snapshot before(em);
+  Status st = em.addTriangle(a, c, b);
+  EXPECT_EQ(st.code, Code::EditRefused);
+  EXPECT_TRUE(Snapshot(em) == before);
+  uint32_t t = kInvalid;
+  ASSERT_TRUE(em.addTriangle(a, b, c, &t).ok());
+  EXPECT_EQ(t, 12u);
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // A third triangle on a closed edge is non-manifold: refused unless asked for.
+  uint32_t v;
+  ASSERT_TRUE(em.addVertex(5, 5, 5, &v).ok());
+  before = Snapshot(em);
+  EXPECT_EQ(em.addTriangle(a, b, v).code, Code::EditRefused);
+  EXPECT_TRUE(Snapshot(em) == before);
+  ASSERT_TRUE(em.addTriangle(b, a, v, &t, true).ok());
+  EXPECT_EQ(em.stats().nonManifoldEdges, 1u);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, ReverseTriangleAndShell) {
+  EditableMesh em;
+  gen::Soup two = gen::cube();
+  gen::append(two, gen::cube(3, 0, 0));
+  makeEditable(two, em);
+  ASSERT_TRUE(em.reverseTriangle(0).ok());
+  EXPECT_EQ(em.stats().inconsistentEdges, 3u);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  ASSERT_TRUE(em.reverseTriangle(0).ok());
+  EXPECT_TRUE(em.stats().watertight);
+  ASSERT_TRUE(em.reverseShell(12).ok());
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  Mesh m;
+  ASSERT_TRUE(em.toMesh(m).ok());
+  EXPECT_NEAR(m.volume, 0.0, 1e-12);  // one unit cube outward, one inward
+  EXPECT_EQ(em.stats().shells, 2u);
+}
+
+TEST(Edit, CompactRenumbersDenselyAndReturnsTheMaps) {
+  EditableMesh em;
+  makeEditable(gen::torus(6, 5), em);
+  ASSERT_TRUE(em.removeTriangle(3).ok());
+  ASSERT_TRUE(em.collapseEdge(em.triangleHalfedge()[20]).ok());
+  uint32_t nt = em.stats().triangles;
+  std::string before = em.infoJson("f");
+  CompactMaps maps;
+  ASSERT_TRUE(em.compact(&maps).ok());
+  EXPECT_EQ(em.nTriangles(), nt);
+  EXPECT_EQ(maps.triangles[3], kInvalid);
+  EXPECT_EQ(maps.triangles[4], 3u);
+  EXPECT_EQ(em.infoJson("f"), before);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, AttributesFollowTheRules) {
+  EditableMesh em;
+  makeEditable(gen::torus(6, 5), em);
+  const uint32_t nv = em.nVertices();
+  std::vector<float> temp(nv);
+  for (uint32_t v = 0; v < nv; ++v) temp[v] = float(v);
+  AttributeRules avg;
+  avg.merge = avg.split = Rule::Average;
+  ASSERT_TRUE(em.addAttribute("temp", Element::Vertex, ValueType::F32, 1, temp.data(), avg).ok());
+  std::vector<uint8_t> label(em.nTriangles(), 1);
+  label[0] = 2;
+  AttributeRules strict;
+  strict.merge = strict.split = Rule::Fail;
+  ASSERT_TRUE(em.addAttribute("label", Element::Triangle, ValueType::U8, 1, label.data(), strict).ok());
+  uint32_t a = em.vert()[0], b = em.vert()[1], m;
+  ASSERT_TRUE(em.splitEdge(0, 0.25, &m).ok());
+  const float* t = static_cast<const float*>(em.attribute("temp")->data);
+  EXPECT_FLOAT_EQ(t[m], 0.75f * float(a) + 0.25f * float(b));
+  // Triangle 0 (label 2) and its neighbour across edge 0 (label 1): a flip must merge them,
+  // which "fail" refuses; collapse merges vertices only.
+  uint32_t e = em.triangleHalfedge()[0];
+  Snapshot before(em);
+  bool refusedOne = false;
+  for (int k = 0; k < 3; ++k, e = em.next()[e]) {
+    Status s = em.flipEdge(e);
+    if (s.code == Code::EditRefused && s.message.find("label") != std::string::npos) refusedOne = true;
+    if (s.ok()) break;
+  }
+  EXPECT_TRUE(refusedOne);
+  // A custom rule: the merge keeps the larger value.
+  AttributeRules custom;
+  custom.merge = Rule::Custom;
+  custom.mergeFn = [](const double* x, const double* y, double, double* out, uint32_t n) {
+    for (uint32_t k = 0; k < n; ++k) out[k] = std::max(x[k], y[k]);
+    return true;
+  };
+  ASSERT_TRUE(em.addAttribute("temp", Element::Vertex, ValueType::F32, 1, nullptr, custom).ok());
+  float* tv = static_cast<float*>(em.attribute("temp")->data);
+  for (uint32_t v = 0; v < em.nVertices(); ++v) tv[v] = float(v);
+  uint32_t e2 = em.triangleHalfedge()[10];
+  uint32_t x = em.vert()[e2], y = em.vert()[e2 ^ 1u], keep;
+  ASSERT_TRUE(em.collapseEdge(e2, 0.5, &keep).ok());
+  EXPECT_EQ(keep, x);
+  EXPECT_FLOAT_EQ(static_cast<const float*>(em.attribute("temp")->data)[keep], float(std::max(x, y)));
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(Edit, ColoursAndAttributeWordsSurviveEditsAndCompaction) {
+  gen::Soup s = gen::cube();
+  s.attr.assign(12, 0);
+  for (int t = 0; t < 12; ++t) s.attr[t] = uint16_t(0x8000 | (t << 10) | 0x1F);  // VisCAM colours
+  Mesh m = readSoup(s);
+  ASSERT_EQ(m.colorConvention, ColorConvention::VisCam);
+  EditableMesh em;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(em.removeTriangle(0).ok());
+  ASSERT_TRUE(em.compact().ok());
+  Mesh out;
+  ASSERT_TRUE(em.toMesh(out).ok());
+  ASSERT_EQ(out.nTriangles(), 11u);
+  EXPECT_EQ(out.colorConvention, ColorConvention::VisCam);
+  for (uint32_t t = 0; t < 11; ++t) {
+    EXPECT_EQ(out.attributes[t], m.attributes[t + 1]);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(out.colors[3 * t + k], m.colors[3 * (t + 1) + k]);
+    EXPECT_EQ(out.colorValid[t], m.colorValid[t + 1]);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Randomized edit sequences. Each edit is checked: a refused edit changed nothing; a done
+// edit leaves validate() holding and a topology equal, array by array, to buildTopology of
+// the compacted mesh. The seed is printed on failure; STLTOPO_EDIT_SEED=<n> reruns one.
+
+namespace {
+
+struct Rng {
+  std::mt19937_64 g;
+  uint32_t operator()(uint32_t n) { return n == 0 ? 0 : uint32_t(g() % n); }
+};
+
+void runRandomEdits(const std::string& name, const Mesh& mesh, uint64_t seed, uint32_t nEdits, uint32_t checkEvery,
+                    double tolerance = 0) {
+  EditableMesh em;
+  TopologyOptions o;
+  o.tolerance = tolerance;
+  Status s = em.init(mesh, o);
+  ASSERT_TRUE(s.ok()) << s.message;
+  Rng rng{std::mt19937_64(seed)};
+  editcheck::RandomEditor<Rng> ed(em, rng);
+  for (uint32_t i = 0; i < nEdits; ++i) {
+    std::string what;
+    std::string d = ed.step(what, (i + 1) % checkEvery == 0);
+    ASSERT_EQ(d, "") << name << ": seed " << seed << ", edit " << i << " (" << what << ")";
+  }
+  ASSERT_EQ(editcheck::differenceFromRebuild(em), "") << name << ": seed " << seed << " at the end";
+  EXPECT_GT(ed.done(), nEdits / 10) << name << ": too few edits were done";
+}
+
+uint64_t seedFor(uint64_t base) {
+  const char* env = std::getenv("STLTOPO_EDIT_SEED");
+  return env ? std::strtoull(env, nullptr, 10) : base;
+}
+
+Mesh readFixture(const std::string& rel) {
+  Mesh m;
+  std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + rel);
+  Status s = gen::read(bytes, m);
+  EXPECT_TRUE(s.ok()) << rel << ": " << s.message;
+  return m;
+}
+
+}  // namespace
+
+TEST(EditRandom, GeneratedMeshesEveryEditChecked) {
+  gen::Soup torus = gen::torus(7, 5, {3, 11, 12});
+  gen::Soup cubes = gen::cube();
+  gen::append(cubes, gen::cube(1, 0, 0));  // two cubes sharing a side: non-manifold edges
+  gen::Soup pinched = gen::cube();
+  gen::append(pinched, gen::cube(1, 1, 1));  // touching at a corner: a non-manifold vertex
+  const std::pair<const char*, gen::Soup> cases[] = {{"torus with holes", torus}, {"two cubes", cubes}, {"pinched", pinched}};
+  for (const auto& c : cases)
+    for (uint64_t k = 0; k < 4; ++k) runRandomEdits(c.first, readSoup(c.second), seedFor(1000 + k), 600, 1);
+}
+
+TEST(EditRandom, FixturesClosedOpenAndBroken) {
+  const char* small[] = {
+      "wolph_numpy-stl/tests/stl_binary/Moon.stl",          // closed
+      "hmeyer_stl_io/src/testdata/bunny_99.stl",            // open
+      "wolph_numpy-stl/tests/stl_tests/triamid.stl",        // inconsistent edges, seams
+      "mikedh_trimesh/models/shared.STL",                   // a non-manifold edge
+      "mikedh_trimesh/models/multibody.stl",                // inconsistent shells
+      "mikedh_trimesh/models/soup.stl",                     // separate triangles
+  };
+  for (const char* f : small) {
+    Mesh m = readFixture(f);
+    for (uint64_t k = 0; k < 2; ++k) runRandomEdits(f, m, seedFor(2000 + k), 1000, 1);
+  }
+  const char* larger[] = {
+      "assimp_assimp/test/models/STL/sphereWithHole.stl",   // open, non-manifold vertices
+      "assimp_assimp/test/models/STL/Spider_binary.stl",    // degenerate and inconsistent
+      "assimp_assimp/test/models/STL/3DSMaxExport.STL",     // non-manifold edges
+  };
+  for (const char* f : larger) runRandomEdits(f, readFixture(f), seedFor(3000), 2000, 50);
+}
+
+TEST(EditRandom, ToleranceWeldedFixture) {
+  Mesh m = readFixture("assimp_assimp/test/models/STL/Spider_binary.stl");
+  runRandomEdits("Spider tolerance 0.01", m, seedFor(4000), 1000, 10, 0.01);
+}

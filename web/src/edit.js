@@ -1,0 +1,275 @@
+// EditableMesh: local edits on a mesh held in wasm memory (see docs/EDITING.md for the
+// contracts). The arrays and figures read from it are copies, made when first read after an
+// edit; the mesh itself lives in wasm until dispose().
+import { stlError, invalid, fromStatus } from './errors.js';
+import { Mesh, kInvalid } from './mesh.js';
+import { normalizeWriteOptions } from './options.js';
+
+/** The face word of a boundary half-edge: kLoopFaceBit | loop id. */
+export const kLoopFaceBit = 0x80000000;
+
+const ELEMENTS = { vertex: 0, triangle: 1, edge: 2 };
+const RULES = { keepFirst: 0, average: 1, fail: 2 };
+const TYPES = [Uint8Array, Int8Array, Uint16Array, Int16Array, Uint32Array, Int32Array, Float32Array, Float64Array];
+
+function check(r) {
+  if (r !== null && typeof r === 'object' && typeof r.code === 'string' && typeof r.message === 'string') throw fromStatus(r);
+  return r;
+}
+// A JS rule runs inside a wasm call: an exception must not unwind through it, so the wrapper
+// catches it, refuses the edit (null) and keeps it for #edit to throw.
+let ruleError = null;
+function rule(r, what) {
+  if (typeof r === 'function') {
+    return [3, (a, b, t) => {
+      try {
+        return r(a, b, t);
+      } catch (e) {
+        ruleError = e;
+        return null;
+      }
+    }];
+  }
+  if (r === undefined) return [0, null];
+  if (!(r in RULES)) throw invalid(`unknown ${what} rule ${String(r)} (keepFirst, average, fail or a function)`);
+  return [RULES[r], null];
+}
+function id(x, what) {
+  if (!Number.isInteger(x) || x < 0 || x > 0xfffffffe) throw invalid(`${what} must be an id, not ${String(x)}`);
+  return x;
+}
+
+// An editable mesh that is dropped without dispose() still frees its wasm memory, eventually.
+const registry = typeof FinalizationRegistry === 'function'
+  ? new FinalizationRegistry(({ entry, session }) => {
+    if (!entry.dead && !session.isDeleted()) session.delete();
+  })
+  : null;
+
+/**
+ * Creates the EditableMesh class on a module getter (async () => entry with .module), as
+ * index.js and node.js make it for their module.
+ */
+export function createEditableMesh(getModule) {
+  class EditableMesh {
+    #m;
+    #session;
+    #cache = new Map();
+    #disposed = false;
+
+    constructor(entry, session, source) {
+      this.#m = entry;
+      this.#session = session;
+      /** As the source mesh's (solids and warnings describe the file it came from). */
+      this.format = source.format || 'unknown';
+      this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
+      this.warnings = source.warnings ? [...source.warnings] : [];
+      if (registry) registry.register(this, { entry, session }, this);
+    }
+
+    /**
+     * An editable copy of a Mesh (from loadStl) or of an indexed mesh
+     * { positions: Float32Array, triangles: Uint32Array, attributes?, colors?, colorValid?,
+     *   solids? }. options.tolerance welds for the topology as loadStl does. Resolves when
+     * the topology is built.
+     */
+    static async from(source, options = {}) {
+      if (!source || !source.positions || !source.triangles) throw invalid('EditableMesh.from() needs a Mesh or { positions, triangles }');
+      const entry = await getModule();
+      const M = entry.module;
+      const s = new M._EditableMesh();
+      try {
+        const up = (name, arr) => {
+          if (!arr) return;
+          const v = s.upload(name, arr.length);
+          if (v === null) throw stlError('out-of-memory', `could not allocate ${name}`);
+          v.set(arr);
+        };
+        up('positions', source.positions);
+        up('triangles', source.triangles);
+        up('attributes', source.attributes);
+        const colors = source.colorConvention && source.colorConvention !== 'none';
+        if (colors && source.colors && source.colorValid) {
+          up('colors', source.colors);
+          up('colorValid', source.colorValid);
+        }
+        up('normals', source.normals);
+        s.setFormat(source.format || 'unknown', colors ? source.colorConvention : 'none');
+        for (const so of source.solids || []) s.addSolid(so.name || '', so.firstTriangle, so.triangleCount);
+        check(s.init(options.tolerance || 0));
+      } catch (e) {
+        s.delete();
+        throw e;
+      }
+      return new EditableMesh(entry, s, source);
+    }
+
+    #live() {
+      if (this.#disposed) throw invalid('the editable mesh was disposed');
+      return this.#session;
+    }
+    #edit(r) {
+      this.#cache.clear();
+      if (ruleError !== null) {
+        const e = ruleError;
+        ruleError = null;
+        throw e;
+      }
+      return check(r);
+    }
+    #get(name) {
+      let a = this.#cache.get(name);
+      if (a === undefined) {
+        a = name === 'counts' ? this.#live().counts()
+          : name === 'stats' ? (() => { const st = JSON.parse(this.#live().infoJson('')); delete st.file; return st; })()
+          : this.#live().array(name, true);
+        this.#cache.set(name, a);
+      }
+      return a;
+    }
+
+    /** Slot counts: array lengths, dead slots included. */
+    get nVertices() { return this.#get('counts').nVertices; }
+    get nTriangles() { return this.#get('counts').nTriangles; }
+    get nHalfedges() { return this.#get('counts').nHalfedges; }
+    get nLiveTriangles() { return this.#get('counts').nLiveTriangles; }
+    get nLiveVertices() { return this.#get('counts').nLiveVertices; }
+    get positions() { return this.#get('positions'); }
+    /** Dead triangles hold kInvalid corners. */
+    get triangles() { return this.#get('triangles'); }
+    get halfedges() {
+      const self = this;
+      return {
+        get next() { return self.#get('next'); },
+        get prev() { return self.#get('prev'); },
+        get vert() { return self.#get('vert'); },
+        /** Triangle id, or kLoopFaceBit | loop id for a boundary half-edge. */
+        get face() { return self.#get('face'); },
+      };
+    }
+    /** The triangle attributes the file brought, as a Mesh has them (null when absent). */
+    get attributes() { return this.#attr('attribute'); }
+    get colors() { return this.colorConvention === 'none' ? null : this.#attr('color'); }
+    get colorValid() { return this.colorConvention === 'none' ? null : this.#attr('colorValid'); }
+    get normals() { return this.#attr('normal'); }
+    #attr(name) {
+      const key = `attr:${name}`;
+      if (!this.#cache.has(key)) this.#cache.set(key, this.#live().attribute(name, true));
+      return this.#cache.get(key);
+    }
+    get triangleHalfedge() { return this.#get('triangleHalfedge'); }
+    get vertexHalfedge() { return this.#get('vertexHalfedge'); }
+    get problems() {
+      return { pairKind: this.#get('pairKind'), triangleDegenerate: this.#get('triangleDegenerate'), vertexNonManifold: this.#get('vertexNonManifold') };
+    }
+    /** The figures of `info --json` for the compacted mesh (computed when read after an edit). */
+    get stats() { return this.#get('stats'); }
+    #loops() {
+      let l = this.#cache.get('loopList');
+      if (l) return l;
+      const off = this.#get('loopOffsets');
+      const list = this.#get('loopHalfedges');
+      const seam = this.#get('loopIsSeam');
+      const perim = this.#get('loopPerimeter');
+      const vert = this.#get('vert');
+      l = { holes: [], seams: [] };
+      for (let h = 0; h + 1 < off.length; ++h) {
+        const halfedges = list.slice(off[h], off[h + 1]);
+        const vertices = halfedges.map((e) => vert[e]);
+        const loop = { id: h, face: (kLoopFaceBit | h) >>> 0, halfedges, vertices, edgeCount: halfedges.length, perimeter: perim[h] };
+        (seam[h] ? l.seams : l.holes).push(loop);
+      }
+      this.#cache.set('loopList', l);
+      return l;
+    }
+    /** Boundary loops without cut sides, numbered as a fresh load of the compacted mesh numbers them. */
+    get holes() { return this.#loops().holes; }
+    get seams() { return this.#loops().seams; }
+
+    triangleAlive(t) { return t < this.nTriangles && this.triangles[3 * t] !== kInvalid; }
+    halfedgeAlive(e) { return e < this.nHalfedges && this.halfedges.vert[e] !== kInvalid; }
+
+    /** { ok: true } or { ok: false, code, message, element }. */
+    validate() {
+      const r = this.#live().validate();
+      return r === null ? { ok: true } : { ok: false, ...r };
+    }
+
+    /** Room for more vertices and triangles, so that no later edit reallocates the arrays. */
+    reserve(vertices, triangles) { check(this.#live().reserve(id(vertices, 'vertices'), id(triangles, 'triangles'))); }
+    removeTriangle(t) { this.#edit(this.#live().removeTriangle(id(t, 'triangle'))); }
+    addVertex(x, y, z) { return this.#edit(this.#live().addVertex(x, y, z)); }
+    /** Returns the new triangle id. options.nonManifold allows non-manifold and inconsistent edges. */
+    addTriangle(a, b, c, options = {}) {
+      return this.#edit(this.#live().addTriangle(id(a, 'a'), id(b, 'b'), id(c, 'c'), !!options.nonManifold));
+    }
+    flipEdge(e) { this.#edit(this.#live().flipEdge(id(e, 'half-edge'))); }
+    /** Returns the new vertex. */
+    splitEdge(e, t = 0.5) { return this.#edit(this.#live().splitEdge(id(e, 'half-edge'), t)); }
+    /** Returns the vertex that remains (the origin of e). */
+    collapseEdge(e, t = 0.5) { return this.#edit(this.#live().collapseEdge(id(e, 'half-edge'), t)); }
+    reverseTriangle(t) { this.#edit(this.#live().reverseTriangle(id(t, 'triangle'))); }
+    /** Reverses the shell of triangle t. */
+    reverseShell(t) { this.#edit(this.#live().reverseShell(id(t, 'triangle'))); }
+    /**
+     * Fills a loop: h is a loop id (holes[i].id) or a hole object; returns the new triangle
+     * ids (Uint32Array). options.method: 'fan' (default) or 'ear'.
+     */
+    fillHole(h, options = {}) {
+      const method = options.method || 'fan';
+      if (method !== 'fan' && method !== 'ear') throw invalid(`unknown fill method ${String(method)} (fan or ear)`);
+      const byLoop = typeof h === 'number';
+      const target = byLoop ? id(h, 'loop') : h && h.halfedges ? h.halfedges[0] : undefined;
+      if (target === undefined) throw invalid('fillHole() needs a loop id or a hole');
+      return this.#edit(this.#live().fill(target, byLoop, method === 'ear'));
+    }
+    /**
+     * The STL file of the mesh (as compact() would renumber it), as bytes: options as
+     * writeStl's ({ format, colors, normals, name }). Colours and attribute words are the
+     * triangles' attributes.
+     */
+    toStl(options = {}) {
+      const o = normalizeWriteOptions(options);
+      return check(this.#live().toStl(o.format, o.colors, o.normals, o.name === undefined || o.name === null ? null : o.name));
+    }
+    /** Renumbers densely; returns the old -> new maps { vertices, triangles, halfedges }. */
+    compact() { return this.#edit(this.#live().compact()); }
+
+    /**
+     * Adds attribute `name` per 'vertex', 'triangle' or 'edge' (per half-edge pair). values:
+     * a typed array of (slot count) x components, which sets the type. merge/split:
+     * 'keepFirst' (default), 'average', 'fail' or a function (a, b, t) => array | null.
+     */
+    addAttribute(name, element, values, { components = 1, merge, split } = {}) {
+      if (!(element in ELEMENTS)) throw invalid(`unknown element ${String(element)} (vertex, triangle or edge)`);
+      const type = TYPES.findIndex((T) => values instanceof T);
+      if (type < 0) throw invalid('attribute values must be a typed array');
+      const [mr, mf] = rule(merge, 'merge');
+      const [sr, sf] = rule(split, 'split');
+      const s = this.#live();
+      const count = element === 'vertex' ? this.nVertices : element === 'triangle' ? this.nTriangles : this.nHalfedges / 2;
+      if (values.length !== count * components) throw invalid(`${name} needs ${count * components} values (${count} x ${components}), not ${values.length}`);
+      this.#edit(s.addAttribute(String(name), ELEMENTS[element], type, components, mr, sr, mf, sf));
+      s.attribute(String(name), false).set(values);
+    }
+    /** A copy of the attribute's values (slot order), or null. */
+    attribute(name) { return this.#live().attribute(String(name), true); }
+    attributeNames() { return this.#live().attributeNames(); }
+
+    /** Frees the wasm memory; the object is unusable afterwards. */
+    dispose() {
+      if (this.#disposed) return;
+      this.#disposed = true;
+      this.#cache.clear();
+      if (registry) registry.unregister(this);
+      if (!this.#m.dead) this.#session.delete();
+    }
+  }
+  // The navigation of a Mesh, on the same half-edge arrays.
+  for (const k of ['sym', 'twin', 'org', 'dst', 'lFace', 'rFace', 'lNext', 'lPrev', 'vnext', 'oPrev', 'oNext', 'rPrev',
+    'rNext', 'dNext', 'dPrev', 'faceHalfedges', 'outgoingHalfedges']) {
+    const d = Object.getOwnPropertyDescriptor(Mesh.prototype, k);
+    if (d) Object.defineProperty(EditableMesh.prototype, k, d);
+  }
+  return EditableMesh;
+}
