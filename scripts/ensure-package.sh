@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 for m in vite/bin/vite.js three/package.json playwright-core/package.json typescript/package.json \
-         @types/three/package.json three-mesh-halfedge/package.json; do
+         @types/three/package.json three-mesh-halfedge/package.json manifold-3d/package.json; do
   if [ ! -f "node_modules/$m" ]; then
     npm install --no-audit --no-fund
     break

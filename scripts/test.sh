@@ -15,7 +15,7 @@ step() {
   echo "=== $name: ok ($((SECONDS - t0)) s)"
 }
 step native bash scripts/test-native.sh
-for s in test-sanitize test-node test-browser test-bench-smoke; do
+for s in test-sanitize test-node test-browser test-consumers test-bench-smoke; do
   if [ -f "scripts/$s.sh" ]; then step "$s" bash "scripts/$s.sh"; fi
 done
 echo "=== all tests passed"
