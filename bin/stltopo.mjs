@@ -201,23 +201,32 @@ function writeArgs(argv, colorsAndName) {
   return { files, w };
 }
 
+// A file that failed in convert or split: its error JSON on stderr, exit status 1.
+// err: an StlError (its location goes into the JSON too) or { code, message }.
+async function fail(file, code, message, err = { code, message }) {
+  await write(process.stderr, `${await _internal.errorJson(file, err)}\n`);
+  process.exitCode = 1;
+}
+
+// The input of convert and split: standard input for '-', else the file; null (after
+// reporting it) when the file cannot be opened.
+async function openInput(input) {
+  try {
+    return input === '-' ? stdinSource() : await fileSource(input);
+  } catch (e) {
+    await fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
+    return null;
+  }
+}
+
 async function convert(argv) {
   const args = writeArgs(argv, true);
   if (!args) return;
   const { files, w } = args;
   if (files.length !== 2) return usageError(`stltopo: convert needs IN and OUT\n${USAGE}`);
   const [input, output] = files;
-  // err: an StlError (its location goes into the JSON too) or { code, message }.
-  const fail = async (file, code, message, err = { code, message }) => {
-    await write(process.stderr, `${await _internal.errorJson(file, err)}\n`);
-    process.exitCode = 1;
-  };
-  let source;
-  try {
-    source = input === '-' ? stdinSource() : await fileSource(input);
-  } catch (e) {
-    return fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
-  }
+  const source = await openInput(input);
+  if (!source) return;
   const out = outputFile(output, fail);
   try {
     for await (const chunk of _internal.convert(source, w)) {
@@ -305,16 +314,8 @@ async function split(argv) {
   const { files, w } = args;
   if (files.length !== 2) return usageError(`stltopo: split needs IN and OUTDIR\n${USAGE}`);
   const [input, dir] = files;
-  const fail = async (file, code, message, err = { code, message }) => {
-    await write(process.stderr, `${await _internal.errorJson(file, err)}\n`);
-    process.exitCode = 1;
-  };
-  let source;
-  try {
-    source = input === '-' ? stdinSource() : await fileSource(input);
-  } catch (e) {
-    return fail(input, 'invalid-argument', `invalid-argument: cannot open ${input}: ${strerror(e)}`);
-  }
+  const source = await openInput(input);
+  if (!source) return;
   let out = null;
   let file = null;
   let line = null;
