@@ -12,9 +12,7 @@
 //   copy = false: a borrowed view into wasm memory. It detaches when memory grows
 //                 (emscripten#6747) and dangles after the session is deleted.
 #include <emscripten/bind.h>
-#include <emscripten/heap.h>
 #include <emscripten/val.h>
-#include <malloc.h>
 
 #include <cstdarg>
 #include <cstdio>
@@ -190,7 +188,9 @@ class Session {
     reader_ = new (std::nothrow) stltopo::Reader(options_);
   }
   ~Session() {
+#if !STLTOPO_WASM_CORE
     delete writer_;
+#endif
     delete reader_;
     std::free(input_);
   }
@@ -271,21 +271,33 @@ class Session {
   // The JSON report, byte for byte what the native CLI prints (with --shells, --defects
   // and --max-defects when `shells`, `defects`, `maxDefects`; those need a load with shells).
   std::string infoJson(const std::string& file, bool shells, bool defects, double maxDefects) const {
+#if STLTOPO_WASM_CORE
+    (void)shells, (void)defects, (void)maxDefects;  // no load of this module has shells
+    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr);
+#else
     return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
+#endif
   }
 
   // The native CLI's text report (tools/cli.cpp), byte for byte: a Uint8Array, since
   // solid names may hold bytes that are not UTF-8.
   val infoText(const std::string& file, bool shells, bool defects, double maxDefects) const {
+#if STLTOPO_WASM_CORE
+    (void)shells, (void)defects, (void)maxDefects;
+    return bytesToJs(stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr));
+#else
     return bytesToJs(stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
+#endif
   }
 
+#if !STLTOPO_WASM_CORE
   // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
   std::string shellListJson() const {
     if (!hasShells_) return "null";
     std::string j = stltopo::shellListJson(shells_);
     return j.substr(j.find('['));
   }
+#endif
 
   // The message of the last failed feed()/finish() as bytes (the native CLI
   // prints messages raw; a JS string would replace invalid UTF-8).
@@ -339,6 +351,7 @@ class Session {
     }
   }
 
+#if !STLTOPO_WASM_CORE
   // fromIndexed(): builds the mesh from the upload()ed positions, triangles and optional
   // attributes, colors and colorValid (an empty array = not given) and the solids of
   // setMeta() (stltopo::meshFromIndexed), then its topology as finish() does.
@@ -420,6 +433,7 @@ class Session {
     }
     return val(typed_memory_view(size, data));
   }
+#endif  // !STLTOPO_WASM_CORE
 
   val validate() const {
     if (!hasTopology_) return statusToJs(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
@@ -427,6 +441,7 @@ class Session {
   }
 
  private:
+#if !STLTOPO_WASM_CORE
   stltopo::ReportExtras extras(bool shells, bool defects, double maxDefects) const {
     stltopo::ReportExtras e;
     e.shells = shells && hasShells_ ? &shells_ : nullptr;
@@ -434,6 +449,7 @@ class Session {
     e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
     return e;
   }
+#endif
   // The topology of mesh_ when asked (prevAndFace false: without prev and face, see
   // TopologyOptions), and with `shells` also triangleShell, the shell list and the defect
   // lists; null or the failure's status.
@@ -447,9 +463,13 @@ class Session {
     if (!s.ok()) return remember(s);
     hasTopology_ = true;
     if (shells) {
+#if STLTOPO_WASM_CORE
+      return remember(Status::error(Code::InvalidArgument, "shells and defects are in the full module (stltopo-full)"));
+#else
       s = stltopo::findShellsAndDefects(mesh_, topo_, &shells_, &defects_);
       if (!s.ok()) return remember(s);
       hasShells_ = true;
+#endif
     }
     return val::null();
   }
@@ -487,9 +507,11 @@ class Session {
   bool hasShells_ = false;
   bool indexed_ = false;
   stltopo::Indexed indexedArrays_;
+#if !STLTOPO_WASM_CORE
   stltopo::StlWriter* writer_ = nullptr;
   stltopo::Mesh part_;                  // the shell selectShell() extracted
   const stltopo::Mesh* writing_ = &mesh_;  // what writeBegin() writes
+#endif
   Status last_;
 };
 
@@ -512,47 +534,6 @@ std::string errorJson(const std::string& file, const std::string& code, const st
 std::string codeNameAt(int c) { return stltopo::codeName(Code(c)); }
 int codeCount() { return stltopo::kCodeCount; }
 
-// The allocator's in-use bytes (dlmalloc mallinfo), for the heap-baseline tests.
-double heapInUse() { return double(mallinfo().uordblks); }
-double heapSize() { return double(emscripten_get_heap_size()); }
-double heapMax() { return double(emscripten_get_heap_max()); }
-
-// Test hook: occupy the heap so that at most about `leave` bytes stay allocatable,
-// to prove that allocation failure becomes an out-of-memory status. Returns the
-// number of bytes held. testRelease() gives them back.
-void* gBallast[8192];
-size_t gBallastSize[8192];
-int gBallastCount = 0;
-void testRelease() {
-  for (int i = 0; i < gBallastCount; ++i) std::free(gBallast[i]);
-  gBallastCount = 0;
-}
-double testFill(double leave) {
-  testRelease();
-  double held = 0;
-  for (size_t size = size_t(1) << 28; size >= (size_t(1) << 16); size >>= 1) {
-    while (gBallastCount < 8192) {
-      void* p = std::malloc(size);
-      if (!p) break;
-      gBallast[gBallastCount] = p;
-      gBallastSize[gBallastCount++] = size;
-      held += double(size);
-    }
-  }
-  // Free the smallest blocks until about `leave` bytes are available again.
-  double freed = 0;
-  while (gBallastCount > 0 && freed < leave) {
-    --gBallastCount;
-    std::free(gBallast[gBallastCount]);
-    freed += double(gBallastSize[gBallastCount]);
-    held -= double(gBallastSize[gBallastCount]);
-  }
-  return held;
-}
-
-// Test hook: a wasm abort (what a failed operator new would do), to prove that
-// the JS layer drops the dead instance and the next load gets a fresh one.
-void testAbort() { std::abort(); }
 
 }  // namespace
 
@@ -567,26 +548,22 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("meta", &Session::meta)
       .function("infoJson", &Session::infoJson)
       .function("infoText", &Session::infoText)
-      .function("shellListJson", &Session::shellListJson)
-      .function("selectShell", &Session::selectShell)
-      .function("splitLine", &Session::splitLine)
       .function("messageBytes", &Session::messageBytes)
       .function("array", &Session::array)
       .function("upload", &Session::upload)
       .function("setCounts", &Session::setCounts)
       .function("setMeta", &Session::setMeta)
+#if !STLTOPO_WASM_CORE
+      .function("shellListJson", &Session::shellListJson)
+      .function("selectShell", &Session::selectShell)
+      .function("splitLine", &Session::splitLine)
       .function("fromIndexed", &Session::fromIndexed)
       .function("writeBegin", &Session::writeBegin)
       .function("writeNext", &Session::writeNext)
+#endif
       .function("validate", &Session::validate);
   function("_arrayLayout", &arrayLayout);
   function("_errorJson", &errorJson);
   function("_codeName", &codeNameAt);
   function("_codeCount", &codeCount);
-  function("_heapInUse", &heapInUse);
-  function("_heapSize", &heapSize);
-  function("_heapMax", &heapMax);
-  function("_testFill", &testFill);
-  function("_testRelease", &testRelease);
-  function("_testAbort", &testAbort);
 }

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds the wasm core with Emscripten and assembles the npm package in dist/:
-#   dist/stltopo-wasm.{js,wasm}  the Embind module (bindings/)
+#   dist/stltopo-wasm.{js,wasm}  the core Embind module: loads, the report, validate() (bindings/)
+#   dist/stltopo-full.{js,wasm}  everything (shells, fromIndexed, writing, EditableMesh), loaded
+#                                on the first use of one of those
 #   dist/*.js, dist/*.d.ts       the hand-written ESM layer (web/src/)
 # Usage: scripts/build-wasm.sh            (npm run build; also prepack)
 # Env:   STLTOPO_WASM_BUILD_DIR (default build-wasm), JOBS (default 2)
@@ -17,15 +19,24 @@ export NODE_PATH="${NODE_PATH:-/usr/share/nodejs}"
 # Debian's package ships emscripten's system libraries prebuilt in its cache, so
 # nothing needs to be written there (non-root builds work).
 emcmake cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD_DIR" --target stltopo_wasm -j"$JOBS"
+cmake --build "$BUILD_DIR" --target stltopo_wasm stltopo_full_wasm -j"$JOBS"
 
 # Update dist/ in place: files whose bytes did not change are left alone, so an
 # up-to-date rebuild (e.g. prepack during the tests) never disturbs readers.
 mkdir -p dist
-new=("$BUILD_DIR/bindings/stltopo-wasm.js" "$BUILD_DIR/bindings/stltopo-wasm.wasm" web/src/*.js web/src/*.d.ts)
+# The glue files are minified first (scripts/minify-glue.mjs: about a quarter of their
+# gzipped size); the .wasm files are as emcc wrote them.
+for m in wasm full; do
+  f="$BUILD_DIR/bindings/stltopo-$m.js"
+  if [ ! -f "$f.min" ] || [ "$f" -nt "$f.min" ] || [ scripts/minify-glue.mjs -nt "$f.min" ]; then
+    node scripts/minify-glue.mjs "$f" "$f.min.tmp"
+    mv -f "$f.min.tmp" "$f.min"
+  fi
+done
+new=("$BUILD_DIR"/bindings/stltopo-{wasm,full}.js.min "$BUILD_DIR"/bindings/stltopo-{wasm,full}.wasm web/src/*.js web/src/*.d.ts)
 keep=()
 for f in "${new[@]}"; do
-  b=$(basename "$f")
+  b=$(basename "$f" .min)
   keep+=("$b")
   if ! cmp -s "$f" "dist/$b"; then
     cp "$f" "dist/.$b.tmp"
@@ -38,9 +49,11 @@ for f in dist/* dist/.[!.]*; do
   case " ${keep[*]} " in *" $b "*) ;; *) rm -rf "$f" ;; esac
 done
 
-
-
-# Size report: what a browser downloads (gzip -9), .wasm + glue.
-w=$(gzip -9c dist/stltopo-wasm.wasm | wc -c)
-g=$(gzip -9c dist/stltopo-wasm.js | wc -c)
-echo "build-wasm: dist/ ready; stltopo-wasm.wasm $(wc -c <dist/stltopo-wasm.wasm) B ($w gz) + glue $(wc -c <dist/stltopo-wasm.js) B ($g gz) = $((w + g)) B gzipped"
+# Size report: what a browser downloads (gzip -9), .wasm + glue of each module. The first is
+# what every load fetches; the budget (70 kB) is checked by tests/js/package.test.mjs.
+gz() { gzip -9c "$1" | wc -c; }
+for m in wasm full; do
+  w=$(gz dist/stltopo-$m.wasm)
+  g=$(gz dist/stltopo-$m.js)
+  echo "build-wasm: stltopo-$m.wasm $(wc -c <dist/stltopo-$m.wasm) B ($w gz) + glue $(wc -c <dist/stltopo-$m.js) B ($g gz) = $((w + g)) B gzipped"
+done

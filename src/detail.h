@@ -132,5 +132,14 @@ struct Json {
 // The report's "shellList" and "defects" keys with their values (shells_report.cpp).
 void writeShellList(Json& j, const Array<Shell>& shells);
 void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind);
+// How infoJson/infoText write the ReportExtras (shells_report.cpp), handed to the report
+// (report.cpp) so that the plain report does not depend on them.
+struct ExtrasWriter {
+  const ReportExtras& extras;
+  void (*json)(Json& j, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+  void (*text)(std::string& out, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+};
+std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
+std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
 
 }  // namespace stltopo::detail

@@ -76,10 +76,13 @@ std::string jsonString(const std::string& in) {
 }
 
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo) {
-  return infoJson(file, mesh, topo, ReportExtras{});
+  return detail::infoJsonWith(file, mesh, topo, nullptr);
 }
 
-std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
+// The report, and the extras' keys (shells_report.cpp) last when `extras` is given: a
+// program that never asks for them links none of their code (the wasm core module).
+std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo,
+                                 const ExtrasWriter* extras) {
   Json j;
   j.open('{');
   j.key("file"); j.str(file);
@@ -170,8 +173,7 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
     }
     j.key("watertight"); j.b(t.watertight());
     j.key("manifold"); j.b(t.manifold());
-    if (extras.shells) detail::writeShellList(j, *extras.shells);
-    if (extras.defects) detail::writeDefects(j, mesh, t, *extras.defects, extras.maxDefects);
+    if (extras) extras->json(j, mesh, t, extras->extras);
   }
   j.close('}');
   return j.s;
@@ -180,10 +182,10 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
 using detail::appendf;
 
 std::string infoText(const std::string& file, const Mesh& m, const Topology* t) {
-  return infoText(file, m, t, ReportExtras{});
+  return detail::infoTextWith(file, m, t, nullptr);
 }
 
-std::string infoText(const std::string& file, const Mesh& m, const Topology* t, const ReportExtras& extras) {
+std::string detail::infoTextWith(const std::string& file, const Mesh& m, const Topology* t, const ExtrasWriter* extras) {
   std::string o;
   appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format),
           m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
@@ -202,8 +204,7 @@ std::string infoText(const std::string& file, const Mesh& m, const Topology* t, 
             t->nNonManifoldVertices, t->nDegenerate);
     appendf(o, "  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells,
             (long long)t->eulerCharacteristic(), t->watertight() ? "yes" : "no", t->manifold() ? "yes" : "no");
-    if (extras.shells) o += shellsText(*extras.shells);
-    if (extras.defects) o += defectsText(m, *t, *extras.defects, extras.maxDefects);
+    if (extras) extras->text(o, m, *t, extras->extras);
   }
   for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());
   return o;

@@ -324,4 +324,27 @@ std::string shellsText(const Array<Shell>& shells) {
   return o;
 }
 
+namespace {
+
+void extrasJson(Json& j, const Mesh& mesh, const Topology& t, const ReportExtras& x) {
+  if (x.shells) detail::writeShellList(j, *x.shells);
+  if (x.defects) detail::writeDefects(j, mesh, t, *x.defects, x.maxDefects);
+}
+void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const ReportExtras& x) {
+  if (x.shells) o += shellsText(*x.shells);
+  if (x.defects) o += defectsText(mesh, t, *x.defects, x.maxDefects);
+}
+
+}  // namespace
+
+std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText};
+  return detail::infoJsonWith(file, mesh, topo, &w);
+}
+
+std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText};
+  return detail::infoTextWith(file, mesh, topo, &w);
+}
+
 }  // namespace stltopo

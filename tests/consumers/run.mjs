@@ -164,6 +164,7 @@ const installApp = once(async (dir) => {
       await mustRun(npm, ['install', '--prefer-offline', '--no-audit', '--no-fund'], { cwd: dst });
       // The first install writes the lock that later runs install from: keep it in the tree.
       if (!existsSync(path.join(src, 'package-lock.json'))) cpSync(path.join(dst, 'package-lock.json'), path.join(src, 'package-lock.json'));
+      mkdirSync(path.dirname(stamp), { recursive: true }); // an app without dependencies has none yet
       writeFileSync(stamp, hashOf(path.join(src, 'package.json'), path.join(src, 'package-lock.json')));
     }
     await mustRun(npm, ['install', '--no-save', '--prefer-offline', '--no-audit', '--no-fund', tarball], { cwd: dst });
@@ -256,6 +257,9 @@ function checkResult({ result, problems }, extra = []) {
     }
   }
   if (!result.error && result.errorCode !== 'empty') failures.push(`empty input gave ${result.errorCode}, not StlError empty`);
+  const full = result.full;
+  if (!result.error && full && full.error) failures.push(`full module: ${full.error}${full.code ? ` (code ${full.code})` : ''}`);
+  else if (!result.error && !(full && full.sameWritten && full.edited && full.shells)) failures.push(`full module: ${JSON.stringify(full)}`);
   failures.push(...problems.map((p) => `  ${p}`));
   return failures;
 }

@@ -132,8 +132,9 @@ test('the npm CLI prints the native bytes for a missing file (errorJson from JS)
 
 test('the entry points export the public API only (no _internal, no fileSource), and exports maps no internal file', async () => {
   const pkg = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
-  // ./worker-thread and ./stltopo-wasm.wasm: the files a bundler is pointed at (README, Bundlers).
-  assert.deepEqual(Object.keys(pkg.exports).sort(), ['.', './package.json', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
+  // ./worker-thread and the two .wasm files: the files a bundler is pointed at (README, Bundlers).
+  assert.deepEqual(Object.keys(pkg.exports).sort(),
+    ['.', './package.json', './stltopo-full.wasm', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
   const pub = ['DEFECT_KINDS', 'EdgeKind', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'init', 'kInvalid', 'loadStl',
     'loadStlFile', 'toStl', 'writeStl'];
   // The editable mesh lives where it is made: the main entries only.

@@ -30,6 +30,7 @@ const PAGE = `<!doctype html><meta charset="utf-8"><title>stltopo package test</
 
 let server;
 let base;
+const served = []; // every path the server answered, in order
 let browser;
 let page;
 
@@ -37,6 +38,7 @@ before(async () => {
   if (skip) return;
   server = http.createServer((req, res) => {
     const url = new URL(req.url, 'http://x');
+    served.push(url.pathname);
     if (url.pathname === '/') {
       // No 'unsafe-eval': the glue must not use eval/new Function (-sDYNAMIC_EXECUTION=0).
       const csp = "script-src 'self' 'unsafe-inline' 'wasm-unsafe-eval'; worker-src 'self'";
@@ -185,6 +187,41 @@ test('browser: stltopo/three', { skip }, async () => {
   assert.equal(r.holes, 2 * r.holeEdges);
   assert.equal(r.problems, r.expected);
   assert.ok(r.problems > 0);
+});
+
+// After the plain loads above (main thread and worker): only the core module's .wasm was
+// fetched. (The worker script imports the full module's glue statically, as a worker bundle
+// must; its .wasm is still fetched only when needed.)
+test('browser: plain loads fetch the core module only; writing, shells and editing fetch the full one', { skip }, async () => {
+  const fetched = (name) => served.filter((p) => p === `/dist/${name}`).length;
+  assert.ok(fetched('stltopo-wasm.wasm') >= 2, 'the page and the worker fetched stltopo-wasm.wasm');
+  assert.equal(fetched('stltopo-full.wasm'), 0, `plain loads fetched stltopo-full.wasm: ${served.join(' ')}`);
+  const r = await page.evaluate(async (url) => {
+    const { loadStl, toStl, EditableMesh } = window.pkg.stltopo;
+    const w = window.pkg.worker;
+    const m = await loadStl(await fetch(url));
+    const blob = await toStl(m);
+    const back = await loadStl(blob);
+    const same = (x, y) => x.length === y.length && x.every((e, i) => e === y[i]);
+    const em = await EditableMesh.from(m);
+    em.removeTriangle(0);
+    const edited = em.stats.triangles;
+    em.dispose();
+    const inWorker = await w.loadStl(await fetch(url), { shells: true });
+    const inPage = await loadStl(await fetch(url), { shells: true });
+    return {
+      size: blob.size, n: m.nTriangles, roundTrip: same(back.triangles, m.triangles) && same(back.positions, m.positions),
+      edited, shellsWorker: inWorker.shells.length, shellsPage: inPage.shells.length,
+      statsSame: JSON.stringify(inWorker.stats) === JSON.stringify(m.stats),
+    };
+  }, rel('bunny.stl'));
+  assert.equal(r.size, 84 + 50 * r.n);
+  assert.ok(r.roundTrip);
+  assert.equal(r.edited, r.n - 1);
+  assert.ok(r.shellsPage >= 1);
+  assert.equal(r.shellsWorker, r.shellsPage);
+  assert.ok(r.statsSame);
+  assert.ok(fetched('stltopo-full.wasm') >= 2, 'the page and the worker fetched stltopo-full.wasm');
 });
 
 test('browser: init() and wasm-load errors: HTML for the .wasm, a 404 worker, both named with what came back', { skip }, async () => {

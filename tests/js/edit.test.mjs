@@ -7,6 +7,8 @@ import { loadStlFile, EditableMesh, StlError, kLoopFaceBit } from 'stltopo';
 import { fixture } from './helpers.mjs';
 import { api } from '../../dist/instance.node.js';
 
+const getFull = api.internal.getFull;
+
 const cubeFile = () => fixture('cubeBinary.stl');
 
 // Binary STL bytes of the live triangles of an editable mesh (for a fresh load).
@@ -36,6 +38,59 @@ async function freshStats(em) {
 const TOPO_KEYS = ['triangles', 'vertices', 'degenerateTriangles', 'edges', 'boundaryEdges', 'nonManifoldEdges',
   'inconsistentEdges', 'nonManifoldVertices', 'holes', 'seams', 'holeSizes', 'shells', 'eulerCharacteristic', 'genus',
   'watertight', 'manifold', 'area', 'volume', 'bbox'];
+
+// First in this file: nothing before it has made an editable mesh.
+test('editing is in the full module, instantiated by the first EditableMesh.from(), not by loads', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  assert.equal(getFull.current(), null, 'loadStl() does not instantiate stltopo-full');
+  const em = await EditableMesh.from(mesh);
+  const entry = getFull.current();
+  assert.ok(entry && entry.module && typeof entry.module._EditableMesh === 'function');
+  const core = await api.internal.getModule();
+  assert.notEqual(entry.module, core.module);
+  assert.equal(typeof core.module._EditableMesh, 'undefined', 'stltopo-wasm has no editing code');
+  assert.equal(em.stats.triangles, 12);
+  em.dispose();
+});
+
+test('out-of-memory in the full module (editing) is an error, not an abort, and it recovers', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  const entry = await getFull();
+  const M = entry.module;
+  const n = 120; // a grid of 2 * 120^2 triangles: megabytes of editable arrays
+  const positions = new Float32Array(3 * (n + 1) * (n + 1));
+  for (let i = 0; i <= n; ++i) for (let j = 0; j <= n; ++j) positions.set([i, j, 0], 3 * (i * (n + 1) + j));
+  const triangles = new Uint32Array(6 * n * n);
+  for (let i = 0, k = 0; i < n; ++i) {
+    for (let j = 0; j < n; ++j, k += 6) {
+      const a = i * (n + 1) + j;
+      triangles.set([a, a + n + 1, a + 1, a + 1, a + n + 1, a + n + 2], k);
+    }
+  }
+  try {
+    M._testFill(0);
+    await assert.rejects(EditableMesh.from({ positions, triangles }), (e) => e instanceof StlError && e.code === 'out-of-memory');
+  } finally {
+    M._testRelease();
+  }
+  assert.equal(await getFull(), entry, 'a status, not a wasm abort: the same instance carries on');
+  const em = await EditableMesh.from({ positions, triangles });
+  assert.equal(em.stats.triangles, 2 * n * n);
+  em.dispose();
+  const small = await EditableMesh.from(mesh);
+  assert.deepEqual(small.validate(), { ok: true });
+  small.dispose();
+});
+
+test('a wasm abort of the full module: the next EditableMesh.from() gets a fresh instance', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  const entry = await getFull();
+  assert.throws(() => entry.module._testAbort(), WebAssembly.RuntimeError);
+  const em = await EditableMesh.from(mesh);
+  assert.notEqual(getFull.current(), entry);
+  assert.equal(em.stats.triangles, 12);
+  em.dispose();
+});
 
 test('remove a cube face, fill the hole: stats follow and equal a fresh load', async () => {
   const mesh = await loadStlFile(cubeFile());
@@ -165,7 +220,7 @@ test('an indexed mesh: addTriangle pairs with the boundary', async () => {
 });
 
 test('the wasm heap returns to its baseline after many editable meshes', async () => {
-  const heap = async () => (await api.internal.heap()).inUse;
+  const heap = async () => (await getFull()).module._heapInUse();
   const mesh = await loadStlFile(fixture('test_sphere.stl'));
   const round = async () => {
     const em = await EditableMesh.from(mesh);

@@ -411,6 +411,14 @@ export interface InitOptions {
   wasmBinary?: ArrayBuffer | Uint8Array | null;
   /** URL of the worker script (stltopo's dist/worker-thread.js, or your bundle of it). */
   workerUrl?: string | URL | null;
+  /**
+   * URL of stltopo-full.wasm, the module of shells and defects, fromIndexed(), writing and
+   * EditableMesh, fetched on the first use of one of those (plain loads need only
+   * stltopo-wasm.wasm).
+   */
+  fullWasmUrl?: string | URL | null;
+  /** The bytes of stltopo-full.wasm; wins over fullWasmUrl. */
+  fullWasmBinary?: ArrayBuffer | Uint8Array | null;
 }
 /**
  * Where the wasm and the worker script come from, when the bundler or server does not serve

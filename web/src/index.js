@@ -3,7 +3,7 @@ import { createInstance } from './instance.js';
 import { stlError } from './errors.js';
 import { createEditableMesh } from './edit.js';
 
-const api = createInstance(() => import('./worker.js'));
+const api = createInstance({ importFull: () => import('./stltopo-full.js'), loadWorker: () => import('./worker.js') });
 
 /** Reads an STL file into a welded mesh and its half-edge topology. */
 export const loadStl = api.loadStl;
@@ -20,7 +20,7 @@ export async function toStl(mesh, options) {
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
-export const EditableMesh = createEditableMesh(api.internal.getModule);
+export const EditableMesh = createEditableMesh(api.internal.getFull);
 
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {

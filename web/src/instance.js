@@ -1,20 +1,36 @@
-// The wasm instance of a browser thread (the page or a worker): the functions behind the
+// The wasm instances of a browser thread (the page or a worker): the functions behind the
 // public entry (index.js) and the worker thread (worker-thread.js). This module starts no
-// worker itself, so the worker's bundle has no dynamic import (every bundler's default
-// worker format, iife included, can build it). The .wasm is fetched from init()'s wasmUrl,
-// else next to this file (new URL('./stltopo-wasm.wasm', import.meta.url), which bundlers
-// understand), or taken from init()'s wasmBinary.
+// worker and imports nothing dynamically itself, so the worker's bundle has no dynamic
+// import (every bundler's default worker format, iife included, can build it).
+// Two modules (bindings/CMakeLists.txt): the core stltopo-wasm, fetched on the first load,
+// and stltopo-full, fetched on the first use of what only it has (shells and defects,
+// fromIndexed, writing, EditableMesh). Each .wasm comes from init()'s URL or bytes, else
+// from next to this file (new URL('./….wasm', import.meta.url), which bundlers understand).
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo } from './wasm.js';
-import { instantiateModule, wasmSettings } from './wasm-load.js';
+import { instantiateModule, browserSource } from './wasm-load.js';
+import { stlError } from './errors.js';
 
-/** A wasm instance for this thread; loadWorker (main thread only) imports stltopo/worker. */
-export function createInstance(loadWorker = null) {
+/**
+ * A wasm instance pair for this thread. importFull() resolves to the full module's glue
+ * (the page imports it when first needed; a worker, which must not import dynamically,
+ * passes its static import). loadWorker (main thread only) imports stltopo/worker.
+ */
+export function createInstance({ importFull, loadWorker = null }) {
   return createStltopo({
     instantiate(extra) {
-      const { wasmBinary, wasmUrl } = wasmSettings();
-      const source = wasmBinary ? { binary: wasmBinary } : { url: wasmUrl || new URL('./stltopo-wasm.wasm', import.meta.url).href };
+      const source = browserSource('wasm', () => new URL('./stltopo-wasm.wasm', import.meta.url).href);
       return instantiateModule(createStltopoModule, source, extra);
+    },
+    async instantiateFull(extra) {
+      let create;
+      try {
+        ({ default: create } = await importFull());
+      } catch (e) {
+        throw stlError('wasm-load', `cannot import stltopo-full.js, the glue of the full module: ${e && e.message}`);
+      }
+      const source = browserSource('full', () => new URL('./stltopo-full.wasm', import.meta.url).href);
+      return instantiateModule(create, source, extra);
     },
     loadWorker,
   });

@@ -15,7 +15,7 @@ export async function toStl(mesh, options) {
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
-export const EditableMesh = createEditableMesh(api.internal.getModule);
+export const EditableMesh = createEditableMesh(api.internal.getFull);
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {

@@ -4,7 +4,8 @@
 //     load    { input, options, wasm }  input: { kind: 'bytes', bytes } | { kind: 'blob', blob }
 //                                  | { kind: 'stream', total } | { kind: 'path', path } (Node);
 //                                  options: plainOptions() of the load; wasm: the page's
-//                                  init() { wasmUrl, wasmBinary } (absolute URL, bytes or null)
+//                                  init() { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary }
+//                                  (absolute URLs, bytes or null)
 //     chunks  { chunks, done, error? }  the answer to a pull: Uint8Arrays (transferred), done at
 //                                  the end, error (errorToMessage) when the producer failed
 //     indexed { positions, triangles, options, wasm }  fromIndexed() (arrays transferred

@@ -4,7 +4,7 @@
 // came back: the HTTP status, the content type and the first bytes.
 import { stlError } from './errors.js';
 
-const settings = { wasmUrl: null, wasmBinary: null, workerUrl: null };
+const settings = { wasmUrl: null, wasmBinary: null, workerUrl: null, fullWasmUrl: null, fullWasmBinary: null };
 
 const isUrl = (v) => typeof v === 'string' || v instanceof URL;
 
@@ -28,6 +28,8 @@ function absolute(v) {
  *   wasmUrl     URL (or string, resolved against the page) of stltopo-wasm.wasm
  *   wasmBinary  the bytes of stltopo-wasm.wasm (ArrayBuffer or Uint8Array)
  *   workerUrl   URL of the worker script (stltopo's dist/worker-thread.js, served)
+ *   fullWasmUrl, fullWasmBinary  the same for stltopo-full.wasm, the module of shells and
+ *               defects, fromIndexed(), writing and EditableMesh (fetched on their first use)
  * An option left out keeps its value; null restores the default.
  */
 export function init(options = {}) {
@@ -35,22 +37,82 @@ export function init(options = {}) {
   for (const key of Object.keys(options)) {
     if (!(key in settings)) throw stlError('invalid-argument', `init(): unknown option ${key}`);
   }
-  const { wasmUrl, wasmBinary, workerUrl } = options;
-  if (wasmUrl !== undefined && wasmUrl !== null && !isUrl(wasmUrl)) throw stlError('invalid-argument', 'init(): wasmUrl must be a string or a URL');
-  if (workerUrl !== undefined && workerUrl !== null && !isUrl(workerUrl)) throw stlError('invalid-argument', 'init(): workerUrl must be a string or a URL');
-  if (wasmBinary !== undefined && wasmBinary !== null && !(wasmBinary instanceof ArrayBuffer || ArrayBuffer.isView(wasmBinary))) {
-    throw stlError('invalid-argument', 'init(): wasmBinary must be an ArrayBuffer or a Uint8Array');
+  const urls = ['wasmUrl', 'workerUrl', 'fullWasmUrl'].filter((k) => options[k] !== undefined);
+  const binaries = ['wasmBinary', 'fullWasmBinary'].filter((k) => options[k] !== undefined);
+  for (const k of urls) {
+    if (options[k] !== null && !isUrl(options[k])) throw stlError('invalid-argument', `init(): ${k} must be a string or a URL`);
   }
-  if (wasmUrl !== undefined) settings.wasmUrl = absolute(wasmUrl);
-  if (workerUrl !== undefined) settings.workerUrl = absolute(workerUrl);
-  if (wasmBinary !== undefined) {
-    settings.wasmBinary = wasmBinary === null ? null
-      : ArrayBuffer.isView(wasmBinary) ? new Uint8Array(wasmBinary.buffer, wasmBinary.byteOffset, wasmBinary.byteLength) : new Uint8Array(wasmBinary);
+  for (const k of binaries) {
+    const v = options[k];
+    if (v !== null && !(v instanceof ArrayBuffer || ArrayBuffer.isView(v))) {
+      throw stlError('invalid-argument', `init(): ${k} must be an ArrayBuffer or a Uint8Array`);
+    }
+  }
+  const resolved = urls.map((k) => [k, absolute(options[k])]); // may throw: nothing is set then
+  for (const [k, v] of resolved) settings[k] = v;
+  for (const k of binaries) {
+    const v = options[k];
+    settings[k] = v === null ? null
+      : ArrayBuffer.isView(v) ? new Uint8Array(v.buffer, v.byteOffset, v.byteLength) : new Uint8Array(v);
   }
 }
 
 /** The current init() settings (the worker client hands the wasm ones to its workers). */
 export const wasmSettings = () => ({ ...settings });
+
+/**
+ * Where the wasm of a module comes from in browsers: { binary } from init(), else { url }
+ * from init() or `fallback` (the default URL next to the package's files).
+ * module: 'wasm' (stltopo-wasm, the core) or 'full' (stltopo-full).
+ */
+export function browserSource(module, fallback) {
+  const { binary, url } = moduleSettings(module);
+  return binary ? { binary } : { url: url || fallback() };
+}
+
+/** init()'s { url, binary } of a module ('wasm' or 'full'). */
+export function moduleSettings(module) {
+  return module === 'full' ? { url: settings.fullWasmUrl, binary: settings.fullWasmBinary }
+    : { url: settings.wasmUrl, binary: settings.wasmBinary };
+}
+
+/**
+ * One wasm instance at a time, created on first use and again after it aborted: the
+ * getter resolves to an entry { module, dead, lastError } (plus what setup() adds).
+ * instantiate(extra) returns the module's promise (instantiateModule).
+ */
+export function lazyModule(instantiate, setup = () => {}) {
+  let current = null;
+  const getModule = () => {
+    if (!current || current.dead) {
+      const entry = { module: null, dead: false, lastError: '' };
+      entry.promise = instantiate({
+        onAbort(what) { entry.dead = true; entry.lastError = String(what || ''); },
+        printErr(text) { entry.lastError = String(text); },
+        print() {},
+      }).then(
+        (m) => {
+          entry.module = m;
+          setup(entry, m);
+          return entry;
+        },
+        (e) => {
+          if (current === entry) current = null;
+          throw e;
+        },
+      );
+      current = entry;
+    }
+    return current.promise;
+  };
+  /** The entry made last (null before the first call), loaded or not. */
+  getModule.current = () => current;
+  /** Forgets an entry that died, so that the next getModule() makes a new one. */
+  getModule.drop = (entry) => {
+    if (current === entry) current = null;
+  };
+  return getModule;
+}
 
 const MAGIC = [0x00, 0x61, 0x73, 0x6d]; // "\0asm"
 

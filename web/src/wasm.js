@@ -3,6 +3,7 @@
 import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, FROM_CORE } from './errors.js';
 import { DEFAULTS, normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
 import { toSource } from './sources.js';
+import { lazyModule } from './wasm-load.js';
 import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput } from './mesh.js';
 
 const CHUNK = 1 << 20; // bytes handed to the core per feed() call
@@ -23,32 +24,20 @@ const yieldToEventLoop = (() => {
   return () => new Promise((r) => setTimeout(r, 0));
 })();
 
-export function createStltopo({ instantiate, loadWorker = null }) {
-  let current = null;
-
-  function getModule() {
-    if (!current || current.dead) {
-      const entry = { module: null, dead: false, heapMax: 0, lastError: '' };
-      entry.promise = instantiate({
-        onAbort(what) { entry.dead = true; entry.lastError = String(what || ''); },
-        printErr(text) { entry.lastError = String(text); },
-        print() {},
-      }).then(
-        (m) => {
-          entry.module = m;
-          entry.heapMax = m._heapMax();
-          entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
-          return entry;
-        },
-        (e) => {
-          if (current === entry) current = null;
-          throw e;
-        },
-      );
-      current = entry;
-    }
-    return current.promise;
-  }
+// Two modules (bindings/CMakeLists.txt): getModule() resolves to the core (stltopo-wasm:
+// loads, the report, validate()), getFull() to the full module (stltopo-full: also shells
+// and defects, fromIndexed(), writing, EditableMesh). Each is instantiated on first use, so
+// a page that only loads files never fetches the full one. Without instantiateFull (Node
+// tests of one module) both are the same.
+export function createStltopo({ instantiate, instantiateFull = null, loadWorker = null }) {
+  const setup = (entry, m) => {
+    entry.heapMax = m._heapMax();
+    entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
+  };
+  const getModule = lazyModule(instantiate, setup);
+  const getFull = instantiateFull ? lazyModule(instantiateFull, setup) : getModule;
+  // The module a read with these options needs: shells and defects are in the full one.
+  const moduleFor = (o) => (o.topology && o.shells ? getFull() : getModule());
 
   // Turns whatever escaped a call into wasm into an error, and drops a wasm
   // instance that aborted (e.g. operator new failed) so the next call gets a
@@ -59,7 +48,8 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     const wasmDied = entry.dead || (typeof WebAssembly !== 'undefined' && e instanceof WebAssembly.RuntimeError);
     if (wasmDied) {
       entry.dead = true;
-      if (current === entry) current = null;
+      getModule.drop(entry);
+      getFull.drop(entry);
       const heap = entry.module && entry.module.HEAPU8 ? entry.module.HEAPU8.length : 0;
       if (heap + (64 << 20) >= entry.heapMax || /memory|OOM|alloc/i.test(entry.lastError)) {
         return stlError('out-of-memory', `the WebAssembly heap is exhausted (${e.message})`);
@@ -141,7 +131,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
       hasTopology: meta.hasTopology,
       hasNormals: meta.hasNormals,
       hasShells: meta.hasShells,
-      shellsJson: session.shellListJson(),
+      shellsJson: meta.hasShells ? session.shellListJson() : 'null',
       indexed: meta.indexed,
       solids: meta.solids,
       warnings: meta.warnings,
@@ -171,7 +161,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   // Reads into JS-owned copies. { validate: true } also runs validate() on the
   // wasm-side arrays and stores the result in raw.validation (worker threads).
   async function loadRaw(source, o, { validate = false } = {}) {
-    const entry = await getModule();
+    const entry = await moduleFor(o);
     let session = null;
     try {
       session = await readSession(entry, source, validate ? { ...o, validate } : o);
@@ -185,7 +175,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
 
   async function loadFromSource(source, o) {
     if (!o.view) return new Mesh(await loadRaw(source, o), { entry: null, getEntry: currentEntry });
-    const entry = await getModule();
+    const entry = await moduleFor(o);
     let session = null;
     try {
       session = await readSession(entry, source, o);
@@ -231,7 +221,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
 
   // fromIndexed() on this thread: plain data as loadRaw() gives it, or a view mesh.
   async function indexedRaw(positions, triangles, o, { validate = false } = {}) {
-    const entry = await getModule();
+    const entry = await getFull();
     let session = null;
     try {
       session = indexedSession(entry, positions, triangles, validate ? { ...o, validate } : o);
@@ -252,7 +242,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     const pos = typedInput(positions, Float32Array, 'positions');
     const tri = typedInput(triangles, Uint32Array, 'triangles');
     if (!o.view) return new Mesh(await indexedRaw(pos, tri, o), { entry: null, getEntry: currentEntry });
-    const entry = await getModule();
+    const entry = await getFull();
     let session = null;
     try {
       session = indexedSession(entry, pos, tri, o);
@@ -282,10 +272,10 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   }
 
   // Writes a mesh (a Mesh, or writeInput() data from another thread) as STL, chunk by chunk,
-  // in this thread: through the mesh's own session for a live view, else through a session
-  // its arrays are uploaded to.
+  // in this thread: through the mesh's own session for a live view of the full module, else
+  // through a session of the full module its arrays are uploaded to.
   async function* writeHere(mesh, o) {
-    const entry = await getModule();
+    const entry = await getFull();
     const live = mesh instanceof Mesh ? liveSession.get(mesh) : null;
     if (live && live.entry === entry) {
       yield* sessionChunks(entry, live.session, o);
@@ -328,7 +318,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   // normals, no topology) and yields the chunks of its STL file (format: the input's unless
   // writeOptions.format says). Throws the StlError of the read or of the write.
   async function* convert(source, writeOptions) {
-    const entry = await getModule();
+    const entry = await getFull();
     const o = { ...normalizeOptions({ topology: false }), tolerance: 0 };
     const w = normalizeWriteOptions(writeOptions);
     let session = null;
@@ -348,7 +338,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   // shell k { k, line(file) } followed by the chunks of its STL file (format: the input's
   // unless writeOptions.format says).
   async function* split(source, writeOptions) {
-    const entry = await getModule();
+    const entry = await getFull();
     const o = { ...normalizeOptions({ topology: true, shells: true }), tolerance: 0 };
     const w = normalizeWriteOptions(writeOptions);
     let session = null;
@@ -378,8 +368,13 @@ export function createStltopo({ instantiate, loadWorker = null }) {
     return chunks;
   }
 
+  // A module instantiated on this thread (the core, else the full one), for validate() of
+  // copies, which is synchronous; null before the first load.
   function currentEntry() {
-    return current && current.module && !current.dead ? current : null;
+    for (const current of [getModule.current(), getFull.current()]) {
+      if (current && current.module && !current.dead) return current;
+    }
+    return null;
   }
 
   async function loadStl(input, options) {
@@ -397,10 +392,10 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
     maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
     maxDefects = -1 }) {
-    const entry = await getModule();
     const withDefects = defects || !json;
     const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects }), tolerance,
       keepMessageBytes: !json };
+    const entry = await moduleFor(o);
     const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
     let session = null;
     try {
@@ -430,6 +425,7 @@ export function createStltopo({ instantiate, loadWorker = null }) {
   // Test and diagnostics hooks (not part of the public API).
   const internal = {
     getModule,
+    getFull,
     report,
     async errorJson(file, err) { return errorJson(await getModule(), file, err); },
     async heap() {

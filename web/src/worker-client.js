@@ -13,8 +13,8 @@ import { wasmSettings } from './wasm-load.js';
 
 // Where the worker's wasm comes from: the page's init() settings.
 function wasmOf() {
-  const { wasmUrl, wasmBinary } = wasmSettings();
-  return { wasmUrl, wasmBinary };
+  const { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary } = wasmSettings();
+  return { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary };
 }
 
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
