@@ -20,6 +20,7 @@
 #include <cstring>
 #include <string>
 
+#include "js_values.h"
 #include "stltopo.h"
 
 using emscripten::typed_memory_view;
@@ -32,23 +33,14 @@ struct Indexed {
 };
 }  // namespace stltopo
 
+namespace js = stltopo::js;
+
 namespace {
 
 using stltopo::Array;
 using stltopo::Code;
 using stltopo::Status;
 
-val statusToJs(const Status& s) {
-  if (s.ok()) return val::null();
-  val o = val::object();
-  o.set("code", val(stltopo::codeName(s.code)));
-  o.set("message", val(s.message));
-  if (s.offset != stltopo::kNoOffset) o.set("offset", val(double(s.offset)));
-  if (s.line != 0) o.set("line", val(double(s.line)));
-  if (s.triangle != stltopo::kInvalid) o.set("triangle", val(s.triangle));
-  if (s.element != stltopo::kInvalid) o.set("element", val(s.element));
-  return o;
-}
 
 // The topology's counts that are not array lengths: meta() hands them to JS as `counts`, and
 // setCounts() takes them back for validate() on uploaded arrays.
@@ -169,11 +161,6 @@ val arrayLayout() {
   return list;
 }
 
-template <class T>
-val arrayToJs(const Array<T>& a, bool copy) {
-  val v(typed_memory_view(a.size(), a.data()));
-  return copy ? v.call<val>("slice") : v;
-}
 
 // One load: a streaming reader, then the mesh and (optionally) its topology.
 // Also used the other way round by validate() on JS-owned copies: upload()
@@ -209,8 +196,8 @@ class Session {
 
   // Feeds the first n bytes of the input buffer.
   val feed(size_t n) {
-    if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
-    if (n > inputCap_) return statusToJs(Status::error(Code::InvalidArgument, "feed() larger than buffer()"));
+    if (!reader_) return js::status(Status::error(Code::OutOfMemory, "could not allocate the reader"));
+    if (n > inputCap_) return js::status(Status::error(Code::InvalidArgument, "feed() larger than buffer()"));
     return remember(reader_->feed(input_, n));
   }
 
@@ -218,7 +205,7 @@ class Session {
   // (prevAndFace false: without the prev and face arrays, see TopologyOptions), and with
   // `shells` also triangleShell, the shell list and the defect lists.
   val finish(bool topology, double tolerance, bool prevAndFace, bool shells) {
-    if (!reader_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the reader"));
+    if (!reader_) return js::status(Status::error(Code::OutOfMemory, "could not allocate the reader"));
     std::free(input_);
     input_ = nullptr;
     inputCap_ = 0;
@@ -253,7 +240,7 @@ class Session {
     }
     o.set("solids", solids);
     val warnings = val::array();
-    for (const Status& w : mesh_.warnings) warnings.call<void>("push", statusToJs(w));
+    for (const Status& w : mesh_.warnings) warnings.call<void>("push", js::status(w));
     o.set("warnings", warnings);
     if (hasTopology_) {
       val c = val::object();
@@ -306,7 +293,7 @@ class Session {
   // A named result array (a name of STLTOPO_JS_ARRAYS); null for an unknown name.
   val array(const std::string& name, bool copy) {
     val out = val::null();
-    withArray(name, [&](auto& a) { out = arrayToJs(a, copy); });
+    withArray(name, [&](auto& a) { out = js::array(a, copy); });
     return out;
   }
 
@@ -394,7 +381,7 @@ class Session {
     o.storedNormals = storedNormals;
     if (chunkBytes > 0) o.chunkBytes = size_t(chunkBytes);
     writer_ = new (std::nothrow) stltopo::StlWriter(*writing_, o);
-    if (!writer_) return statusToJs(Status::error(Code::OutOfMemory, "could not allocate the writer"));
+    if (!writer_) return js::status(Status::error(Code::OutOfMemory, "could not allocate the writer"));
     return val::null();
   }
 
@@ -408,7 +395,7 @@ class Session {
     Status s = hasShells_ && k < double(shells_.size())
                    ? stltopo::extractShell(mesh_, topo_, uint32_t(k), part_)
                    : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
-    if (!s.ok()) return statusToJs(s);
+    if (!s.ok()) return js::status(s);
     writing_ = &part_;
     return val::null();
   }
@@ -429,15 +416,15 @@ class Session {
     if (!s.ok() || size == 0) {
       delete writer_;
       writer_ = nullptr;
-      return statusToJs(s);
+      return js::status(s);
     }
     return val(typed_memory_view(size, data));
   }
 #endif  // !STLTOPO_WASM_CORE
 
   val validate() const {
-    if (!hasTopology_) return statusToJs(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
-    return statusToJs(stltopo::validate(mesh_, topo_));
+    if (!hasTopology_) return js::status(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
+    return js::status(stltopo::validate(mesh_, topo_));
   }
 
  private:
@@ -478,7 +465,7 @@ class Session {
   }
   val remember(const Status& s) {
     if (!s.ok()) last_ = s;
-    return statusToJs(s);
+    return js::status(s);
   }
 
   stltopo::Mesh& part(stltopo::Mesh*) { return mesh_; }

@@ -1,6 +1,7 @@
 // Embind bindings of the EditableMesh (raw, underscore-prefixed; the JS class is in
 // web/src/edit.js). As in bindings.cpp nothing throws: a failed edit returns a status
-// object {code, message, element?}; a successful one returns null or its result.
+// object {code, message, triangle?, element?} (js_values.h); a successful one returns null
+// or its result.
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
@@ -8,11 +9,14 @@
 #include <string>
 #include <utility>
 
+#include "js_values.h"
 #include "stltopo/edit.h"
 #include "stltopo/stltopo.h"
 
 using emscripten::typed_memory_view;
 using emscripten::val;
+
+namespace js = stltopo::js;
 
 namespace {
 
@@ -20,21 +24,6 @@ using stltopo::Array;
 using stltopo::Code;
 using stltopo::EditableMesh;
 using stltopo::Status;
-
-val editStatus(const Status& s) {
-  if (s.ok()) return val::null();
-  val o = val::object();
-  o.set("code", val(stltopo::codeName(s.code)));
-  o.set("message", val(s.message));
-  if (s.element != stltopo::kInvalid) o.set("element", val(s.element));
-  return o;
-}
-
-template <class T>
-val toJs(const Array<T>& a, bool copy) {
-  val v(typed_memory_view(a.size(), a.data()));
-  return copy ? v.call<val>("slice") : v;
-}
 
 uint32_t u32(double x) { return x >= 0 && x <= 4294967295.0 ? uint32_t(x) : stltopo::kInvalid; }
 
@@ -87,60 +76,60 @@ class EditSession {
   val init(double tolerance) {
     const uint32_t nv = staged_.nVertices();
     if (staged_.positions.size() % 3 != 0 || staged_.triangles.size() % 3 != 0)
-      return editStatus(Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element"));
+      return js::status(Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element"));
     for (size_t i = 0; i < staged_.triangles.size(); ++i)
       if (staged_.triangles[i] >= nv) {
         Status s = Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
         s.triangle = uint32_t(i / 3);
-        return editStatus(s);
+        return js::status(s);
       }
     stltopo::TopologyOptions o;
     o.tolerance = tolerance > 0 ? tolerance : 0;
     Status s = em_.init(staged_, o);
     staged_ = stltopo::Mesh{};
-    return editStatus(s);
+    return js::status(s);
   }
 
   // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
-  val reserve(double vertices, double triangles) { return editStatus(em_.reserve(u32(vertices), u32(triangles))); }
-  val removeTriangle(double t) { return editStatus(em_.removeTriangle(u32(t))); }
+  val reserve(double vertices, double triangles) { return js::status(em_.reserve(u32(vertices), u32(triangles))); }
+  val removeTriangle(double t) { return js::status(em_.removeTriangle(u32(t))); }
   val addVertex(double x, double y, double z) {
     uint32_t v = 0;
     Status s = em_.addVertex(float(x), float(y), float(z), &v);
-    return s.ok() ? val(v) : editStatus(s);
+    return s.ok() ? val(v) : js::status(s);
   }
   val addTriangle(double a, double b, double c, bool nonManifold) {
     uint32_t t = 0;
     Status s = em_.addTriangle(u32(a), u32(b), u32(c), &t, nonManifold);
-    return s.ok() ? val(t) : editStatus(s);
+    return s.ok() ? val(t) : js::status(s);
   }
-  val flipEdge(double e) { return editStatus(em_.flipEdge(u32(e))); }
+  val flipEdge(double e) { return js::status(em_.flipEdge(u32(e))); }
   val splitEdge(double e, double t) {
     uint32_t v = 0;
     Status s = em_.splitEdge(u32(e), t, &v);
-    return s.ok() ? val(v) : editStatus(s);
+    return s.ok() ? val(v) : js::status(s);
   }
   val collapseEdge(double e, double t) {
     uint32_t v = 0;
     Status s = em_.collapseEdge(u32(e), t, &v);
-    return s.ok() ? val(v) : editStatus(s);
+    return s.ok() ? val(v) : js::status(s);
   }
-  val reverseTriangle(double t) { return editStatus(em_.reverseTriangle(u32(t))); }
-  val reverseShell(double t) { return editStatus(em_.reverseShell(u32(t))); }
+  val reverseTriangle(double t) { return js::status(em_.reverseTriangle(u32(t))); }
+  val reverseShell(double t) { return js::status(em_.reverseShell(u32(t))); }
   val fill(double id, bool byLoop, bool ear) {
     Array<uint32_t> out;
     stltopo::FillMethod m = ear ? stltopo::FillMethod::Ear : stltopo::FillMethod::Fan;
     Status s = byLoop ? em_.fillLoop(u32(id), m, &out) : em_.fillHole(u32(id), m, &out);
-    return s.ok() ? toJs(out, true) : editStatus(s);
+    return s.ok() ? js::array(out, true) : js::status(s);
   }
   val compact() {
     stltopo::CompactMaps maps;
     Status s = em_.compact(&maps);
-    if (!s.ok()) return editStatus(s);
+    if (!s.ok()) return js::status(s);
     val o = val::object();
-    o.set("vertices", toJs(maps.vertices, true));
-    o.set("triangles", toJs(maps.triangles, true));
-    o.set("halfedges", toJs(maps.halfedges, true));
+    o.set("vertices", js::array(maps.vertices, true));
+    o.set("triangles", js::array(maps.triangles, true));
+    o.set("halfedges", js::array(maps.halfedges, true));
     return o;
   }
 
@@ -157,29 +146,29 @@ class EditSession {
   }
   std::string infoJson(const std::string& file) { return em_.infoJson(file); }
   val array(const std::string& n, bool copy) {
-    if (n == "positions") return toJs(em_.positions(), copy);
-    if (n == "triangles") return toJs(em_.triangles(), copy);
-    if (n == "next") return toJs(em_.next(), copy);
-    if (n == "prev") return toJs(em_.prev(), copy);
-    if (n == "vert") return toJs(em_.vert(), copy);
+    if (n == "positions") return js::array(em_.positions(), copy);
+    if (n == "triangles") return js::array(em_.triangles(), copy);
+    if (n == "next") return js::array(em_.next(), copy);
+    if (n == "prev") return js::array(em_.prev(), copy);
+    if (n == "vert") return js::array(em_.vert(), copy);
     if (n == "face") {
       em_.loops();  // numbers the loops: the face words of boundary half-edges
-      return toJs(em_.faceWords(), copy);
+      return js::array(em_.faceWords(), copy);
     }
-    if (n == "pairKind") return toJs(em_.pairKind(), copy);
-    if (n == "triangleHalfedge") return toJs(em_.triangleHalfedge(), copy);
-    if (n == "vertexHalfedge") return toJs(em_.vertexHalfedge(), copy);
-    if (n == "triangleDegenerate") return toJs(em_.triangleDegenerateFlags(), copy);
-    if (n == "vertexNonManifold") return toJs(em_.vertexNonManifoldFlags(), copy);
+    if (n == "pairKind") return js::array(em_.pairKind(), copy);
+    if (n == "triangleHalfedge") return js::array(em_.triangleHalfedge(), copy);
+    if (n == "vertexHalfedge") return js::array(em_.vertexHalfedge(), copy);
+    if (n == "triangleDegenerate") return js::array(em_.triangleDegenerateFlags(), copy);
+    if (n == "vertexNonManifold") return js::array(em_.vertexNonManifoldFlags(), copy);
     const stltopo::EditLoops& l = em_.loops();
-    if (n == "loopHalfedge") return toJs(l.loopHalfedge, copy);
-    if (n == "loopOffsets") return toJs(l.loopOffsets, copy);
-    if (n == "loopHalfedges") return toJs(l.loopHalfedges, copy);
-    if (n == "loopIsSeam") return toJs(l.loopIsSeam, copy);
-    if (n == "loopPerimeter") return toJs(l.loopPerimeter, copy);
+    if (n == "loopHalfedge") return js::array(l.loopHalfedge, copy);
+    if (n == "loopOffsets") return js::array(l.loopOffsets, copy);
+    if (n == "loopHalfedges") return js::array(l.loopHalfedges, copy);
+    if (n == "loopIsSeam") return js::array(l.loopIsSeam, copy);
+    if (n == "loopPerimeter") return js::array(l.loopPerimeter, copy);
     return val::null();
   }
-  val validate() const { return editStatus(em_.validate()); }
+  val validate() const { return js::status(em_.validate()); }
 
   // The STL file of the compacted mesh (toMesh + writeStl), whole: a Uint8Array or a status.
   // format: "binary" | "ascii"; colors: "as-mesh" | "none" | "viscam" | "magics"; normals:
@@ -187,7 +176,7 @@ class EditSession {
   val toStl(const std::string& format, const std::string& colors, const std::string& normals, val name) const {
     stltopo::Mesh m;
     Status s = em_.toMesh(m);
-    if (!s.ok()) return editStatus(s);
+    if (!s.ok()) return js::status(s);
     stltopo::WriteOptions o;
     o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
     o.colors = colors == "none" ? stltopo::WriteColors::None
@@ -207,8 +196,8 @@ class EditSession {
     };
     std::pair<Array<uint8_t>*, bool*> user{&out, &grown};
     s = stltopo::writeStl(m, sink, &user, o);
-    if (!grown) return editStatus(Status::error(Code::OutOfMemory, "could not allocate the STL bytes"));
-    return s.ok() ? toJs(out, true) : editStatus(s);
+    if (!grown) return js::status(Status::error(Code::OutOfMemory, "could not allocate the STL bytes"));
+    return s.ok() ? js::array(out, true) : js::status(s);
   }
 
   // Attributes. element: 0 vertex, 1 triangle, 2 edge; type: ValueType index; rules:
@@ -216,13 +205,13 @@ class EditSession {
   val addAttribute(const std::string& name, int element, int type, double components, int merge, int split, val mergeFn,
                    val splitFn) {
     if (element < 0 || element > 2 || type < 0 || type > 7 || merge < 0 || merge > 3 || split < 0 || split > 3)
-      return editStatus(Status::error(Code::InvalidArgument, "unknown attribute element, type or rule"));
+      return js::status(Status::error(Code::InvalidArgument, "unknown attribute element, type or rule"));
     stltopo::AttributeRules r;
     r.merge = stltopo::Rule(merge);
     r.split = stltopo::Rule(split);
     r.mergeFn = jsRule(mergeFn);
     r.splitFn = jsRule(splitFn);
-    return editStatus(em_.addAttribute(name, stltopo::Element(element), stltopo::ValueType(type), u32(components), nullptr, r));
+    return js::status(em_.addAttribute(name, stltopo::Element(element), stltopo::ValueType(type), u32(components), nullptr, r));
   }
   // The attribute's values: a view (copy = false, to fill right away) or a copy; null when
   // there is no such attribute.

@@ -127,6 +127,21 @@ struct Json {
   // A float32 coordinate (-0 printed as 0) or a float64 figure, in shortest form.
   void f32(float v) { s += shortest(v + 0.0f, true); }
   void f64(double v) { s += shortest(v, false); }
+  // [x,y,z] of float32 coordinates, and {"min":[..],"max":[..]}.
+  void point(const float* p) {
+    s += '[';
+    for (int k = 0; k < 3; ++k) {
+      if (k) s += ',';
+      f32(p[k]);
+    }
+    s += ']';
+  }
+  void bbox(const float* lo, const float* hi) {
+    open('{');
+    key("min"); point(lo);
+    key("max"); point(hi);
+    close('}');
+  }
 };
 
 // The report's "shellList" and "defects" keys with their values (shells_report.cpp).

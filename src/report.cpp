@@ -118,18 +118,7 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     j.s += "null";
     j.first = false;
   } else {
-    j.open('{');
-    for (int m = 0; m < 2; ++m) {
-      j.key(m == 0 ? "min" : "max");
-      const float* v = m == 0 ? mesh.bboxMin : mesh.bboxMax;
-      j.s += '[';
-      for (int k = 0; k < 3; ++k) {
-        if (k) j.s += ',';
-        j.s += shortest(v[k] + 0.0f, true);
-      }
-      j.s += ']';
-    }
-    j.close('}');
+    j.bbox(mesh.bboxMin, mesh.bboxMax);
   }
   j.key("area"); j.s += shortest(mesh.area, false);
   j.key("volume"); j.s += shortest(mesh.volume, false);

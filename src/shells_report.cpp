@@ -11,22 +11,6 @@ namespace {
 using detail::appendf;
 using detail::Json;
 
-void point(Json& j, const float* p) {
-  j.s += '[';
-  for (int k = 0; k < 3; ++k) {
-    if (k) j.s += ',';
-    j.f32(p[k]);
-  }
-  j.s += ']';
-}
-
-void bbox(Json& j, const float* lo, const float* hi) {
-  j.open('{');
-  j.key("min"); point(j, lo);
-  j.key("max"); point(j, hi);
-  j.close('}');
-}
-
 const float* position(const Mesh& mesh, uint32_t v) { return mesh.positions.data() + size_t(v) * 3; }
 
 // The bounding box of the vertices of loop h.
@@ -64,7 +48,7 @@ void loops(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, bool 
     j.close(']');
     float lo[3], hi[3];
     loopBox(mesh, t, h, lo, hi);
-    j.key("bbox"); bbox(j, lo, hi);
+    j.key("bbox"); j.bbox(lo, hi);
     j.key("shell"); j.u(d.loopShell[h]);
     if (seams) {
       j.key("cutEdges");
@@ -132,7 +116,7 @@ void writeShell(Json& j, const Shell& s, uint32_t id) {
   if (s.solid == kMixedSolid) j.str("mixed");
   else if (s.solid == kInvalid) j.null();
   else j.u(s.solid);
-  j.key("bbox"); bbox(j, s.bboxMin, s.bboxMax);
+  j.key("bbox"); j.bbox(s.bboxMin, s.bboxMax);
   j.key("area"); j.f64(s.area);
   j.key("volume"); j.f64(s.volume);
   j.close('}');
@@ -191,9 +175,9 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
       if (!inconsistent) {
         j.key("positions");
         j.s += '[';
-        point(j, position(mesh, vertices[2 * i]));
+        j.point(position(mesh, vertices[2 * i]));
         j.s += ',';
-        point(j, position(mesh, vertices[2 * i + 1]));
+        j.point(position(mesh, vertices[2 * i + 1]));
         j.s += ']';
         uint32_t b = d.nonManifoldEdgeOffsets[i], e = d.nonManifoldEdgeOffsets[i + 1];
         j.key("triangles"); uintList(j, d.nonManifoldEdgeTriangles.data() + b, e - b);
@@ -214,7 +198,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
     j.sep();
     j.open('{');
     j.key("vertex"); j.u(d.nonManifoldVertices[i]);
-    j.key("position"); point(j, position(mesh, d.nonManifoldVertices[i]));
+    j.key("position"); j.point(position(mesh, d.nonManifoldVertices[i]));
     j.key("cycles"); j.u(d.nonManifoldVertexCycles[i]);
     j.close('}');
   }
