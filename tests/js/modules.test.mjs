@@ -56,6 +56,12 @@ test('plain loads use the core only; shells, fromIndexed, writing instantiate th
   const ix = await fromIndexed(copy.positions, copy.triangles);
   assert.equal(ix.stats.triangles, copy.stats.triangles);
   assert.deepEqual(ix.halfedges.next, copy.halfedges.next);
+  const ixShells = await fromIndexed(copy.positions, copy.triangles, { shells: true });
+  assert.deepEqual(ixShells.shells, withShells.shells);
+  const { format, solids, ...figures } = ixShells.stats; // an indexed mesh has no file format or solid name
+  assert.equal(format, 'unknown');
+  assert.equal(solids[0].triangles, copy.nTriangles);
+  assert.deepEqual(figures, (({ format: f, solids: so, ...rest }) => rest)(copy.stats));
   view.dispose();
 });
 
