@@ -210,8 +210,10 @@ inline size_t AsciiParser::fastFacet(const uint8_t* p, size_t i, size_t n, uint6
   const uint8_t* end = p + n - 16;  // every token starts before end: 16 bytes of slack
   const uint8_t* q = p + i;
   uint64_t ln = line;
+  // The helpers below are always inlined: left to itself, clang keeps some of them out of
+  // line in the wasm build, which made ASCII loads 8% slower there (bench/PROFILE.md).
   // The whitespace after a token (sawCR is false at a token).
-  auto blanks = [&](const uint8_t* from) {
+  auto blanks = [&](const uint8_t* from) __attribute__((always_inline)) {
     if (*from == ' ' && !isSpace(from[1])) {  // the usual single space
       q = from + 1;
       return q < end;
@@ -221,15 +223,15 @@ inline size_t AsciiParser::fastFacet(const uint8_t* p, size_t i, size_t n, uint6
     return q < end;
   };
   // A keyword, then the whitespace after it.
-  auto word = [&](const Keyword& kw) { return keywordAt(q, kw) && blanks(q + kw.len); };
+  auto word = [&](const Keyword& kw) __attribute__((always_inline)) { return keywordAt(q, kw) && blanks(q + kw.len); };
   // A number, then the whitespace after it.
-  auto number = [&](float& v) {
+  auto number = [&](float& v) __attribute__((always_inline)) {
     const char* e = parseDecimal(reinterpret_cast<const char*>(q), reinterpret_cast<const char*>(end), v);
     return e && isSpace(uint8_t(*e)) && blanks(reinterpret_cast<const uint8_t*>(e));
   };
   // The rest of a line after a keyword, as state SkipLine reads it: blanks and text, no
   // control bytes. Leaves q at the line end.
-  auto restOfLine = [&]() {
+  auto restOfLine = [&]() __attribute__((always_inline)) {
     for (; q < end && *q != '\n' && *q != '\r'; ++q)
       if (*q < 0x20 && *q != '\t' && *q != '\v' && *q != '\f') return false;
     return q < end;

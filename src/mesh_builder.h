@@ -118,8 +118,9 @@ struct Builder {
 
   // Returns the welded vertex id; kInvalid on allocation failure, kNonFinite for NaN/Inf.
   static constexpr uint32_t kNonFinite = kInvalid - 1;
-  // hash: slotHash of the key when already known (a batch), else null.
-  inline uint32_t weld(float x, float y, float z, const uint32_t* hash) {
+  // hash: slotHash of the key when already known (a batch), else null. Always inlined into
+  // add(), as it was before the stage split (bench/PROFILE.md).
+  __attribute__((always_inline)) inline uint32_t weld(float x, float y, float z, const uint32_t* hash) {
     Slot k = keyOf(x, y, z);
     uint32_t h = hash ? *hash : slotHash(k);
     Slot& r = recent[h & (kRecent - 1)];
