@@ -51,7 +51,7 @@ function usage(code) {
   --child-cap SEC      time cap of any other child process (default 900)
   --first-touch GIB    touch this much memory twice before measuring and report how fast that was
                        (default 1; --tiny 0); see "Memory first touch" below
-  --out FILE           JSON results (default bench/results/latest.json; --tiny: a temp file)
+  --out FILE           JSON results (default bench/results/latest.json; --tiny, --quick: a temp file)
   --no-write           write no result files`);
   process.exit(code);
 }
@@ -88,8 +88,11 @@ const opt = {
   opt.sizes ??= opt.tiny ? ['tiny'] : opt.quick ? ['100k'] : ['100k', '1M', '4M'];
   opt.reps ??= opt.tiny ? 1 : 3;
   opt.warm ??= opt.tiny ? 1 : 4;
+  // bench/results/latest.* hold the full run the README's table comes from: --quick and
+  // --tiny write elsewhere unless --out says.
   opt.out ??= opt.tiny ? path.join(os.tmpdir(), `stltopo-bench-smoke-${process.pid}.json`)
-    : path.join(root, 'bench/results/latest.json');
+    : opt.quick ? path.join(os.tmpdir(), `stltopo-bench-quick-${process.pid}.json`)
+      : path.join(root, 'bench/results/latest.json');
 }
 
 const BUILD = path.join(root, process.env.STLTOPO_BENCH_BUILD_DIR || 'build-bench');
