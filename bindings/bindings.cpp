@@ -41,7 +41,6 @@ using stltopo::Array;
 using stltopo::Code;
 using stltopo::Status;
 
-
 // The topology's counts that are not array lengths: meta() hands them to JS as `counts`, and
 // setCounts() takes them back for validate() on uploaded arrays.
 #define STLTOPO_TOPOLOGY_COUNTS(X) \
@@ -160,7 +159,6 @@ val arrayLayout() {
   }
   return list;
 }
-
 
 // One load: a streaming reader, then the mesh and (optionally) its topology.
 // Also used the other way round by validate() on JS-owned copies: upload()

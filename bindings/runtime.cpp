@@ -1,4 +1,4 @@
-// What both wasm modules (stltopo-wasm and stltopo-edit) register besides their own
+// What both wasm modules (stltopo-wasm and stltopo-full) register besides their own
 // classes: the heap figures the JS layer and the heap-baseline tests read, and the test
 // hooks that make allocation fail or the instance abort.
 #include <emscripten/bind.h>
@@ -10,7 +10,7 @@
 
 namespace {
 
-// The allocator's in-use bytes (dlmalloc mallinfo), for the heap-baseline tests.
+// The allocator's in-use bytes (emmalloc's mallinfo), for the heap-baseline tests.
 double heapInUse() { return double(mallinfo().uordblks); }
 double heapSize() { return double(emscripten_get_heap_size()); }
 double heapMax() { return double(emscripten_get_heap_max()); }

@@ -50,7 +50,7 @@ for f in dist/* dist/.[!.]*; do
 done
 
 # Size report: what a browser downloads (gzip -9), .wasm + glue of each module. The first is
-# what every load fetches; the budget (70 kB) is checked by tests/js/package.test.mjs.
+# what every load fetches; the budget (70 kB) is checked by tests/js/modules.test.mjs.
 gz() { gzip -9c "$1" | wc -c; }
 for m in wasm full; do
   w=$(gz dist/stltopo-$m.wasm)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Writes what a behaviour-preserving change must keep, for every fixture and generated
 # case, into DIR: `info --json` (exact, --tolerance 0.001, --shells --defects), `info`
-# text, and the hash of every reader and topology array (tests/dump_arrays.cpp). Compare two snapshots with
-# `diff -r`.   usage: scripts/snapshot.sh BUILD_DIR OUT_DIR
+# text, and the hash of every reader and topology array (tests/dump_arrays.cpp). Compare
+# two snapshots with `diff -r`.   usage: scripts/snapshot.sh BUILD_DIR OUT_DIR
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:?build dir}; out=${2:?out dir}

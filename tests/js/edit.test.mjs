@@ -3,8 +3,8 @@
 // of an edited mesh equal to a fresh load of the same triangles.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { loadStlFile, EditableMesh, StlError, kLoopFaceBit } from 'stltopo';
-import { fixture } from './helpers.mjs';
+import { loadStl, loadStlFile, EditableMesh, StlError, kLoopFaceBit } from 'stltopo';
+import { fixture, gridStl } from './helpers.mjs';
 import { api } from '../../dist/instance.node.js';
 
 const getFull = api.internal.getFull;
@@ -28,7 +28,6 @@ function stlBytes(em) {
 }
 
 async function freshStats(em) {
-  const { loadStl } = await import('stltopo');
   const m = await loadStl(stlBytes(em));
   const s = { ...m.stats };
   return s;
@@ -58,23 +57,15 @@ test('out-of-memory in the full module (editing) is an error, not an abort, and 
   const entry = await getFull();
   const M = entry.module;
   const n = 120; // a grid of 2 * 120^2 triangles: megabytes of editable arrays
-  const positions = new Float32Array(3 * (n + 1) * (n + 1));
-  for (let i = 0; i <= n; ++i) for (let j = 0; j <= n; ++j) positions.set([i, j, 0], 3 * (i * (n + 1) + j));
-  const triangles = new Uint32Array(6 * n * n);
-  for (let i = 0, k = 0; i < n; ++i) {
-    for (let j = 0; j < n; ++j, k += 6) {
-      const a = i * (n + 1) + j;
-      triangles.set([a, a + n + 1, a + 1, a + 1, a + n + 1, a + n + 2], k);
-    }
-  }
+  const grid = await loadStl(gridStl(n));
   try {
     M._testFill(0);
-    await assert.rejects(EditableMesh.from({ positions, triangles }), (e) => e instanceof StlError && e.code === 'out-of-memory');
+    await assert.rejects(EditableMesh.from(grid), (e) => e instanceof StlError && e.code === 'out-of-memory');
   } finally {
     M._testRelease();
   }
   assert.equal(await getFull(), entry, 'a status, not a wasm abort: the same instance carries on');
-  const em = await EditableMesh.from({ positions, triangles });
+  const em = await EditableMesh.from(grid);
   assert.equal(em.stats.triangles, 2 * n * n);
   em.dispose();
   const small = await EditableMesh.from(mesh);
@@ -157,7 +148,6 @@ test('split, flip, collapse and reverse on a sphere keep it closed; compact renu
   for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
   assert.deepEqual(em.validate(), { ok: true });
   // toStl() writes the edited mesh; it reads back with the same figures, binary and ASCII.
-  const { loadStl } = await import('stltopo');
   for (const format of ['binary', 'ascii']) {
     const back = await loadStl(em.toStl({ format }));
     for (const k of TOPO_KEYS) assert.deepEqual(back.stats[k], em.stats[k], `${format} ${k}`);

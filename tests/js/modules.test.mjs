@@ -67,12 +67,9 @@ test('plain loads use the core only; shells, fromIndexed, writing instantiate th
 
 test('init({ fullWasmUrl }): a bad URL fails what needs the full module with wasm-load naming it; loads go on', async () => {
   const bad = path.join(root, 'tests/fixtures/SOURCES.md');
-  // A fresh instance of the full module is made only when none is alive: drop it.
+  // A fresh instance of the full module is made only when none is current: forget it.
   const entry = getFull.current();
-  if (entry) {
-    entry.dead = true;
-    getFull.drop(entry);
-  }
+  if (entry) getFull.drop(entry);
   init({ fullWasmUrl: bad });
   try {
     await assert.rejects(fromIndexed(new Float32Array(9), new Uint32Array([0, 1, 2])),

@@ -28,4 +28,3 @@ export const api = createStltopo({
   instantiateFull: (extra) => instantiateModule(createStltopoFullModule, wasmSource('full'), extra),
   loadWorker: () => import('./worker.node.js'),
 });
-

@@ -27,15 +27,14 @@ const yieldToEventLoop = (() => {
 // Two modules (bindings/CMakeLists.txt): getModule() resolves to the core (stltopo-wasm:
 // loads, the report, validate()), getFull() to the full module (stltopo-full: also shells
 // and defects, fromIndexed(), writing, EditableMesh). Each is instantiated on first use, so
-// a page that only loads files never fetches the full one. Without instantiateFull (Node
-// tests of one module) both are the same.
-export function createStltopo({ instantiate, instantiateFull = null, loadWorker = null }) {
+// a page that only loads files never fetches the full one.
+export function createStltopo({ instantiate, instantiateFull, loadWorker = null }) {
   const setup = (entry, m) => {
     entry.heapMax = m._heapMax();
     entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
   };
   const getModule = lazyModule(instantiate, setup);
-  const getFull = instantiateFull ? lazyModule(instantiateFull, setup) : getModule;
+  const getFull = lazyModule(instantiateFull, setup);
   // The module a read with these options needs: shells and defects are in the full one.
   const moduleFor = (o) => (o.topology && o.shells ? getFull() : getModule());
 
