@@ -145,8 +145,11 @@ struct Json {
 };
 
 // The report's "shellList" and "defects" keys with their values (shells_report.cpp).
-void writeShellList(Json& j, const Array<Shell>& shells);
-void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind);
+// With `nesting` (of these shells), each shell also gets its intersection and nesting keys.
+void writeShellList(Json& j, const Array<Shell>& shells, const ShellNesting* nesting = nullptr);
+// `checks` null: computed here; `intersections` null: "selfIntersections" is null.
+void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind,
+                  const TriangleChecks* checks = nullptr, const Intersections* intersections = nullptr);
 // How infoJson/infoText write the ReportExtras (shells_report.cpp), handed to the report
 // (report.cpp) so that the plain report does not depend on them.
 struct ExtrasWriter {

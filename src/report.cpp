@@ -111,6 +111,15 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     }
   }
   j.key("degenerateTriangles"); j.u(degenerate);
+  // The cheap geometric checks, always: computed here unless the caller has them.
+  TriangleChecks own;
+  const TriangleChecks* checks = extras ? extras->extras.checks : nullptr;
+  if (!checks && checkTriangles(mesh, topo, own).ok()) checks = &own;
+  j.key("zeroAreaTriangles");
+  if (checks) j.u(checks->zeroArea.size()); else j.null();
+  j.key("duplicateTriangles");
+  if (checks) j.u(checks->nDuplicateTriangles); else j.null();
+  own = TriangleChecks{};
   j.key("colors"); j.str(colorConventionName(mesh.colorConvention));
   j.key("normalMismatches"); j.u(mesh.normalMismatches);
   j.key("bbox");
@@ -162,6 +171,25 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     }
     j.key("watertight"); j.b(t.watertight());
     j.key("manifold"); j.b(t.manifold());
+    const Intersections* x = extras ? extras->extras.intersections : nullptr;
+    j.key("selfIntersections");
+    if (x) j.u(x->nPairs()); else j.null();
+    j.key("intersectionKinds");
+    if (x) {
+      j.open('{');
+      j.key("crossing"); j.u(x->nCrossing);
+      j.key("touching"); j.u(x->nTouching);
+      j.key("coplanar"); j.u(x->nCoplanar);
+      j.close('}');
+    } else {
+      j.null();
+    }
+    j.key("intersectingTriangles");
+    if (x) j.u(x->nIntersectingTriangles); else j.null();
+    j.key("intersectionsComplete");
+    if (x) j.b(x->complete); else j.null();
+    j.key("solid");
+    if (x) j.b(extras->extras.solid && x->complete); else j.null();
     if (extras) extras->json(j, mesh, t, extras->extras);
   }
   j.close('}');
@@ -193,6 +221,17 @@ std::string detail::infoTextWith(const std::string& file, const Mesh& m, const T
             t->nNonManifoldVertices, t->nDegenerate);
     appendf(o, "  shells %u, Euler characteristic %lld, watertight %s, manifold %s\n", t->nShells,
             (long long)t->eulerCharacteristic(), t->watertight() ? "yes" : "no", t->manifold() ? "yes" : "no");
+    TriangleChecks own;
+    const TriangleChecks* checks = extras ? extras->extras.checks : nullptr;
+    if (!checks && checkTriangles(m, t, own).ok()) checks = &own;
+    if (checks)
+      appendf(o, "  zero-area triangles %zu, duplicate triangles %u\n", checks->zeroArea.size(),
+              checks->nDuplicateTriangles);
+    if (const Intersections* x = extras ? extras->extras.intersections : nullptr)
+      appendf(o, "  self-intersections %s%llu (crossing %llu, touching %llu, coplanar %llu) over %u triangles, solid %s\n",
+              x->complete ? "" : "at least ", (unsigned long long)x->nPairs(), (unsigned long long)x->nCrossing,
+              (unsigned long long)x->nTouching, (unsigned long long)x->nCoplanar, x->nIntersectingTriangles,
+              extras->extras.solid && x->complete ? "yes" : "no");
     if (extras) extras->text(o, m, *t, extras->extras);
   }
   for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());

@@ -93,7 +93,7 @@ void appendPoint(std::string& o, const float* p) { appendf(o, "[%g, %g, %g]", p[
 
 namespace {
 
-void writeShell(Json& j, const Shell& s, uint32_t id) {
+void writeShell(Json& j, const Shell& s, uint32_t id, const ShellNesting* nest = nullptr) {
   j.open('{');
   j.key("id"); j.u(id);
   j.key("triangles"); j.u(s.triangles);
@@ -119,17 +119,28 @@ void writeShell(Json& j, const Shell& s, uint32_t id) {
   j.key("bbox"); j.bbox(s.bboxMin, s.bboxMax);
   j.key("area"); j.f64(s.area);
   j.key("volume"); j.f64(s.volume);
+  if (nest) {
+    j.key("selfIntersects"); j.b(nest->selfIntersects[id] != 0);
+    j.key("intersectsShells");
+    uintList(j, nest->intersectsShells.data() + nest->intersectsOffsets[id],
+             nest->intersectsOffsets[id + 1] - nest->intersectsOffsets[id]);
+    j.key("parent");
+    if (nest->parent[id] == kInvalid) j.null(); else j.u(nest->parent[id]);
+    j.key("depth");
+    if (nest->depth[id] == kInvalid) j.null(); else j.u(nest->depth[id]);
+  }
   j.close('}');
 }
 
 }  // namespace
 
-void detail::writeShellList(Json& j, const Array<Shell>& shells) {
+void detail::writeShellList(Json& j, const Array<Shell>& shells, const ShellNesting* nesting) {
+  if (nesting && nesting->depth.size() != shells.size()) nesting = nullptr;
   j.key("shellList");
   j.open('[');
   for (size_t i = 0; i < shells.size(); ++i) {
     j.sep();
-    writeShell(j, shells[i], uint32_t(i));
+    writeShell(j, shells[i], uint32_t(i), nesting);
   }
   j.close(']');
 }
@@ -155,7 +166,8 @@ std::string shellListJson(const Array<Shell>& shells) {
   return j.s;
 }
 
-void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {
+void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max,
+                          const TriangleChecks* checks, const Intersections* x) {
   j.key("defects");
   j.open('{');
   j.key("holes"); loops(j, mesh, t, d, false, max);
@@ -218,6 +230,67 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
   }
   j.close(']');
   j.close('}');
+  TriangleChecks own;
+  if (!checks && checkTriangles(mesh, &t, own).ok()) checks = &own;
+  j.key("zeroAreaTriangles");
+  if (checks) {
+    j.open('{');
+    j.key("count"); j.u(checks->zeroArea.size());
+    j.key("items");
+    j.open('[');
+    for (size_t i = 0; i < std::min<size_t>(checks->zeroArea.size(), max); ++i) {
+      j.sep();
+      j.open('{');
+      j.key("triangle"); j.u(checks->zeroArea[i]);
+      j.close('}');
+    }
+    j.close(']');
+    j.close('}');
+  } else {
+    j.null();
+  }
+  j.key("duplicateTriangles");
+  if (checks) {
+    const uint32_t groups = checks->nDuplicateGroups();
+    j.open('{');
+    j.key("count"); j.u(groups);
+    j.key("items");
+    j.open('[');
+    for (uint32_t g = 0; g < std::min(groups, max); ++g) {
+      j.sep();
+      j.open('{');
+      const uint32_t b = checks->duplicateOffsets[g], e = checks->duplicateOffsets[g + 1];
+      j.key("triangles"); uintList(j, checks->duplicateTriangles.data() + b, e - b);
+      j.key("orientation"); j.str(duplicateOrientationName(DuplicateOrientation(checks->duplicateOrientation[g])));
+      j.close('}');
+    }
+    j.close(']');
+    j.close('}');
+  } else {
+    j.null();
+  }
+  j.key("selfIntersections");
+  if (x) {
+    j.open('{');
+    j.key("count"); j.u(x->nPairs());
+    j.key("items");
+    j.open('[');
+    for (size_t i = 0; i < std::min<uint64_t>(x->nPairs(), max); ++i) {
+      j.sep();
+      j.open('{');
+      j.key("triangles"); uintList(j, x->pairs.data() + 2 * i, 2);
+      j.key("kind"); j.str(intersectionKindName(IntersectionKind(x->kinds[i])));
+      j.key("point");
+      j.open('[');
+      for (int c = 0; c < 3; ++c) { j.sep(); j.f64(x->points[3 * i + c] + 0.0); }
+      j.close(']');
+      j.close('}');
+    }
+    j.close(']');
+    j.close('}');
+  } else {
+    j.null();
+  }
   j.close('}');
 }
 
@@ -311,12 +384,21 @@ std::string shellsText(const Array<Shell>& shells) {
 namespace {
 
 void extrasJson(Json& j, const Mesh& mesh, const Topology& t, const ReportExtras& x) {
-  if (x.shells) detail::writeShellList(j, *x.shells);
-  if (x.defects) detail::writeDefects(j, mesh, t, *x.defects, x.maxDefects);
+  if (x.shells) detail::writeShellList(j, *x.shells, x.intersections ? x.nesting : nullptr);
+  if (x.defects) detail::writeDefects(j, mesh, t, *x.defects, x.maxDefects, x.checks, x.intersections);
 }
 void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const ReportExtras& x) {
   if (x.shells) o += shellsText(*x.shells);
   if (x.defects) o += defectsText(mesh, t, *x.defects, x.maxDefects);
+  if (x.defects && x.intersections) {
+    const Intersections& f = *x.intersections;
+    const uint64_t shown = std::min<uint64_t>(f.nPairs(), x.maxDefects);
+    for (uint64_t i = 0; i < shown; ++i)
+      appendf(o, "  self-intersection: triangles %u and %u, %s, at [%g, %g, %g]\n", f.pairs[2 * i], f.pairs[2 * i + 1],
+              intersectionKindName(IntersectionKind(f.kinds[i])), f.points[3 * i], f.points[3 * i + 1],
+              f.points[3 * i + 2]);
+    if (f.nPairs() > shown) appendf(o, "  ... and %llu more self-intersections\n", (unsigned long long)(f.nPairs() - shown));
+  }
 }
 
 }  // namespace

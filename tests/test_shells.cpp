@@ -138,7 +138,9 @@ TEST(Shells, TwoCubesOneInsideOutAreOutwardAndInward) {
   std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
   EXPECT_EQ(d, "\"defects\":{\"holes\":{\"count\":0,\"items\":[]},\"seams\":{\"count\":0,\"items\":[]},"
                "\"nonManifoldEdges\":{\"count\":0,\"items\":[]},\"inconsistentEdges\":{\"count\":0,\"items\":[]},"
-               "\"nonManifoldVertices\":{\"count\":0,\"items\":[]},\"degenerateTriangles\":{\"count\":0,\"items\":[]}}");
+               "\"nonManifoldVertices\":{\"count\":0,\"items\":[]},\"degenerateTriangles\":{\"count\":0,\"items\":[]},"
+            "\"zeroAreaTriangles\":{\"count\":0,\"items\":[]},\"duplicateTriangles\":{\"count\":0,\"items\":[]},"
+            "\"selfIntersections\":null}");
   EXPECT_EQ(defectsText(a.mesh, a.topo, a.defects, 5), "");
 }
 

@@ -22,12 +22,14 @@
 namespace {
 
 const char* kUsage =
-    "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--no-topology] [--tolerance D]\n"
-    "                    [--max-triangles N] [--max-bytes N] FILE...\n"
+    "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n"
+    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
+    "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
+    "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
@@ -38,7 +40,8 @@ const char* kUsage =
     "  report. A failure prints the error JSON on stderr (exit 1).\n";
 
 struct Args {
-  bool json = false, topology = true, shells = false, defects = false;
+  bool json = false, topology = true, shells = false, defects = false, intersections = false;
+  uint64_t maxPairs = 4000000;
   int64_t maxDefects = -1;  // -1: the default (1000 in JSON, 5 in the text report)
   double tolerance = 0;
   uint32_t maxTriangles = 1u << 28;
@@ -285,6 +288,15 @@ int main(int argc, char** argv) {
     else if (!endOfOptions && s == "--no-topology") a.topology = false;
     else if (!endOfOptions && s == "--shells") a.shells = true;
     else if (!endOfOptions && s == "--defects") a.defects = true;
+    else if (!endOfOptions && s == "--intersections") a.intersections = true;
+    else if (!endOfOptions && s == "--max-pairs") {
+      const char* v = value("--max-pairs");
+      if (!v) return 2;
+      char* end = nullptr;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-' || n == 0 || n > (1ull << 40)) { std::fprintf(stderr, "stltopo: bad --max-pairs '%s'\n", v); return 2; }
+      a.maxPairs = n;
+    }
     else if (!endOfOptions && s == "--max-defects") {
       const char* v = value("--max-defects");
       char* end;
@@ -317,8 +329,8 @@ int main(int argc, char** argv) {
     }
   }
   if (a.files.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
-  if (!a.topology && (a.shells || a.defects)) {
-    std::fprintf(stderr, "stltopo: --shells and --defects need the topology (not --no-topology)\n");
+  if (!a.topology && (a.shells || a.defects || a.intersections)) {
+    std::fprintf(stderr, "stltopo: --shells, --defects and --intersections need the topology (not --no-topology)\n");
     return 2;
   }
 
@@ -332,7 +344,9 @@ int main(int argc, char** argv) {
   stltopo::TopologyOptions to;
   to.tolerance = a.tolerance;
   to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
-  to.triangleShell = a.topology && (a.shells || defects);
+  to.triangleShell = a.topology && (a.shells || defects || a.intersections);
+  stltopo::IntersectionOptions io;
+  io.maxPairs = a.maxPairs;
   stltopo::ReportExtras extras;
   extras.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
   for (const std::string& file : a.files) {
@@ -342,8 +356,10 @@ int main(int argc, char** argv) {
     if (s.ok() && a.topology) s = stltopo::buildTopology(mesh, topo, to);
     stltopo::Array<stltopo::Shell> shells;
     stltopo::Defects found;
+    stltopo::GeometryReport geo;
     if (s.ok() && a.topology && to.triangleShell)
       s = stltopo::findShellsAndDefects(mesh, topo, a.shells ? &shells : nullptr, defects ? &found : nullptr);
+    if (s.ok() && a.topology && a.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, io);
     if (!s.ok()) {
       rc = 1;
       if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
@@ -353,6 +369,10 @@ int main(int argc, char** argv) {
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
     extras.shells = a.shells && t ? &shells : nullptr;
     extras.defects = defects && t ? &found : nullptr;
+    extras.checks = a.intersections && t ? &geo.checks : nullptr;
+    extras.intersections = a.intersections && t ? &geo.intersections : nullptr;
+    extras.nesting = a.intersections && t ? &geo.nesting : nullptr;
+    extras.solid = geo.solid;
     if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t, extras).c_str());
     else std::fputs(stltopo::infoText(file, mesh, t, extras).c_str(), stdout);
   }

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "stltopo/geometry.h"
 #include "stltopo/mesh.h"
 #include "stltopo/shells.h"
 #include "stltopo/status.h"
@@ -15,7 +16,11 @@ namespace stltopo {
 // natively an exhausted heap throws std::bad_alloc here and nowhere else in the core.
 
 // JSON object (one line, no trailing newline) for a successfully read file. `topo` may be
-// null: the mesh part only (no edge, hole, shell, genus, watertight or manifold keys).
+// null: the mesh part only (no edge, hole, shell, genus, watertight, manifold,
+// intersection or solid keys). "zeroAreaTriangles" and "duplicateTriangles" are always
+// there (checkTriangles, run here; null only when its memory ran out); the intersection
+// keys ("selfIntersections", "intersectionKinds", "intersectingTriangles",
+// "intersectionsComplete", "solid") are null unless ReportExtras::intersections is given.
 // `genus` is null unless the topology is watertight and manifold; `weldedVertices` is
 // present only for a tolerance weld (TopologyOptions::tolerance > 0). `file` is printed
 // as given (invalid UTF-8 becomes U+FFFD).
@@ -30,6 +35,13 @@ struct ReportExtras {
   const Defects* defects = nullptr;      // JSON: "defects"; text: the first maxDefects of each kind
   uint32_t maxDefects = 1000;            // items per defect kind, and entries of each loop's
                                          // vertex and cut-edge lists (JSON)
+  // The geometry (stltopo/geometry.h) of the same mesh and topology.
+  const TriangleChecks* checks = nullptr;  // null: the report runs checkTriangles itself
+  const Intersections* intersections = nullptr;  // the intersection keys, and the defects'
+                                                 // "selfIntersections" (else null)
+  const ShellNesting* nesting = nullptr;   // with shells: each shell's "selfIntersects",
+                                           // "intersectsShells", "parent" and "depth"
+  bool solid = false;                      // "solid", when intersections is given
 };
 // infoJson with "shellList" and then "defects" as the last keys (`topo` must not be null
 // when `extras` has a member). Keeps the guarantees of infoJson.

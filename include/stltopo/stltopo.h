@@ -19,6 +19,7 @@
 #include "stltopo/topology.h"
 #include "stltopo/report.h"
 #include "stltopo/shells.h"
+#include "stltopo/geometry.h"
 #include "stltopo/indexed.h"
 #include "stltopo/write.h"
 #include "stltopo/edit.h"

@@ -496,6 +496,9 @@ def cut_reference(ref, n):
     """The reference's defect lists as `--max-defects n` prints them."""
     out = {}
     for kind, v in ref.items():
+        if v is None:  # selfIntersections without --intersections
+            out[kind] = None
+            continue
         items = []
         for it in v['items'][:n]:
             it = dict(it)

@@ -820,11 +820,44 @@ def defect_lists(m, tp, max_n):
 
 # ---------------------------------------------------------------------------
 
+def geometry_checks(m):
+    """Zero-area triangles and duplicate groups (README, "Geometry"), in exact integer
+    arithmetic: every float32 coordinate times 2^149 is an integer."""
+    scaled = {}
+
+    def ipos(v):
+        p = scaled.get(v)
+        if p is None:
+            p = tuple(int(x * 2.0 ** 149) for x in m.positions[v])  # exact: a power of two
+            scaled[v] = p
+        return p
+    zero = []
+    sets = {}
+    for t, (a, b, c) in enumerate(m.triangles):
+        if m.degenerate[t]:
+            continue
+        pa, pb, pc = ipos(a), ipos(b), ipos(c)
+        u = [pb[k] - pa[k] for k in range(3)]
+        w = [pc[k] - pa[k] for k in range(3)]
+        if u[1] * w[2] == u[2] * w[1] and u[2] * w[0] == u[0] * w[2] and u[0] * w[1] == u[1] * w[0]:
+            zero.append(t)
+        sets.setdefault(frozenset((a, b, c)), []).append(t)
+    groups = []
+    for members in sorted((g for g in sets.values() if len(g) > 1), key=lambda g: g[0]):
+        first = m.triangles[members[0]]
+        rotations = {first, first[1:] + first[:1], first[2:] + first[:2]}
+        same = all(m.triangles[t] in rotations for t in members)
+        groups.append({'triangles': members,
+                       'orientation': 'same' if same else 'opposite' if len(members) == 2 else 'mixed'})
+    return zero, groups
+
+
 def info(path, data, self_check=False, shells=False, defects=None):
     """defects: None, or the maximum number of items per kind."""
     raw = read_stl(data)
     m = weld(raw)
     tp = build_topology(m, self_check)
+    zero, groups = geometry_checks(m)
     out = {
         'file': path,
         'format': m.format,
@@ -832,6 +865,8 @@ def info(path, data, self_check=False, shells=False, defects=None):
         'triangles': len(m.triangles),
         'vertices': len(m.positions),
         'degenerateTriangles': sum(m.degenerate),
+        'zeroAreaTriangles': len(zero),
+        'duplicateTriangles': sum(len(g['triangles']) - 1 for g in groups),
         'colors': m.colors,
         'normalMismatches': m.normalMismatches,
         'bbox': m.bbox,
@@ -843,10 +878,15 @@ def info(path, data, self_check=False, shells=False, defects=None):
               'nonManifoldVertices', 'holes', 'seams', 'holeSizes', 'shells',
               'eulerCharacteristic', 'genus', 'watertight', 'manifold'):
         out[k] = getattr(tp, k)
+    for k in ('selfIntersections', 'intersectionKinds', 'intersectingTriangles', 'intersectionsComplete', 'solid'):
+        out[k] = None  # only with --intersections, which the reference does not compute
     if shells:
         out['shellList'] = shell_list(m, tp)
     if defects is not None:
         out['defects'] = defect_lists(m, tp, defects)
+        out['defects']['zeroAreaTriangles'] = {'count': len(zero), 'items': [{'triangle': t} for t in zero][:defects]}
+        out['defects']['duplicateTriangles'] = {'count': len(groups), 'items': groups[:defects]}
+        out['defects']['selfIntersections'] = None
     return out
 
 

@@ -1,0 +1,869 @@
+// The exact geometric checks (stltopo/geometry.h): zero-area and duplicate triangles,
+// self-intersections through a bounding-volume hierarchy, and shell nesting by ray parity.
+//
+// Every decision goes through the exact predicates of predicates.h. Constructed points
+// (an intersection's "point") are the only floating-point results, and decide nothing.
+#include <algorithm>
+#include <cstring>
+
+#include "predicates.h"
+#include "stltopo/geometry.h"
+
+namespace stltopo {
+namespace {
+
+Status oom(const char* what) { return Status::error(Code::OutOfMemory, std::string("could not allocate ") + what); }
+
+// The welded corners of a mesh: the topology's representatives, or the mesh's own ids.
+struct Welded {
+  const Mesh& mesh;
+  const uint32_t* weld;  // null: identity
+  uint32_t v(uint32_t t, int c) const {
+    uint32_t id = mesh.triangles[3 * size_t(t) + size_t(c)];
+    return weld ? weld[id] : id;
+  }
+  const float* p(uint32_t vertex) const { return mesh.positions.data() + 3 * size_t(vertex); }
+};
+
+Status checkWeld(const Mesh& mesh, const Topology* topo) {
+  if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
+               topo->vertexWeld.size() != mesh.nVertices()))
+    return Status::error(Code::InvalidArgument, "the topology was not built from this mesh");
+  return {};
+}
+
+uint64_t mix(uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdull;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ull;
+  x ^= x >> 33;
+  return x;
+}
+
+void sort3(uint32_t& a, uint32_t& b, uint32_t& c) {
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+}
+
+// Whether (a, b, c) is a rotation of (x, y, z) (same set assumed).
+bool sameWinding(uint32_t a, uint32_t b, uint32_t c, uint32_t x, uint32_t y, uint32_t z) {
+  return (a == x && b == y && c == z) || (a == y && b == z && c == x) || (a == z && b == x && c == y);
+}
+
+}  // namespace
+
+const char* duplicateOrientationName(DuplicateOrientation o) {
+  switch (o) {
+    case DuplicateOrientation::Same: return "same";
+    case DuplicateOrientation::Opposite: return "opposite";
+    case DuplicateOrientation::Mixed: return "mixed";
+  }
+  return "unknown";
+}
+
+const char* intersectionKindName(IntersectionKind k) {
+  switch (k) {
+    case IntersectionKind::Crossing: return "crossing";
+    case IntersectionKind::Touching: return "touching";
+    case IntersectionKind::Coplanar: return "coplanar";
+  }
+  return "unknown";
+}
+
+// ---------------------------------------------------------------------------
+// Zero-area and duplicate triangles.
+
+Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out) {
+  out = TriangleChecks{};
+  if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
+  const Welded w{mesh, topo ? topo->vertexWeld.data() : nullptr};
+  const uint32_t nt = mesh.nTriangles();
+  // Pass 1: zero-area triangles, and each valid triangle into an open-addressed table
+  // keyed by its sorted corners; rep[t] = the lowest triangle with t's corner set.
+  Array<uint32_t> rep;
+  size_t cap = 16;
+  while (cap < 2 * size_t(nt)) cap *= 2;
+  Array<uint32_t> table;
+  if (!rep.resize(nt) || !table.assign(cap, kInvalid)) return oom("the duplicate-triangle table");
+  const size_t mask = cap - 1;
+  uint32_t dupMembers = 0;
+  for (uint32_t t = 0; t < nt; ++t) {
+    uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+    rep[t] = kInvalid;
+    if (a == b || b == c || a == c) continue;  // degenerate
+    if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !out.zeroArea.push_back(t)) return oom("the zero-area list");
+    sort3(a, b, c);
+    size_t h = mix((uint64_t(a) << 32 | b) ^ mix(c)) & mask;
+    for (;; h = (h + 1) & mask) {
+      uint32_t u = table[h];
+      if (u == kInvalid) {
+        table[h] = t;
+        rep[t] = t;
+        break;
+      }
+      uint32_t x = w.v(u, 0), y = w.v(u, 1), z = w.v(u, 2);
+      sort3(x, y, z);
+      if (x == a && y == b && z == c) {
+        rep[t] = u;
+        ++dupMembers;
+        break;
+      }
+    }
+  }
+  table.release();
+  if (dupMembers == 0) {
+    if (!out.duplicateOffsets.push_back(0)) return oom("the duplicate groups");
+    return {};
+  }
+  // Pass 2: the groups, ordered by their lowest triangle (= rep), members ascending.
+  Array<uint32_t> slot;  // per representative that has other members: its group
+  if (!slot.assign(nt, kInvalid)) return oom("the duplicate groups");
+  constexpr uint32_t kHasMembers = kInvalid - 1;
+  for (uint32_t t = 0; t < nt; ++t)
+    if (rep[t] != kInvalid && rep[t] != t) slot[rep[t]] = kHasMembers;
+  uint32_t groups = 0;
+  for (uint32_t t = 0; t < nt; ++t)
+    if (slot[t] == kHasMembers) slot[t] = groups++;
+  Array<uint32_t>& offsets = out.duplicateOffsets;
+  if (!offsets.assign(size_t(groups) + 1, 0) || !out.duplicateTriangles.resize(size_t(groups) + dupMembers) ||
+      !out.duplicateOrientation.assign(groups, uint8_t(DuplicateOrientation::Same)))
+    return oom("the duplicate groups");
+  for (uint32_t t = 0; t < nt; ++t)
+    if (rep[t] != kInvalid && slot[rep[t]] != kInvalid) ++offsets[slot[rep[t]] + 1];
+  for (uint32_t g = 0; g < groups; ++g) offsets[g + 1] += offsets[g];
+  Array<uint32_t> fill;
+  if (!fill.resize(groups)) return oom("the duplicate groups");
+  for (uint32_t g = 0; g < groups; ++g) fill[g] = offsets[g];
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (rep[t] == kInvalid || slot[rep[t]] == kInvalid) continue;
+    uint32_t g = slot[rep[t]];
+    out.duplicateTriangles[fill[g]++] = t;
+    uint32_t r = rep[t];
+    if (!sameWinding(w.v(t, 0), w.v(t, 1), w.v(t, 2), w.v(r, 0), w.v(r, 1), w.v(r, 2)))
+      out.duplicateOrientation[g] = uint8_t(DuplicateOrientation::Opposite);
+  }
+  for (uint32_t g = 0; g < groups; ++g)
+    if (out.duplicateOrientation[g] != uint8_t(DuplicateOrientation::Same) && offsets[g + 1] - offsets[g] > 2)
+      out.duplicateOrientation[g] = uint8_t(DuplicateOrientation::Mixed);
+  out.nDuplicateTriangles = dupMembers;
+  return {};
+}
+
+// ---------------------------------------------------------------------------
+// Exact triangle tests. A Tri holds its three welded corner ids and positions; every
+// triangle passed here has three distinct, non-collinear corners.
+
+namespace {
+
+struct Tri {
+  uint32_t v[3];
+  const float* p[3];
+};
+
+// The axis k along which a triangle projects without collapsing (its normal's coordinate
+// k is not zero), and the sign of that coordinate: orient2dIn(k, ...) * sign is then the
+// orientation relative to the triangle's own winding.
+struct Projection {
+  int k;
+  int sign;
+};
+
+Projection projectionOf(const float* a, const float* b, const float* c) {
+  const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
+  const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz), std::fabs(ux * vy - uy * vx)};
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int x, int y) { return n[x] > n[y]; });
+  for (int k : order) {
+    int s = pred::normalSign(a, b, c, k);
+    if (s != 0) return {k, s};
+  }
+  return {0, 0};  // collinear: never called so
+}
+
+inline int orient2dIn(int k, const float* a, const float* b, const float* c) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  return pred::orient2d(a[i], a[j], b[i], b[j], c[i], c[j]);
+}
+
+// Closed 2D segment-segment intersection of coplanar segments (in projection k).
+bool segSeg2d(int k, const float* p, const float* q, const float* r, const float* s) {
+  const int o1 = orient2dIn(k, p, q, r), o2 = orient2dIn(k, p, q, s);
+  const int o3 = orient2dIn(k, r, s, p), o4 = orient2dIn(k, r, s, q);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  auto onSeg = [&](const float* a, const float* b, const float* x) {  // x collinear with ab: within it?
+    return std::min(a[i], b[i]) <= x[i] && x[i] <= std::max(a[i], b[i]) && std::min(a[j], b[j]) <= x[j] &&
+           x[j] <= std::max(a[j], b[j]);
+  };
+  if (o1 == 0 && onSeg(p, q, r)) return true;
+  if (o2 == 0 && onSeg(p, q, s)) return true;
+  if (o3 == 0 && onSeg(r, s, p)) return true;
+  if (o4 == 0 && onSeg(r, s, q)) return true;
+  return false;
+}
+
+// Whether point x (in the triangle's plane) lies in the closed triangle.
+bool pointInTri2d(const Projection& pr, const Tri& t, const float* x) {
+  for (int e = 0; e < 3; ++e)
+    if (orient2dIn(pr.k, t.p[e], t.p[(e + 1) % 3], x) * pr.sign < 0) return false;
+  return true;
+}
+
+// Closed segment pq against closed triangle t, all in t's plane.
+bool segTri2d(const Projection& pr, const Tri& t, const float* p, const float* q) {
+  if (pointInTri2d(pr, t, p) || pointInTri2d(pr, t, q)) return true;
+  for (int e = 0; e < 3; ++e)
+    if (segSeg2d(pr.k, p, q, t.p[e], t.p[(e + 1) % 3])) return true;
+  return false;
+}
+
+// Closed segment pq against closed triangle t in 3D, with sp and sq the sides of p and q
+// of t's plane (orient3d).
+bool segTri(const Tri& t, const float* p, const float* q, int sp, int sq) {
+  if (sp * sq > 0) return false;
+  if (sp == 0 && sq == 0) return segTri2d(projectionOf(t.p[0], t.p[1], t.p[2]), t, p, q);
+  // pq meets the plane in one point: is it in the closed triangle? The three signed
+  // volumes of the line pq with the sides may not have both strict signs.
+  int pos = 0, neg = 0;
+  for (int e = 0; e < 3; ++e) {
+    int s = pred::orient3d(p, q, t.p[e], t.p[(e + 1) % 3]);
+    pos += s > 0;
+    neg += s < 0;
+  }
+  return !(pos && neg);
+}
+
+bool segTri(const Tri& t, const float* p, const float* q) {
+  return segTri(t, p, q, pred::orient3d(t.p[0], t.p[1], t.p[2], p), pred::orient3d(t.p[0], t.p[1], t.p[2], q));
+}
+
+// Closed coplanar triangles (both in one plane).
+bool triTri2d(const Projection& pr, const Tri& a, const Tri& b) {
+  for (int i = 0; i < 3; ++i)
+    if (pointInTri2d(pr, a, b.p[i])) return true;
+  Projection pb{pr.k, orient2dIn(pr.k, b.p[0], b.p[1], b.p[2])};
+  for (int i = 0; i < 3; ++i)
+    if (pointInTri2d(pb, b, a.p[i])) return true;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (segSeg2d(pr.k, a.p[i], a.p[(i + 1) % 3], b.p[j], b.p[(j + 1) % 3])) return true;
+  return false;
+}
+
+// Whether the open interiors of two coplanar triangles meet: no side line of either one
+// has the whole other triangle on its closed outer side (separating axes).
+bool interiorsMeet2d(int k, const Tri& a, const Tri& b) {
+  const Tri* t[2] = {&a, &b};
+  for (int s = 0; s < 2; ++s) {
+    const Tri& x = *t[s];
+    const Tri& y = *t[1 - s];
+    const int sg = orient2dIn(k, x.p[0], x.p[1], x.p[2]);
+    for (int e = 0; e < 3; ++e) {
+      bool separated = true;
+      for (int i = 0; i < 3 && separated; ++i)
+        if (orient2dIn(k, x.p[e], x.p[(e + 1) % 3], y.p[i]) * sg > 0) separated = false;
+      if (separated) return false;
+    }
+  }
+  return true;
+}
+
+// One point of the intersection of two intersecting triangles, in floating point: the
+// mean of the exactly found corners of their intersection (corners of one inside the
+// other, sides crossing the other's plane inside it, coplanar sides crossing), leaving
+// out shared corners when anything else was found.
+void intersectionPoint(const Tri& a, const Tri& b, bool coplanar, int k, double out[3]) {
+  double sum[3] = {0, 0, 0}, shared[3] = {0, 0, 0};
+  int n = 0, nShared = 0;
+  auto addPoint = [&](double x, double y, double z, bool isShared) {
+    if (isShared) {
+      shared[0] += x, shared[1] += y, shared[2] += z, ++nShared;
+    } else {
+      sum[0] += x, sum[1] += y, sum[2] += z, ++n;
+    }
+  };
+  auto isSharedVertex = [](const Tri& t, uint32_t v) { return t.v[0] == v || t.v[1] == v || t.v[2] == v; };
+  const Tri* tris[2] = {&a, &b};
+  for (int s = 0; s < 2; ++s) {
+    const Tri& x = *tris[s];
+    const Tri& y = *tris[1 - s];
+    const Projection py = coplanar ? Projection{k, orient2dIn(k, y.p[0], y.p[1], y.p[2])}
+                                   : projectionOf(y.p[0], y.p[1], y.p[2]);
+    int o[3];
+    for (int i = 0; i < 3; ++i) o[i] = pred::orient3d(y.p[0], y.p[1], y.p[2], x.p[i]);
+    for (int i = 0; i < 3; ++i)  // corners of x in y
+      if (o[i] == 0 && pointInTri2d(py, y, x.p[i]))
+        addPoint(x.p[i][0], x.p[i][1], x.p[i][2], isSharedVertex(y, x.v[i]));
+    if (!coplanar) {
+      for (int i = 0; i < 3; ++i) {  // sides of x crossing y's plane inside y
+        const int j = (i + 1) % 3;
+        if (o[i] * o[j] >= 0) continue;
+        if (!segTri(y, x.p[i], x.p[j])) continue;
+        const double di = pred::orient3dApprox(y.p[0], y.p[1], y.p[2], x.p[i]);
+        const double dj = pred::orient3dApprox(y.p[0], y.p[1], y.p[2], x.p[j]);
+        double t = di / (di - dj);
+        if (!(t >= 0 && t <= 1)) t = 0.5;
+        addPoint(x.p[i][0] + t * (double(x.p[j][0]) - x.p[i][0]), x.p[i][1] + t * (double(x.p[j][1]) - x.p[i][1]),
+                 x.p[i][2] + t * (double(x.p[j][2]) - x.p[i][2]), false);
+      }
+    }
+  }
+  if (coplanar) {  // sides crossing sides
+    const int i0 = (k + 1) % 3, j0 = (k + 2) % 3;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const float *p = a.p[i], *q = a.p[(i + 1) % 3], *r = b.p[j], *s = b.p[(j + 1) % 3];
+        if (orient2dIn(k, p, q, r) * orient2dIn(k, p, q, s) >= 0) continue;
+        if (orient2dIn(k, r, s, p) * orient2dIn(k, r, s, q) >= 0) continue;
+        const double d1x = double(q[i0]) - p[i0], d1y = double(q[j0]) - p[j0];
+        const double d2x = double(s[i0]) - r[i0], d2y = double(s[j0]) - r[j0];
+        const double den = d1x * d2y - d1y * d2x;
+        double t = den != 0 ? ((double(r[i0]) - p[i0]) * d2y - (double(r[j0]) - p[j0]) * d2x) / den : 0.5;
+        if (!(t >= 0 && t <= 1)) t = 0.5;
+        addPoint(p[0] + t * (double(q[0]) - p[0]), p[1] + t * (double(q[1]) - p[1]), p[2] + t * (double(q[2]) - p[2]),
+                 false);
+      }
+  }
+  if (n == 0) {
+    std::memcpy(sum, shared, sizeof sum);
+    n = nShared;
+  }
+  for (int c = 0; c < 3; ++c) out[c] = n ? sum[c] / n : double(a.p[0][c]);
+}
+
+// Tests one pair. Returns -1 when they do not intersect (or share all three corners),
+// else the IntersectionKind; `point` gets a point of the intersection.
+int testPair(const Tri& a, const Tri& b, double point[3]) {
+  int shared = 0, ia[3], ib[3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a.v[i] == b.v[j]) {
+        ia[shared] = i;
+        ib[shared] = j;
+        ++shared;
+      }
+  if (shared >= 3) return -1;
+  // Corners of b against a's plane, of a against b's plane; a shared corner lies in both
+  // planes (0 without computing: the filter cannot decide an exact 0, the fallback would).
+  bool sharedA[3] = {false, false, false}, sharedB[3] = {false, false, false};
+  for (int i = 0; i < shared; ++i) sharedA[ia[i]] = sharedB[ib[i]] = true;
+  int sb[3], sa[3];
+  for (int i = 0; i < 3; ++i) sb[i] = sharedB[i] ? 0 : pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[i]);
+  if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0)) return -1;
+  if (shared == 2) {
+    if (sb[3 - ib[0] - ib[1]] != 0) return -1;  // not coplanar: they meet only on the shared side
+  } else if (shared == 1) {
+    // With the other two corners of one strictly on one side of the other's plane, they
+    // meet only at the shared corner.
+    const int d = (ib[0] + 1) % 3, e = (ib[0] + 2) % 3;
+    if (sb[d] * sb[e] > 0) return -1;
+  }
+  for (int i = 0; i < 3; ++i) sa[i] = sharedA[i] ? 0 : pred::orient3d(b.p[0], b.p[1], b.p[2], a.p[i]);
+  if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return -1;
+  if (shared == 1) {
+    const int c = (ia[0] + 1) % 3, d = (ia[0] + 2) % 3;
+    if (sa[c] * sa[d] > 0) return -1;
+  }
+  const bool coplanar = sb[0] == 0 && sb[1] == 0 && sb[2] == 0;
+  bool hit;
+  Projection pa{0, 0};
+  if (coplanar) pa = projectionOf(a.p[0], a.p[1], a.p[2]);
+  if (shared == 2) {
+    const int c = 3 - ia[0] - ia[1], d = 3 - ib[0] - ib[1];
+    const float *p = a.p[ia[0]], *q = a.p[ia[1]];
+    hit = orient2dIn(pa.k, p, q, a.p[c]) == orient2dIn(pa.k, p, q, b.p[d]);
+  } else if (shared == 1) {
+    const int a1 = (ia[0] + 1) % 3, a2 = (ia[0] + 2) % 3, b1 = (ib[0] + 1) % 3, b2 = (ib[0] + 2) % 3;
+    hit = segTri(b, a.p[a1], a.p[a2], sa[a1], sa[a2]) || segTri(a, b.p[b1], b.p[b2], sb[b1], sb[b2]);
+  } else if (coplanar) {
+    hit = triTri2d(pa, a, b);
+  } else {
+    // Non-coplanar closed triangles meet iff a side of one meets the other.
+    hit = false;
+    for (int i = 0; i < 3 && !hit; ++i) hit = segTri(b, a.p[i], a.p[(i + 1) % 3], sa[i], sa[(i + 1) % 3]);
+    for (int i = 0; i < 3 && !hit; ++i) hit = segTri(a, b.p[i], b.p[(i + 1) % 3], sb[i], sb[(i + 1) % 3]);
+  }
+  if (!hit) return -1;
+  IntersectionKind kind;
+  if (coplanar) {
+    kind = interiorsMeet2d(pa.k, a, b) ? IntersectionKind::Coplanar : IntersectionKind::Touching;
+  } else {
+    const bool straddleA = std::max({sa[0], sa[1], sa[2]}) > 0 && std::min({sa[0], sa[1], sa[2]}) < 0;
+    const bool straddleB = std::max({sb[0], sb[1], sb[2]}) > 0 && std::min({sb[0], sb[1], sb[2]}) < 0;
+    kind = straddleA && straddleB ? IntersectionKind::Crossing : IntersectionKind::Touching;
+  }
+  intersectionPoint(a, b, coplanar, pa.k, point);
+  return int(kind);
+}
+
+// ---------------------------------------------------------------------------
+// The bounding-volume hierarchy: the valid triangles sorted by the Morton code of their
+// box centres, leaves of up to kLeaf consecutive ones, and a balanced binary tree over
+// the leaves in depth-first order (the left child follows its parent).
+
+constexpr uint32_t kLeaf = 8;
+
+struct Box {
+  float lo[3], hi[3];
+};
+
+struct Node {
+  Box box;
+  uint32_t first, end;  // the sorted positions it covers
+  uint32_t right;       // index of the right child; 0 for a leaf
+};
+
+struct Bvh {
+  Array<uint32_t> tri;  // sorted position -> triangle id
+  Array<Box> box;       // sorted position -> its box
+  Array<Node> nodes;
+};
+
+inline bool overlaps(const Box& a, const Box& b) {
+  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
+         b.lo[2] <= a.hi[2];
+}
+
+uint32_t spread10(uint32_t x) {  // 10 bits to every third of 30
+  x &= 0x3ff;
+  x = (x | (x << 16)) & 0x030000ff;
+  x = (x | (x << 8)) & 0x0300f00f;
+  x = (x | (x << 4)) & 0x030c30c3;
+  x = (x | (x << 2)) & 0x09249249;
+  return x;
+}
+
+uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
+  const uint32_t id = next++;
+  Node& n = bvh.nodes[id];
+  n.first = first;
+  n.end = end;
+  n.right = 0;
+  if (end - first > kLeaf) {
+    // Split at a multiple of kLeaf near the middle: leaves stay full.
+    uint32_t leaves = (end - first + kLeaf - 1) / kLeaf;
+    uint32_t mid = first + (leaves / 2) * kLeaf;
+    const uint32_t left = buildNodes(bvh, first, mid, next);
+    const uint32_t right = buildNodes(bvh, mid, end, next);
+    Node& m = bvh.nodes[id];
+    m.right = right;
+    const Box &l = bvh.nodes[left].box, &r = bvh.nodes[right].box;
+    for (int k = 0; k < 3; ++k) {
+      m.box.lo[k] = std::min(l.lo[k], r.lo[k]);
+      m.box.hi[k] = std::max(l.hi[k], r.hi[k]);
+    }
+  } else {
+    Box b = bvh.box[first];
+    for (uint32_t i = first + 1; i < end; ++i)
+      for (int k = 0; k < 3; ++k) {
+        b.lo[k] = std::min(b.lo[k], bvh.box[i].lo[k]);
+        b.hi[k] = std::max(b.hi[k], bvh.box[i].hi[k]);
+      }
+    n.box = b;
+  }
+  return id;
+}
+
+// Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
+Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh) {
+  const uint32_t nt = w.mesh.nTriangles();
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < nt; ++t) n += valid[t];
+  if (!bvh.tri.resize(n) || !bvh.box.resize(n)) return oom("the intersection hierarchy");
+  if (n == 0) return {};
+  Array<uint64_t> keys, tmp;
+  if (!keys.resize(n) || !tmp.resize(n)) return oom("the intersection hierarchy");
+  const float* lo = w.mesh.bboxMin;
+  const float* hi = w.mesh.bboxMax;
+  double scale[3];
+  for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
+  uint32_t i = 0;
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (!valid[t]) continue;
+    uint32_t code = 0;
+    for (int k = 0; k < 3; ++k) {
+      double c = 0;
+      for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
+      double q = (c / 3 - lo[k]) * scale[k];
+      uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
+      code |= spread10(qi) << k;
+    }
+    keys[i++] = uint64_t(code) << 32 | t;
+  }
+  // LSD radix sort on the 30-bit code, 3 passes of 10 bits (stable: ties by triangle id).
+  uint32_t count[1024];
+  for (int pass = 0; pass < 3; ++pass) {
+    const int shift = 32 + 10 * pass;
+    std::memset(count, 0, sizeof count);
+    for (uint32_t j = 0; j < n; ++j) ++count[(keys[j] >> shift) & 1023];
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      uint32_t x = c;
+      c = sum;
+      sum += x;
+    }
+    for (uint32_t j = 0; j < n; ++j) tmp[count[(keys[j] >> shift) & 1023]++] = keys[j];
+    std::swap(keys, tmp);
+  }
+  tmp.release();
+  for (uint32_t j = 0; j < n; ++j) {
+    const uint32_t t = uint32_t(keys[j]);
+    bvh.tri[j] = t;
+    Box& b = bvh.box[j];
+    for (int k = 0; k < 3; ++k) {
+      const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
+      b.lo[k] = std::min({a, c, d});
+      b.hi[k] = std::max({a, c, d});
+    }
+  }
+  keys.release();
+  const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
+  if (!bvh.nodes.resize(2 * size_t(leaves))) return oom("the intersection hierarchy");
+  uint32_t next = 0;
+  buildNodes(bvh, 0, n, next);
+  bvh.nodes.shrink(next);
+  return {};
+}
+
+Tri triOf(const Welded& w, uint32_t t) {
+  Tri x;
+  for (int c = 0; c < 3; ++c) {
+    x.v[c] = w.v(t, c);
+    x.p[c] = w.p(x.v[c]);
+  }
+  return x;
+}
+
+struct Found {
+  uint64_t key;  // i << 32 | j
+  double point[3];
+  uint8_t kind;
+};
+
+}  // namespace
+
+Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks, Intersections& out,
+                         const IntersectionOptions& options) {
+  out = Intersections{};
+  if (Status s = checkWeld(mesh, &topo); !s.ok()) return s;
+  const uint32_t nt = mesh.nTriangles();
+  const Welded w{mesh, topo.vertexWeld.data()};
+  Array<uint8_t> valid;
+  if (!valid.assign(nt, 1) || !out.triangleIntersects.assign(nt, 0)) return oom("the intersection flags");
+  for (uint32_t t = 0; t < nt; ++t) {
+    uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+    if (a == b || b == c || a == c) valid[t] = 0;
+  }
+  for (uint32_t t : checks.zeroArea) {
+    if (t >= nt) return Status::error(Code::InvalidArgument, "the triangle checks are not this mesh's");
+    valid[t] = 0;
+  }
+  Bvh bvh;
+  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  valid.release();
+  const uint32_t n = uint32_t(bvh.tri.size());
+  // The corners of each sorted position, welded: the pair tests read only these, the boxes
+  // and the positions.
+  Array<uint32_t> corner;
+  if (!corner.resize(3 * size_t(n))) return oom("the intersection hierarchy");
+  for (uint32_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
+  auto triAt = [&](uint32_t q) {
+    Tri x;
+    for (int c = 0; c < 3; ++c) {
+      x.v[c] = corner[3 * size_t(q) + c];
+      x.p[c] = w.p(x.v[c]);
+    }
+    return x;
+  };
+  const uint64_t maxFound = options.maxPairs;
+  const uint64_t maxWork = 8 * options.maxPairs + 64 * uint64_t(nt);
+  uint64_t work = 0, sinceProgress = 0;
+  Array<Found> found;
+  bool stop = false, cancelled = false, outOfMemory = false;
+  // Tests sorted positions p < q whose boxes overlap.
+  auto testPositions = [&](uint32_t p, uint32_t q) {
+    if (!overlaps(bvh.box[p], bvh.box[q])) return;
+    if (++work > maxWork) {
+      stop = true;
+      return;
+    }
+    Found f;
+    const int kind = testPair(triAt(p), triAt(q), f.point);
+    if (kind < 0) return;
+    const uint32_t ti = bvh.tri[p], tj = bvh.tri[q];
+    f.key = ti < tj ? uint64_t(ti) << 32 | tj : uint64_t(tj) << 32 | ti;
+    f.kind = uint8_t(kind);
+    if (!found.push_back(f)) {
+      outOfMemory = stop = true;
+      return;
+    }
+    if (found.size() >= maxFound) stop = true;
+  };
+  // A self-join of the hierarchy: (node, node) pairs on an explicit stack; a pair of the
+  // same node stands for the pairs inside it. Each pair of positions is tested once.
+  Array<uint64_t> todo;
+  if (n > 0 && !todo.push_back(0)) return oom("the intersection traversal");
+  const uint64_t progressEvery = 1u << 18;
+  while (!todo.empty() && !stop) {
+    const uint64_t top = todo[todo.size() - 1];
+    todo.shrink(todo.size() - 1);
+    const uint32_t ia = uint32_t(top >> 32), ib = uint32_t(top);
+    const Node& A = bvh.nodes[ia];
+    const Node& B = bvh.nodes[ib];
+    if (ia == ib) {
+      if (A.right) {
+        const uint32_t l = ia + 1, r = A.right;
+        if (!todo.push_back(uint64_t(l) << 32 | r) || !todo.push_back(uint64_t(r) << 32 | r) ||
+            !todo.push_back(uint64_t(l) << 32 | l))
+          return oom("the intersection traversal");
+      } else {
+        for (uint32_t p = A.first; p < A.end && !stop; ++p)
+          for (uint32_t q = p + 1; q < A.end && !stop; ++q) testPositions(p, q);
+        sinceProgress += A.end - A.first;
+      }
+      continue;
+    }
+    if (!overlaps(A.box, B.box)) continue;
+    if (!A.right && !B.right) {
+      // Only the members of each leaf whose box meets the other leaf's box can pair.
+      uint32_t qs[kLeaf], nq = 0;
+      for (uint32_t q = B.first; q < B.end; ++q)
+        if (overlaps(bvh.box[q], A.box)) qs[nq++] = q;
+      for (uint32_t p = A.first; p < A.end && nq && !stop; ++p) {
+        if (!overlaps(bvh.box[p], B.box)) continue;
+        for (uint32_t k = 0; k < nq && !stop; ++k) testPositions(p, qs[k]);
+      }
+      sinceProgress += A.end - A.first;
+    } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
+      if (!todo.push_back(uint64_t(A.right) << 32 | ib) || !todo.push_back(uint64_t(ia + 1) << 32 | ib))
+        return oom("the intersection traversal");
+    } else {
+      if (!todo.push_back(uint64_t(ia) << 32 | B.right) || !todo.push_back(uint64_t(ia) << 32 | (ib + 1)))
+        return oom("the intersection traversal");
+    }
+    if (sinceProgress >= progressEvery && options.progress) {
+      sinceProgress = 0;
+      // The fraction: the positions below the next pending pair's are done, roughly.
+      if (!options.progress(options.user, double(bvh.nodes[ia].first) / n)) cancelled = stop = true;
+    }
+  }
+  if (outOfMemory) return oom("the intersection list");
+  if (cancelled) return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");
+  if (stop) out.complete = false;
+  std::sort(found.begin(), found.end(), [](const Found& x, const Found& y) { return x.key < y.key; });
+  const size_t np = found.size();
+  if (!out.pairs.resize(2 * np) || !out.kinds.resize(np) || !out.points.resize(3 * np))
+    return oom("the intersection list");
+  for (size_t i = 0; i < np; ++i) {
+    const Found& f = found[i];
+    const uint32_t ti = uint32_t(f.key >> 32), tj = uint32_t(f.key);
+    out.pairs[2 * i] = ti;
+    out.pairs[2 * i + 1] = tj;
+    out.kinds[i] = f.kind;
+    for (int c = 0; c < 3; ++c) out.points[3 * i + c] = f.point[c];
+    switch (IntersectionKind(f.kind)) {
+      case IntersectionKind::Crossing: ++out.nCrossing; break;
+      case IntersectionKind::Touching: ++out.nTouching; break;
+      case IntersectionKind::Coplanar: ++out.nCoplanar; break;
+    }
+    out.nIntersectingTriangles += !out.triangleIntersects[ti];
+    out.triangleIntersects[ti] = 1;
+    out.nIntersectingTriangles += !out.triangleIntersects[tj];
+    out.triangleIntersects[tj] = 1;
+  }
+  if (options.progress && !options.progress(options.user, 1.0))
+    return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");
+  return {};
+}
+
+// ---------------------------------------------------------------------------
+// Shell nesting.
+
+namespace {
+
+// The sign of orient2d(p, u, v) in the (y, z) plane with p moved by (eps, eps^2), eps
+// infinitesimal (simulation of simplicity): never 0 unless u and v project to one point.
+int perturbedSide(const float* p, const float* u, const float* v) {
+  int s = pred::orient2d(p[1], p[2], u[1], u[2], v[1], v[2]);
+  if (s) return s;
+  if (u[2] != v[2]) return u[2] > v[2] ? 1 : -1;
+  if (v[1] != u[1]) return v[1] > u[1] ? 1 : -1;
+  return 0;
+}
+
+// Whether the ray from p along +x, p perturbed as above, crosses triangle t: 1 yes, 0 no,
+// -1 when p lies on t (never for a p off the surface).
+int rayHits(const float* p, const Tri& t) {
+  const int s0 = perturbedSide(p, t.p[0], t.p[1]);
+  const int s1 = perturbedSide(p, t.p[1], t.p[2]);
+  const int s2 = perturbedSide(p, t.p[2], t.p[0]);
+  if (s0 == 0 || s0 != s1 || s1 != s2) return 0;
+  // Inside the projection, whose orientation s0 is the sign of the normal's x. The plane
+  // is crossed at x > p.x when p lies on the side the normal's x points away from.
+  const int o = pred::orient3d(t.p[0], t.p[1], t.p[2], p);
+  if (o == 0) return -1;
+  return o != s0 ? 1 : 0;
+}
+
+}  // namespace
+
+Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shell>& shells, const Intersections& found,
+                        ShellNesting& out) {
+  out = ShellNesting{};
+  if (Status s = checkWeld(mesh, &topo); !s.ok()) return s;
+  const uint32_t nt = mesh.nTriangles(), ns = uint32_t(shells.size());
+  if (topo.triangleShell.size() != nt || ns != topo.nShells || found.triangleIntersects.size() != nt)
+    return Status::error(Code::InvalidArgument, "shell nesting needs the shells and the intersections of this mesh");
+  const Welded w{mesh, topo.vertexWeld.data()};
+  // What each shell intersects.
+  Array<uint64_t> links;  // s << 32 | k for shells s != k that intersect
+  if (!out.selfIntersects.assign(ns, 0)) return oom("the shell nesting");
+  for (size_t i = 0; i < found.nPairs(); ++i) {
+    const uint32_t a = topo.triangleShell[found.pairs[2 * i]], b = topo.triangleShell[found.pairs[2 * i + 1]];
+    if (a == b) {
+      out.selfIntersects[a] = 1;
+    } else if (!links.push_back(uint64_t(a) << 32 | b) || !links.push_back(uint64_t(b) << 32 | a)) {
+      return oom("the shell nesting");
+    }
+  }
+  std::sort(links.begin(), links.end());
+  size_t nl = size_t(std::unique(links.begin(), links.end()) - links.begin());
+  if (!out.intersectsOffsets.assign(size_t(ns) + 1, 0) || !out.intersectsShells.resize(nl)) return oom("the shell nesting");
+  for (size_t i = 0; i < nl; ++i) {
+    ++out.intersectsOffsets[(links[i] >> 32) + 1];
+    out.intersectsShells[i] = uint32_t(links[i]);
+  }
+  for (uint32_t s = 0; s < ns; ++s) out.intersectsOffsets[s + 1] += out.intersectsOffsets[s];
+  links.release();
+  if (!out.parent.assign(ns, kInvalid) || !out.depth.assign(ns, kInvalid)) return oom("the shell nesting");
+  // The candidates: closed shells that meet no other shell.
+  Array<uint8_t> candidate;
+  if (!candidate.assign(ns, 0)) return oom("the shell nesting");
+  uint32_t nCand = 0;
+  for (uint32_t s = 0; s < ns; ++s) {
+    candidate[s] = shells[s].closed() && out.intersectsOffsets[s + 1] == out.intersectsOffsets[s];
+    nCand += candidate[s];
+  }
+  if (nCand == 0) return {};
+  // Shells that share a vertex are never nested: per vertex, its first shell; a pair is
+  // recorded when a vertex is used by another one.
+  Array<uint32_t> vshell;
+  Array<uint64_t> touching;
+  if (!vshell.assign(mesh.nVertices(), kInvalid)) return oom("the shell nesting");
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t s = topo.triangleShell[t];
+    if (s == kInvalid || !candidate[s]) continue;
+    for (int c = 0; c < 3; ++c) {
+      uint32_t& vs = vshell[w.v(t, c)];
+      if (vs == kInvalid) vs = s;
+      else if (vs != s && (!touching.push_back(uint64_t(vs) << 32 | s) || !touching.push_back(uint64_t(s) << 32 | vs)))
+        return oom("the shell nesting");
+    }
+  }
+  std::sort(touching.begin(), touching.end());
+  touching.shrink(size_t(std::unique(touching.begin(), touching.end()) - touching.begin()));
+  // A hierarchy over the candidates' triangles (zero-area ones have no projected area and
+  // are never crossed; degenerate ones belong to no shell).
+  Array<uint8_t> valid;
+  if (!valid.assign(nt, 0)) return oom("the shell nesting");
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t s = topo.triangleShell[t];
+    valid[t] = s != kInvalid && candidate[s];
+  }
+  Bvh bvh;
+  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  valid.release();
+  // One ray per candidate shell, from its lowest triangle's first corner; the parity of
+  // the crossings per other shell says whether that shell contains it.
+  Array<uint32_t> inside;  // per candidate shell: the shells containing it, in list form
+  Array<uint32_t> insideOff;
+  if (!insideOff.assign(size_t(ns) + 1, 0)) return oom("the shell nesting");
+  Array<uint32_t> hits;
+  uint32_t stack[64];
+  for (uint32_t a = 0; a < ns; ++a) {
+    insideOff[a + 1] = insideOff[a];
+    if (!candidate[a]) continue;
+    const float* p = w.p(w.v(shells[a].firstTriangle, 0));
+    hits.clear();
+    bool onSurface = false;
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0 && !onSurface) {
+      const Node& node = bvh.nodes[stack[--sp]];
+      const Box& b = node.box;
+      if (b.hi[0] < p[0] || b.lo[1] > p[1] || b.hi[1] < p[1] || b.lo[2] > p[2] || b.hi[2] < p[2]) continue;
+      if (node.right) {
+        stack[sp++] = node.right;
+        stack[sp++] = uint32_t(&node - bvh.nodes.data()) + 1;
+        continue;
+      }
+      for (uint32_t q = node.first; q < node.end; ++q) {
+        const Box& tb = bvh.box[q];
+        if (tb.hi[0] < p[0] || tb.lo[1] > p[1] || tb.hi[1] < p[1] || tb.lo[2] > p[2] || tb.hi[2] < p[2]) continue;
+        const uint32_t t = bvh.tri[q];
+        const uint32_t s = topo.triangleShell[t];
+        if (s == a) continue;
+        const int h = rayHits(p, triOf(w, t));
+        if (h < 0) onSurface = true;
+        if (h > 0 && !hits.push_back(s)) return oom("the shell nesting");
+      }
+    }
+    if (onSurface) continue;  // cannot happen for shells that meet no other shell
+    std::sort(hits.begin(), hits.end());
+    for (size_t i = 0; i < hits.size();) {
+      size_t j = i;
+      while (j < hits.size() && hits[j] == hits[i]) ++j;
+      const uint32_t b = hits[i];
+      const bool touches = std::binary_search(touching.begin(), touching.end(), uint64_t(a) << 32 | b);
+      if ((j - i) % 2 == 1 && !touches) {
+        if (!inside.push_back(b)) return oom("the shell nesting");
+        ++insideOff[a + 1];
+      }
+      i = j;
+    }
+  }
+  // depth = the number of shells around; parent = the one of them with the largest depth.
+  for (uint32_t a = 0; a < ns; ++a) {
+    if (!candidate[a]) continue;
+    out.depth[a] = insideOff[a + 1] - insideOff[a];
+  }
+  for (uint32_t a = 0; a < ns; ++a) {
+    if (!candidate[a]) continue;
+    uint32_t best = kInvalid;
+    for (uint32_t i = insideOff[a]; i < insideOff[a + 1]; ++i) {
+      const uint32_t b = inside[i];
+      if (best == kInvalid || out.depth[b] > out.depth[best] || (out.depth[b] == out.depth[best] && b < best)) best = b;
+    }
+    out.parent[a] = best;
+  }
+  return {};
+}
+
+bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found, const Array<Shell>& shells,
+             const ShellNesting& nesting) {
+  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0) return false;
+  if (!found.complete || found.nPairs() != 0) return false;
+  if (shells.size() != nesting.depth.size()) return false;
+  for (size_t s = 0; s < shells.size(); ++s) {
+    if (nesting.depth[s] == kInvalid) return false;
+    const Orientation o = shells[s].orientation();
+    if (o != (nesting.depth[s] % 2 == 0 ? Orientation::Outward : Orientation::Inward)) return false;
+  }
+  return true;
+}
+
+Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options) {
+  out.solid = false;
+  Status s = checkTriangles(mesh, &topo, out.checks);
+  if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
+  if (s.ok()) s = findShellsAndDefects(mesh, topo, &out.shells, nullptr);
+  if (s.ok()) s = findShellNesting(mesh, topo, out.shells, out.intersections, out.nesting);
+  if (s.ok()) out.solid = isSolid(topo, out.checks, out.intersections, out.shells, out.nesting);
+  return s;
+}
+
+}  // namespace stltopo

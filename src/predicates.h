@@ -1,0 +1,67 @@
+// Exact geometric predicates on float32 points (private to the core).
+//
+// Every function returns the exact sign of its determinant: a floating-point filter
+// decides the clear cases, and expansion arithmetic (Shewchuk's two-sum/two-product
+// expansions, written out in predicates.cpp) decides the rest. There is no epsilon
+// anywhere. The inputs are float32 values, which are exact doubles; the filters' error
+// bounds are Shewchuk's for double inputs, and no product of at most three float32
+// differences can underflow or overflow a double, so the bounds hold for every input.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace stltopo::pred {
+
+// The exact signs, for the rare inputs the filters cannot decide.
+int orient2dExact(double ax, double ay, double bx, double by, double cx, double cy);
+int orient3dExact(const float* a, const float* b, const float* c, const float* d);
+
+// Sign of (b - a) x (c - a) in the plane (ax, ay) ...: > 0 when a, b, c turn
+// counter-clockwise.
+inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
+  const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
+  const double det = l - r;
+  const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));  // (3 + 16 eps) eps
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  return orient2dExact(ax, ay, bx, by, cx, cy);
+}
+
+// Sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a): > 0 when d lies on the
+// side the normal of the triangle (a, b, c) points to (counter-clockwise seen from d).
+inline int orient3d(const float* a, const float* b, const float* c, const float* d) {
+  const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
+  const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  const double wx = double(d[0]) - a[0], wy = double(d[1]) - a[1], wz = double(d[2]) - a[2];
+  const double m1 = uy * vz, m2 = uz * vy, m3 = uz * vx, m4 = ux * vz, m5 = ux * vy, m6 = uy * vx;
+  const double det = wx * (m1 - m2) + wy * (m3 - m4) + wz * (m5 - m6);
+  const double perm = std::fabs(wx) * (std::fabs(m1) + std::fabs(m2)) + std::fabs(wy) * (std::fabs(m3) + std::fabs(m4)) +
+                      std::fabs(wz) * (std::fabs(m5) + std::fabs(m6));
+  const double bound = 7.7715611723761027e-16 * perm;  // (7 + 56 eps) eps
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  return orient3dExact(a, b, c, d);
+}
+
+// The same determinant in floating point (not exact), for constructing points.
+inline double orient3dApprox(const float* a, const float* b, const float* c, const float* d) {
+  const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
+  const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  const double wx = double(d[0]) - a[0], wy = double(d[1]) - a[1], wz = double(d[2]) - a[2];
+  return wx * (uy * vz - uz * vy) + wy * (uz * vx - ux * vz) + wz * (ux * vy - uy * vx);
+}
+
+// Coordinate k of the normal (b - a) x (c - a), exactly: the orientation of the
+// triangle projected along axis k onto the coordinates (k + 1, k + 2) mod 3.
+inline int normalSign(const float* a, const float* b, const float* c, int k) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  return orient2d(a[i], a[j], b[i], b[j], c[i], c[j]);
+}
+
+// Whether a, b, c lie on one line (equal points included): (b - a) x (c - a) == 0.
+inline bool collinear(const float* a, const float* b, const float* c) {
+  return normalSign(a, b, c, 0) == 0 && normalSign(a, b, c, 1) == 0 && normalSign(a, b, c, 2) == 0;
+}
+
+}  // namespace stltopo::pred

@@ -1,0 +1,434 @@
+// The exact geometric checks (stltopo/geometry.h): hand-built cases with their expected
+// pairs, and a randomized cross-check against an independent brute force in exact integer
+// arithmetic (separating axes), on small meshes on an integer grid where coincidences
+// (shared corners, collinear and coplanar corners, touching sides) are frequent.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "stl_gen.h"
+#include "stltopo/stltopo.h"
+
+namespace {
+
+using gen::Soup;
+
+struct Result {
+  stltopo::Mesh mesh;
+  stltopo::Topology topo;
+  stltopo::GeometryReport geo;
+};
+
+void analyze(const Soup& soup, Result& r, const stltopo::IntersectionOptions& o = {}) {
+  ASSERT_TRUE(gen::read(gen::binary(soup), r.mesh).ok());
+  stltopo::TopologyOptions to;
+  to.triangleShell = true;
+  ASSERT_TRUE(stltopo::buildTopology(r.mesh, r.topo, to).ok());
+  stltopo::Status s = stltopo::analyzeGeometry(r.mesh, r.topo, r.geo, o);
+  ASSERT_TRUE(s.ok()) << s.message;
+}
+
+// Pairs as "i j kind" strings, ordered.
+std::vector<std::string> pairsOf(const stltopo::Intersections& x) {
+  std::vector<std::string> v;
+  for (size_t i = 0; i < x.nPairs(); ++i)
+    v.push_back(std::to_string(x.pairs[2 * i]) + " " + std::to_string(x.pairs[2 * i + 1]) + " " +
+                stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i])));
+  return v;
+}
+
+Soup cubeSoup(float x, float y, float z, float s, bool inward = false) {
+  Soup c = gen::cube(x, y, z, s);
+  if (inward)
+    for (auto& f : c.f) std::swap(f[1], f[2]);
+  return c;
+}
+
+Soup join(const Soup& a, const Soup& b) {
+  Soup s = a;
+  gen::append(s, b);
+  return s;
+}
+
+Soup tris(const std::vector<std::array<std::array<float, 3>, 3>>& list) {
+  Soup s;
+  for (auto& t : list) {
+    uint32_t base = uint32_t(s.v.size());
+    for (auto& p : t) s.v.push_back(p);
+    s.f.push_back({base, base + 1, base + 2});
+  }
+  return s;
+}
+
+Soup tetra(std::array<float, 3> a, std::array<float, 3> b, std::array<float, 3> c, std::array<float, 3> d) {
+  // (a, b, c) counter-clockwise seen from below, d above: outward faces.
+  Soup s;
+  s.v = {a, b, c, d};
+  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return s;
+}
+
+TEST(Geometry, CleanCubeAndTorusHaveNoPairs) {
+  Result r;
+  analyze(cubeSoup(0, 0, 0, 10), r);
+  EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
+  EXPECT_TRUE(r.geo.intersections.complete);
+  EXPECT_TRUE(r.geo.solid);
+  // A fine torus: every triangle has many neighbours sharing a corner or a side.
+  Result t;
+  analyze(gen::torus(64, 32), t);
+  EXPECT_EQ(t.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(t.geo.checks.zeroArea.size(), 0u);
+  EXPECT_EQ(t.geo.checks.nDuplicateTriangles, 0u);
+  EXPECT_TRUE(t.geo.solid);
+  ASSERT_EQ(t.geo.nesting.depth.size(), 1u);
+  EXPECT_EQ(t.geo.nesting.depth[0], 0u);
+}
+
+TEST(Geometry, OverlappingCubesCross) {
+  Result r;
+  analyze(join(cubeSoup(0, 0, 0, 20), cubeSoup(10, 10, 10, 20)), r);
+  const auto& x = r.geo.intersections;
+  EXPECT_GT(x.nPairs(), 0u);
+  EXPECT_EQ(x.nCrossing + x.nTouching + x.nCoplanar, x.nPairs());
+  EXPECT_GT(x.nCrossing, 0u);
+  for (size_t i = 0; i < x.nPairs(); ++i) EXPECT_NE(x.pairs[2 * i] / 12, x.pairs[2 * i + 1] / 12);  // across the cubes
+  EXPECT_TRUE(r.topo.watertight());
+  EXPECT_FALSE(r.geo.solid);
+  ASSERT_EQ(r.geo.nesting.intersectsOffsets.size(), 3u);
+  EXPECT_EQ(r.geo.nesting.intersectsShells[0], 1u);
+  EXPECT_EQ(r.geo.nesting.depth[0], stltopo::kInvalid);  // overlapping: no nesting
+  // Each point lies in both cubes' boxes.
+  for (size_t i = 0; i < x.nPairs(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(x.points[3 * i + c], 10.0);
+      EXPECT_LE(x.points[3 * i + c], 20.0);
+    }
+}
+
+TEST(Geometry, CavityAndNestedBody) {
+  Result cav;
+  analyze(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10, true)), cav);
+  EXPECT_EQ(cav.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(cav.geo.nesting.parent[1], 0u);
+  EXPECT_EQ(cav.geo.nesting.depth[1], 1u);
+  EXPECT_EQ(cav.geo.nesting.parent[0], stltopo::kInvalid);
+  EXPECT_EQ(cav.geo.shells[1].orientation(), stltopo::Orientation::Inward);
+  EXPECT_TRUE(cav.geo.solid);  // a proper cavity
+  Result nest;
+  analyze(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10)), nest);
+  EXPECT_EQ(nest.geo.nesting.depth[1], 1u);
+  EXPECT_FALSE(nest.geo.solid);  // an outward body inside another: ambiguous
+  // Three levels: a body in the cavity of a body.
+  Result three;
+  analyze(join(join(cubeSoup(0, 0, 0, 30), cubeSoup(5, 5, 5, 20, true)), cubeSoup(10, 10, 10, 10)), three);
+  EXPECT_EQ(three.geo.nesting.parent[2], 1u);
+  EXPECT_EQ(three.geo.nesting.depth[2], 2u);
+  EXPECT_TRUE(three.geo.solid);
+  // Side by side: neither contains the other.
+  Result side;
+  analyze(join(cubeSoup(0, 0, 0, 10), cubeSoup(20, 0, 0, 10)), side);
+  EXPECT_EQ(side.geo.nesting.depth[0], 0u);
+  EXPECT_EQ(side.geo.nesting.depth[1], 0u);
+  EXPECT_TRUE(side.geo.solid);
+}
+
+TEST(Geometry, CubesTouchingAlongAFaceWithOtherDiagonals) {
+  // The second cube's shared face is split along the other diagonal: coplanar overlaps.
+  Soup b = cubeSoup(10, 0, 0, 10);
+  // face x = 10 of cube b is {0, 4, 6, 2} -> triangles (0,4,6), (0,6,2); flip the diagonal.
+  for (auto& f : b.f) {
+    std::set<uint32_t> s(f.begin(), f.end());
+    if (s == std::set<uint32_t>{0, 4, 6}) f = {0, 4, 2};
+    else if (s == std::set<uint32_t>{0, 6, 2}) f = {4, 6, 2};
+  }
+  Result r;
+  analyze(join(cubeSoup(0, 0, 0, 10), b), r);
+  EXPECT_EQ(r.geo.intersections.nCoplanar, 4u);  // each of the two triangles overlaps both
+  EXPECT_FALSE(r.geo.solid);
+}
+
+TEST(Geometry, CornerPushedThroughAFace) {
+  // A tetrahedron whose apex goes through the opposite face of a cube.
+  Result r;
+  analyze(join(cubeSoup(0, 0, 0, 10), tetra({2, 2, 5}, {8, 2, 5}, {5, 8, 5}, {5, 4, 14})), r);
+  EXPECT_GT(r.geo.intersections.nCrossing, 0u);
+}
+
+TEST(Geometry, FoldOverTJunctionNeedleDuplicates) {
+  Result fold;  // across the shared side (0,0,0)-(10,0,0), both on the same side
+  analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{10, 0, 0}, {0, 0, 0}, {3, 3, 0}}}}), fold);
+  EXPECT_EQ(pairsOf(fold.geo.intersections), std::vector<std::string>{"0 1 coplanar"});
+  Result flat;  // the same side, opposite sides: a clean fold
+  analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{10, 0, 0}, {0, 0, 0}, {3, -3, 0}}}}), flat);
+  EXPECT_EQ(flat.geo.intersections.nPairs(), 0u);
+  Result tj;  // a corner on another's side
+  analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{5, 0, 0}, {10, -5, 5}, {5, 0, 10}}}}), tj);
+  EXPECT_EQ(pairsOf(tj.geo.intersections), std::vector<std::string>{"0 1 touching"});
+  Result flatT;  // a T-junction in a flat region: coplanar, sharing only a segment
+  analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{2, 0, 0}, {8, 0, 0}, {5, -3, 0}}}}), flatT);
+  EXPECT_EQ(pairsOf(flatT.geo.intersections), std::vector<std::string>{"0 1 touching"});
+  Result needle;
+  analyze(tris({{{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}}, {{{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}}, {{{0, 0, 0}, {1, 1, 1}, {3, 3, 3}}}}),
+          needle);
+  ASSERT_EQ(needle.geo.checks.zeroArea.size(), 2u);
+  EXPECT_EQ(needle.geo.checks.zeroArea[0], 0u);
+  EXPECT_EQ(needle.geo.checks.zeroArea[1], 2u);
+  EXPECT_EQ(needle.geo.intersections.nPairs(), 0u);  // zero-area triangles are in no pair
+  Result dup;
+  analyze(tris({{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
+                {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
+                {{{5, 5, 5}, {6, 5, 5}, {5, 6, 5}}},
+                {{{5, 5, 5}, {5, 6, 5}, {6, 5, 5}}},
+                {{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}}}),
+          dup);
+  const auto& c = dup.geo.checks;
+  ASSERT_EQ(c.nDuplicateGroups(), 2u);
+  EXPECT_EQ(c.nDuplicateTriangles, 3u);
+  EXPECT_EQ(c.duplicateOrientation[0], uint8_t(stltopo::DuplicateOrientation::Mixed));
+  EXPECT_EQ(c.duplicateOrientation[1], uint8_t(stltopo::DuplicateOrientation::Opposite));
+  EXPECT_EQ(std::vector<uint32_t>(c.duplicateTriangles.begin(), c.duplicateTriangles.end()),
+            (std::vector<uint32_t>{0, 1, 4, 2, 3}));
+  EXPECT_EQ(dup.geo.intersections.nPairs(), 0u);  // members of one group are no pair
+}
+
+TEST(Geometry, InterpenetratingTetrahedra) {
+  Result r;
+  analyze(join(tetra({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}), tetra({1, 1, 1}, {5, 1, 1}, {1, 5, 1}, {1, 1, 5})), r);
+  EXPECT_GT(r.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(r.geo.intersections.nPairs(), r.geo.intersections.nCrossing);
+  EXPECT_FALSE(r.geo.solid);
+}
+
+TEST(Geometry, WorkLimitGivesALowerBound) {
+  // A stack of coplanar overlapping triangles: every pair intersects.
+  Soup s;
+  for (int i = 0; i < 200; ++i) {
+    uint32_t b = uint32_t(s.v.size());
+    s.v.push_back({float(i) * 0.01f, 0, 0});
+    s.v.push_back({10, float(i) * 0.01f + 1, 0});
+    s.v.push_back({0, 10, 0});
+    s.f.push_back({b, b + 1, b + 2});
+  }
+  Result full;
+  analyze(s, full);
+  EXPECT_TRUE(full.geo.intersections.complete);
+  EXPECT_EQ(full.geo.intersections.nPairs(), 200u * 199 / 2);
+  stltopo::IntersectionOptions o;
+  o.maxPairs = 1000;
+  Result cut;
+  analyze(s, cut, o);
+  EXPECT_FALSE(cut.geo.intersections.complete);
+  EXPECT_EQ(cut.geo.intersections.nPairs(), 1000u);
+  EXPECT_FALSE(cut.geo.solid);
+  // Cancelling through the progress callback.
+  stltopo::IntersectionOptions stop;
+  stop.progress = [](void*, double) { return false; };
+  stltopo::Intersections x;
+  EXPECT_EQ(stltopo::findIntersections(full.mesh, full.topo, full.geo.checks, x, stop).code, stltopo::Code::Aborted);
+}
+
+// ---------------------------------------------------------------------------
+// The independent brute force: integer points, separating axes, no shared code.
+
+using P = std::array<int64_t, 3>;
+P sub(P a, P b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+P cross(P a, P b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+int64_t dot(P a, P b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+bool isZero(P a) { return a[0] == 0 && a[1] == 0 && a[2] == 0; }
+
+// Whether the convex hulls of two point sets are disjoint: some axis separates them
+// strictly (strict = false: the open interiors, touching allowed).
+bool separated(const std::vector<P>& a, const std::vector<P>& b, const std::vector<P>& axes, bool strict) {
+  for (const P& ax : axes) {
+    if (isZero(ax)) continue;
+    int64_t amin = INT64_MAX, amax = INT64_MIN, bmin = INT64_MAX, bmax = INT64_MIN;
+    for (const P& p : a) amin = std::min(amin, dot(p, ax)), amax = std::max(amax, dot(p, ax));
+    for (const P& p : b) bmin = std::min(bmin, dot(p, ax)), bmax = std::max(bmax, dot(p, ax));
+    if (strict ? (amax < bmin || bmax < amin) : (amax <= bmin || bmax <= amin)) return true;
+  }
+  return false;
+}
+
+std::vector<P> edgesOf(const std::vector<P>& poly) {
+  std::vector<P> e;
+  for (size_t i = 0; i < poly.size(); ++i) e.push_back(sub(poly[(i + 1) % poly.size()], poly[i]));
+  if (poly.size() == 2) e.resize(1);
+  return e;
+}
+
+// Closed convex polygons (triangles or segments) in 3D: do they meet?
+bool meet(const std::vector<P>& a, const std::vector<P>& b) {
+  std::vector<P> axes;
+  auto ea = edgesOf(a), eb = edgesOf(b);
+  P na = a.size() == 3 ? cross(ea[0], sub(a[2], a[0])) : P{0, 0, 0};
+  P nb = b.size() == 3 ? cross(eb[0], sub(b[2], b[0])) : P{0, 0, 0};
+  axes.push_back(na);
+  axes.push_back(nb);
+  for (const P& x : ea)
+    for (const P& y : eb) axes.push_back(cross(x, y));
+  for (const P& x : ea) axes.push_back(cross(na, x)), axes.push_back(cross(nb, x));
+  for (const P& y : eb) axes.push_back(cross(nb, y)), axes.push_back(cross(na, y));
+  // Segment vs segment (none here) would need more; segments always meet a triangle here.
+  return !separated(a, b, axes, true);
+}
+
+struct Brute {
+  std::vector<uint32_t> zeroArea;
+  std::vector<std::vector<uint32_t>> groups;  // duplicate groups of 2+, by lowest member
+  std::set<std::tuple<uint32_t, uint32_t, std::string>> pairs;
+};
+
+Brute brute(const std::vector<std::array<P, 3>>& t) {
+  Brute r;
+  const size_t n = t.size();
+  std::vector<bool> skip(n);
+  std::map<std::set<P>, uint32_t> firstOfSet;
+  std::vector<int64_t> group(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    const auto& x = t[i];
+    if (x[0] == x[1] || x[1] == x[2] || x[0] == x[2]) { skip[i] = true; continue; }
+    if (isZero(cross(sub(x[1], x[0]), sub(x[2], x[0])))) skip[i] = true, r.zeroArea.push_back(uint32_t(i));
+    std::set<P> key(x.begin(), x.end());
+    auto it = firstOfSet.emplace(key, uint32_t(i)).first;
+    group[i] = it->second;
+  }
+  std::map<uint32_t, std::vector<uint32_t>> byFirst;
+  for (size_t i = 0; i < n; ++i)
+    if (group[i] >= 0) byFirst[uint32_t(group[i])].push_back(uint32_t(i));
+  for (auto& [first, members] : byFirst)
+    if (members.size() > 1) r.groups.push_back(members);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (skip[i] || skip[j] || group[i] == group[j]) continue;
+      const auto &a = t[i], &b = t[j];
+      std::vector<P> va(a.begin(), a.end()), vb(b.begin(), b.end());
+      std::vector<int> sa, sb;
+      for (int u = 0; u < 3; ++u)
+        for (int v = 0; v < 3; ++v)
+          if (a[u] == b[v]) sa.push_back(u), sb.push_back(v);
+      bool hit;
+      P na = cross(sub(a[1], a[0]), sub(a[2], a[0]));
+      if (sa.empty()) {
+        hit = meet(va, vb);
+      } else if (sa.size() == 1) {
+        std::vector<P> oa = {a[(sa[0] + 1) % 3], a[(sa[0] + 2) % 3]}, ob = {b[(sb[0] + 1) % 3], b[(sb[0] + 2) % 3]};
+        hit = meet(oa, vb) || meet(ob, va);
+      } else {
+        const P& p = a[sa[0]];
+        const P& q = a[sa[1]];
+        const P& c = a[3 - sa[0] - sa[1]];
+        const P& d = b[3 - sb[0] - sb[1]];
+        hit = dot(na, sub(d, p)) == 0 && dot(cross(sub(q, p), sub(c, p)), cross(sub(q, p), sub(d, p))) > 0;
+      }
+      if (!hit) continue;
+      P nb = cross(sub(b[1], b[0]), sub(b[2], b[0]));
+      auto sides = [](const P& n, const P& o, const std::array<P, 3>& pts, int& pos, int& neg) {
+        pos = neg = 0;
+        for (const P& x : pts) {
+          int64_t d = dot(n, sub(x, o));
+          pos += d > 0;
+          neg += d < 0;
+        }
+      };
+      int bp, bn, ap, an;
+      sides(na, a[0], b, bp, bn);
+      sides(nb, b[0], a, ap, an);
+      std::string kind;
+      if (bp == 0 && bn == 0) {
+        std::vector<P> axes;
+        for (const P& e : edgesOf(va)) axes.push_back(cross(na, e));
+        for (const P& e : edgesOf(vb)) axes.push_back(cross(na, e));
+        kind = separated(va, vb, axes, false) ? "touching" : "coplanar";
+      } else {
+        kind = (ap && an && bp && bn) ? "crossing" : "touching";
+      }
+      r.pairs.insert({uint32_t(i), uint32_t(j), kind});
+    }
+  return r;
+}
+
+TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
+  std::mt19937 rng(12345);
+  int withPairs = 0, total = 0;
+  size_t dupGroups = 0;
+  std::map<std::string, int> kinds;
+  for (int round = 0; round < 3000; ++round) {
+    const int grid = 2 + int(rng() % 4);  // coordinates 0..grid
+    const int poolSize = 4 + int(rng() % 6);
+    std::vector<P> pool;
+    for (int i = 0; i < poolSize; ++i)
+      pool.push_back({int64_t(rng() % (grid + 1)), int64_t(rng() % (grid + 1)), int64_t(rng() % (grid + 1))});
+    const int nt = 2 + int(rng() % 7);
+    std::vector<std::array<P, 3>> t;
+    Soup soup;
+    for (int i = 0; i < nt; ++i) {
+      std::array<P, 3> x;
+      for (auto& c : x) c = pool[rng() % pool.size()];
+      t.push_back(x);
+      uint32_t b = uint32_t(soup.v.size());
+      for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
+      soup.f.push_back({b, b + 1, b + 2});
+    }
+    Brute want = brute(t);
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+    stltopo::Topology topo;
+    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+    stltopo::TriangleChecks checks;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
+    stltopo::Intersections x;
+    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
+    std::set<std::tuple<uint32_t, uint32_t, std::string>> got;
+    for (size_t i = 0; i < x.nPairs(); ++i)
+      got.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    ASSERT_EQ(std::vector<uint32_t>(checks.zeroArea.begin(), checks.zeroArea.end()), want.zeroArea) << "round " << round;
+    ASSERT_EQ(got, want.pairs) << "round " << round;
+    std::vector<std::vector<uint32_t>> groups;
+    for (uint32_t g = 0; g < checks.nDuplicateGroups(); ++g)
+      groups.emplace_back(checks.duplicateTriangles.data() + checks.duplicateOffsets[g],
+                          checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
+    ASSERT_EQ(groups, want.groups) << "round " << round;
+    dupGroups += groups.size();
+    ++total;
+    withPairs += !got.empty();
+    for (auto& p : got) ++kinds[std::get<2>(p)];
+  }
+  // The cases must exercise every kind, often.
+  EXPECT_GT(withPairs, total / 4);
+  EXPECT_GT(kinds["crossing"], 100);
+  EXPECT_GT(kinds["touching"], 100);
+  EXPECT_GT(kinds["coplanar"], 100);
+  EXPECT_GT(dupGroups, 100u);
+}
+
+// The exact predicates where floating point alone fails: coordinates far apart in scale.
+TEST(Geometry, PredicatesAreExactAcrossScales) {
+  // A triangle in the plane z = 0 with huge coordinates, and a point 2^-20 above it
+  // next to a huge corner: the naive double determinant loses it.
+  Result r;
+  analyze(tris({{{{1e7f, 1e7f, 0}, {-1e7f, 1e7f, 0}, {0, -1e7f, 0}}},
+                {{{0.5f, 0.5f, 0x1p-20f}, {0.5f, 0.75f, 5}, {0.75f, 0.5f, 5}}},  // above: no hit
+                {{{0.5f, 0.5f, -0x1p-20f}, {0.5f, 0.75f, 5}, {0.75f, 0.5f, 5}}}}),  // through
+          r);
+  bool zeroTwo = false, zeroOne = false;
+  for (const std::string& p : pairsOf(r.geo.intersections)) {
+    zeroOne |= p.rfind("0 1 ", 0) == 0;
+    zeroTwo |= p == "0 2 crossing";
+  }
+  EXPECT_FALSE(zeroOne);
+  EXPECT_TRUE(zeroTwo);
+  // Collinear corners far from the origin (exactly collinear in float32) vs nearly.
+  Result c;
+  analyze(tris({{{{16777216.f, 1, 1}, {16777218.f, 2, 2}, {16777220.f, 3, 3}}},
+                {{{16777216.f, 1, 1}, {16777218.f, 2, 2}, {16777220.f, 3, 3.0000002f}}}}),
+          c);
+  ASSERT_EQ(c.geo.checks.zeroArea.size(), 1u);
+  EXPECT_EQ(c.geo.checks.zeroArea[0], 0u);
+}
+
+}  // namespace
