@@ -1,26 +1,45 @@
 #!/usr/bin/env python3
 """An independent check of the CGAL judge on the hand-built cases: the definitions of issue 21
 in plain Python over exact rationals (fractions.Fraction), with a separating-axis test instead
-of CGAL's predicates. Reads ASCII STL only (the cases), welds by exact equality, and prints the
-judge's output format (without "seconds"). Slow: for the small cases only.
+of CGAL's predicates. Reads binary or ASCII STL, welds by exact equality, and prints the
+judge's output format (without "seconds"). Slow: for small meshes only (a few thousand triangles).
 usage: brute.py FILE.stl [--counts]"""
+import struct
 import sys
 from fractions import Fraction
 
 
-def read_ascii(path):
-    pts, ids, tris, cur = [], {}, [], []
-    for line in open(path):
+def f32(x):
+    """The float32 value of x, exactly (a decimal goes through float64 first: fine for the cases,
+    whose decimals are exact, and for all but rare ties elsewhere)."""
+    return Fraction(struct.unpack('<f', struct.pack('<f', float(x)))[0])
+
+
+def corners(path):
+    data = open(path, 'rb').read()
+    if len(data) >= 84 and 84 + 50 * struct.unpack_from('<I', data, 80)[0] == len(data):
+        for t in range(struct.unpack_from('<I', data, 80)[0]):
+            v = struct.unpack_from('<12f', data, 84 + 50 * t)
+            for k in range(3):
+                yield tuple(Fraction(c) for c in v[3 + 3 * k:6 + 3 * k])
+        return
+    for line in data.decode('latin-1').splitlines():
         w = line.split()
         if w and w[0] == 'vertex':
-            p = tuple(Fraction(x) for x in w[1:4])
-            if p not in ids:
-                ids[p] = len(pts)
-                pts.append(p)
-            cur.append(ids[p])
-            if len(cur) == 3:
-                tris.append(tuple(cur))
-                cur = []
+            yield tuple(f32(x) for x in w[1:4])
+
+
+def read_stl(path):
+    """Binary or ASCII STL, welded by exact equality (-0 == +0, as stltopo does)."""
+    pts, ids, tris, cur = [], {}, [], []
+    for p in corners(path):
+        if p not in ids:
+            ids[p] = len(pts)
+            pts.append(p)
+        cur.append(ids[p])
+        if len(cur) == 3:
+            tris.append(tuple(cur))
+            cur = []
     return pts, tris
 
 
@@ -131,7 +150,7 @@ def judge(pts, tris):
 
 
 if __name__ == '__main__':
-    pts, tris = read_ascii(sys.argv[1])
+    pts, tris = read_stl(sys.argv[1])
     zero, dup, pairs = judge(pts, tris)
     kinds = {k: sum(1 for p in pairs if p[2] == k) for k in ('crossing', 'touching', 'coplanar')}
     if '--counts' in sys.argv:
