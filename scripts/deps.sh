@@ -9,7 +9,7 @@ need=()
 want() { dpkg -s "$1" >/dev/null 2>&1 || need+=("$1"); }
 for group in "$@"; do
   case "$group" in
-    native) want cmake; want g++; want make; want libgtest-dev; want pkg-config ;;
+    native) want cmake; want g++; want make; want libgtest-dev; want pkg-config; want libcgal-dev ;;
     wasm) want emscripten; want nodejs ;;
     browser) want chromium ;;
     bench) want admesh; want libbenchmark-dev ;;
