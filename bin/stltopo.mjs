@@ -12,12 +12,14 @@ import { DEFAULTS } from '../dist/options.js';
 const _internal = api.internal;
 
 const USAGE =
-  "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--no-topology] [--tolerance D]\n" +
-  "                    [--max-triangles N] [--max-bytes N] FILE...\n" +
+  "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
+  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
+  "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
+  "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
@@ -86,7 +88,8 @@ async function main(argv) {
 
   const a = {
     json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
-    maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, files: [],
+    maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, intersections: false,
+    maxPairs: DEFAULTS.maxPairs, files: [],
   };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
@@ -103,6 +106,14 @@ async function main(argv) {
     else if (!endOfOptions && s === '--no-topology') a.topology = false;
     else if (!endOfOptions && s === '--shells') a.shells = true;
     else if (!endOfOptions && s === '--defects') a.defects = true;
+    else if (!endOfOptions && s === '--intersections') a.intersections = true;
+    else if (!endOfOptions && s === '--max-pairs') {
+      const v = value('--max-pairs');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n === 0n || n > 2n ** 40n) return usageError(`stltopo: bad --max-pairs '${v}'\n`);
+      a.maxPairs = Number(n);
+    }
     else if (!endOfOptions && s === '--max-defects') {
       const v = value('--max-defects');
       if (v === null) return;
@@ -135,14 +146,15 @@ async function main(argv) {
     }
   }
   if (a.files.length === 0) return usageError(`stltopo: no input files\n${USAGE}`);
-  if (!a.topology && (a.shells || a.defects)) {
-    return usageError('stltopo: --shells and --defects need the topology (not --no-topology)\n');
+  if (!a.topology && (a.shells || a.defects || a.intersections)) {
+    return usageError('stltopo: --shells, --defects and --intersections need the topology (not --no-topology)\n');
   }
 
   let rc = 0;
   for (const file of a.files) {
     const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles,
-      maxBytes: a.maxBytes, shells: a.shells, defects: a.defects, maxDefects: a.maxDefects };
+      maxBytes: a.maxBytes, shells: a.shells, defects: a.defects, maxDefects: a.maxDefects,
+      intersections: a.intersections, maxPairs: a.maxPairs };
     let r;
     if (file === '-') {
       r = await _internal.report(stdinSource(), opts);

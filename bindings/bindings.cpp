@@ -61,6 +61,29 @@ using stltopo::Status;
 //            (web/src/mesh.js deriveArray) and not built by the core for them (prevAndFace);
 //   doc      one line for index.d.ts and docs/JS-API.md (scripts/gen-api-docs.mjs writes them).
 // A new array is one line here, then `node scripts/gen-api-docs.mjs`.
+// The exact geometry's arrays (mesh.intersections), in the full module only: the core module
+// never computes them, and its table (a smaller download) leaves them out.
+#if STLTOPO_WASM_CORE
+#define STLTOPO_JS_GEOMETRY_ARRAYS(X)
+#else
+#define STLTOPO_JS_GEOMETRY_ARRAYS(X)                                                                              \
+  X(zeroArea, TriangleChecks, "intersections", "zeroAreaTriangles", "zero-area triangle", 1, "intersections", kCopied, \
+    "The zero-area triangles (three distinct, exactly collinear corners), ascending.")                               \
+  X(duplicateOffsets, TriangleChecks, "intersections", "duplicateOffsets", "duplicate group+1", 1, "intersections",   \
+    kCopied, "Duplicate group g is duplicateTriangles[offsets[g] .. offsets[g+1]).")                                  \
+  X(duplicateTriangles, TriangleChecks, "intersections", "duplicateTriangles", "group entry", 1, "intersections",     \
+    kCopied, "The members of every duplicate group, ascending; groups by lowest member.")                            \
+  X(duplicateOrientation, TriangleChecks, "intersections", "duplicateOrientation", "duplicate group", 1,              \
+    "intersections", kCopied, "Per group: 0 same, 1 opposite, 2 mixed (DuplicateOrientation).")                     \
+  X(pairs, Intersections, "intersections", "pairs", "pair", 2, "intersections", kCopied,                              \
+    "Intersecting pair i is triangles [2i] < [2i+1]; ordered by (i, j).")                                           \
+  X(kinds, Intersections, "intersections", "kinds", "pair", 1, "intersections", kCopied,                              \
+    "Per pair: 0 crossing, 1 touching, 2 coplanar (IntersectionKind).")                                              \
+  X(points, Intersections, "intersections", "points", "pair", 3, "intersections", kCopied,                            \
+    "Per pair: x,y,z of one point of the intersection (float64, for framing a camera).")                            \
+  X(triangleIntersects, Intersections, "intersections", "triangleIntersects", "triangle", 1, "intersections",         \
+    kCopied, "Per triangle: 1 when it is in an intersecting pair.")
+#endif
 #define STLTOPO_JS_ARRAYS(X)                                                                                        \
   X(positions, Mesh, "", "positions", "vertex", 3, "mesh", 0, "x,y,z of vertex v at 3v..3v+2.")                     \
   X(triangles, Mesh, "", "triangles", "triangle", 3, "mesh", 0, "Vertex ids of corner c of triangle t at 3t+c.")      \
@@ -114,6 +137,7 @@ using stltopo::Status;
   X(degenerateCorners, Defects, "defects", "degenerateCorners", "degenerate triangle", 1, "shells", kCopied,          \
     "Corners that weld: bit 0 corners 0,1; bit 1 corners 1,2; bit 2 corners 2,0 (7: all three).")                    \
   X(loopShell, Defects, "defects", "loopShell", "loop", 1, "shells", kCopied, "Per boundary loop h: its shell.")                                          \
+  STLTOPO_JS_GEOMETRY_ARRAYS(X)                                                                                       \
   X(inputVertexMap, Indexed, "", "inputVertexMap", "input vertex", 1, "indexed", kCopied,                             \
     "fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it).")
 
@@ -135,8 +159,15 @@ struct JsArray {
   int flags;
   const char *type, *doc;
 };
+// The core module (the smaller download) leaves out the doc lines: only
+// scripts/gen-api-docs.mjs reads them, from the full module.
+#if STLTOPO_WASM_CORE
+#define STLTOPO_DOC(doc) ""
+#else
+#define STLTOPO_DOC(doc) doc
+#endif
 #define STLTOPO_ROW(name, part, group, key, element, width, when, flags, doc) \
-  {#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, doc},
+  {#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, STLTOPO_DOC(doc)},
 constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
 #undef STLTOPO_ROW
 
@@ -226,6 +257,7 @@ class Session {
     o.set("nTriangles", val(mesh_.nTriangles()));
     o.set("hasTopology", val(hasTopology_));
     o.set("hasShells", val(hasShells_));
+    o.set("hasIntersections", val(hasIntersections_));
     o.set("hasNormals", val(!mesh_.normals.empty() || (options_.keepNormals && mesh_.nTriangles() == 0)));
     o.set("indexed", val(indexed_));
     val solids = val::array();
@@ -279,7 +311,7 @@ class Session {
   // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
   std::string shellListJson() const {
     if (!hasShells_) return "null";
-    std::string j = stltopo::shellListJson(shells_);
+    std::string j = stltopo::shellListJson(shells_, hasIntersections_ ? &nesting_ : nullptr);
     return j.substr(j.find('['));
   }
 #endif
@@ -404,6 +436,22 @@ class Session {
     return stltopo::splitLineJson(file, shells_[size_t(k)], uint32_t(k));
   }
 
+  // The exact geometry of a load with shells (stltopo::analyzeGeometry's steps): the
+  // triangle checks, the intersections (work limit maxPairs), the shells' nesting and
+  // `solid`; the report then has their keys. Null or the failure's status.
+  val intersect(double maxPairs) {
+    if (!hasShells_) return remember(Status::error(Code::InvalidArgument, "intersections need a load with shells"));
+    stltopo::IntersectionOptions o;
+    if (maxPairs >= 1 && maxPairs <= 1099511627776.0) o.maxPairs = uint64_t(maxPairs);
+    Status s = stltopo::checkTriangles(mesh_, &topo_, checks_);
+    if (s.ok()) s = stltopo::findIntersections(mesh_, topo_, checks_, intersections_, o);
+    if (s.ok()) s = stltopo::findShellNesting(mesh_, topo_, shells_, intersections_, nesting_);
+    if (!s.ok()) return remember(s);
+    solid_ = stltopo::isSolid(topo_, checks_, intersections_, shells_, nesting_);
+    hasIntersections_ = true;
+    return val::null();
+  }
+
   // The next chunk of the file: a borrowed Uint8Array view (valid until the next call into
   // wasm), null at the end (the writer is freed), or a status object on error.
   val writeNext() {
@@ -432,6 +480,12 @@ class Session {
     e.shells = shells && hasShells_ ? &shells_ : nullptr;
     e.defects = defects && hasShells_ ? &defects_ : nullptr;
     e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
+    if (hasIntersections_) {
+      e.checks = &checks_;
+      e.intersections = &intersections_;
+      e.nesting = &nesting_;
+      e.solid = solid_;
+    }
     return e;
   }
 #endif
@@ -470,6 +524,8 @@ class Session {
   stltopo::Topology& part(stltopo::Topology*) { return topo_; }
   stltopo::Defects& part(stltopo::Defects*) { return defects_; }
   stltopo::Indexed& part(stltopo::Indexed*) { return indexedArrays_; }
+  stltopo::TriangleChecks& part(stltopo::TriangleChecks*) { return checks_; }
+  stltopo::Intersections& part(stltopo::Intersections*) { return intersections_; }
 
   template <class F>
   void withArray(const std::string& n, F&& f) {
@@ -492,6 +548,11 @@ class Session {
   bool hasShells_ = false;
   bool indexed_ = false;
   stltopo::Indexed indexedArrays_;
+  stltopo::TriangleChecks checks_;
+  stltopo::Intersections intersections_;
+  stltopo::ShellNesting nesting_;
+  bool solid_ = false;
+  bool hasIntersections_ = false;
 #if !STLTOPO_WASM_CORE
   stltopo::StlWriter* writer_ = nullptr;
   stltopo::Mesh part_;                  // the shell selectShell() extracted
@@ -542,6 +603,7 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("shellListJson", &Session::shellListJson)
       .function("selectShell", &Session::selectShell)
       .function("splitLine", &Session::splitLine)
+      .function("intersect", &Session::intersect)
       .function("fromIndexed", &Session::fromIndexed)
       .function("writeBegin", &Session::writeBegin)
       .function("writeNext", &Session::writeNext)

@@ -91,7 +91,8 @@ function replaceBlock(file, lines, open, close) {
   return true;
 }
 
-const { layout } = await api.internal.getModule();
+// The full module: the core one carries the table without its doc lines and geometry rows.
+const { layout } = await api.internal.getFull();
 const ok = [
   replaceBlock('web/src/index.d.ts', dtsBlock(layout), 'BEGIN arrays', 'END arrays'),
   replaceBlock('docs/JS-API.md', mdBlock(layout), 'BEGIN arrays', 'END arrays'),

@@ -156,6 +156,9 @@ struct ExtrasWriter {
   const ReportExtras& extras;
   void (*json)(Json& j, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
   void (*text)(std::string& out, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+  // The intersection keys / line, when extras.intersections is given.
+  void (*geometryJson)(Json& j, const ReportExtras& extras);
+  void (*geometryText)(std::string& out, const ReportExtras& extras);
 };
 std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
 std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);

@@ -6,62 +6,18 @@
 #include <algorithm>
 #include <cstring>
 
+#include "geometry_detail.h"
 #include "predicates.h"
 #include "stltopo/geometry.h"
 
 namespace stltopo {
+using geometry_detail::checkWeld;
+using geometry_detail::oom;
+using geometry_detail::Welded;
+
 namespace {
 
-Status oom(const char* what) { return Status::error(Code::OutOfMemory, std::string("could not allocate ") + what); }
-
-// The welded corners of a mesh: the topology's representatives, or the mesh's own ids.
-struct Welded {
-  const Mesh& mesh;
-  const uint32_t* weld;  // null: identity
-  uint32_t v(uint32_t t, int c) const {
-    uint32_t id = mesh.triangles[3 * size_t(t) + size_t(c)];
-    return weld ? weld[id] : id;
-  }
-  const float* p(uint32_t vertex) const { return mesh.positions.data() + 3 * size_t(vertex); }
-};
-
-Status checkWeld(const Mesh& mesh, const Topology* topo) {
-  if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
-               topo->vertexWeld.size() != mesh.nVertices()))
-    return Status::error(Code::InvalidArgument, "the topology was not built from this mesh");
-  return {};
-}
-
-uint64_t mix(uint64_t x) {
-  x ^= x >> 33;
-  x *= 0xff51afd7ed558ccdull;
-  x ^= x >> 33;
-  x *= 0xc4ceb9fe1a85ec53ull;
-  x ^= x >> 33;
-  return x;
-}
-
-void sort3(uint32_t& a, uint32_t& b, uint32_t& c) {
-  if (a > b) std::swap(a, b);
-  if (b > c) std::swap(b, c);
-  if (a > b) std::swap(a, b);
-}
-
-// Whether (a, b, c) is a rotation of (x, y, z) (same set assumed).
-bool sameWinding(uint32_t a, uint32_t b, uint32_t c, uint32_t x, uint32_t y, uint32_t z) {
-  return (a == x && b == y && c == z) || (a == y && b == z && c == x) || (a == z && b == x && c == y);
-}
-
 }  // namespace
-
-const char* duplicateOrientationName(DuplicateOrientation o) {
-  switch (o) {
-    case DuplicateOrientation::Same: return "same";
-    case DuplicateOrientation::Opposite: return "opposite";
-    case DuplicateOrientation::Mixed: return "mixed";
-  }
-  return "unknown";
-}
 
 const char* intersectionKindName(IntersectionKind k) {
   switch (k) {
@@ -70,85 +26,6 @@ const char* intersectionKindName(IntersectionKind k) {
     case IntersectionKind::Coplanar: return "coplanar";
   }
   return "unknown";
-}
-
-// ---------------------------------------------------------------------------
-// Zero-area and duplicate triangles.
-
-Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out) {
-  out = TriangleChecks{};
-  if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
-  const Welded w{mesh, topo ? topo->vertexWeld.data() : nullptr};
-  const uint32_t nt = mesh.nTriangles();
-  // Pass 1: zero-area triangles, and each valid triangle into an open-addressed table
-  // keyed by its sorted corners; rep[t] = the lowest triangle with t's corner set.
-  Array<uint32_t> rep;
-  size_t cap = 16;
-  while (cap < 2 * size_t(nt)) cap *= 2;
-  Array<uint32_t> table;
-  if (!rep.resize(nt) || !table.assign(cap, kInvalid)) return oom("the duplicate-triangle table");
-  const size_t mask = cap - 1;
-  uint32_t dupMembers = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
-    rep[t] = kInvalid;
-    if (a == b || b == c || a == c) continue;  // degenerate
-    if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !out.zeroArea.push_back(t)) return oom("the zero-area list");
-    sort3(a, b, c);
-    size_t h = mix((uint64_t(a) << 32 | b) ^ mix(c)) & mask;
-    for (;; h = (h + 1) & mask) {
-      uint32_t u = table[h];
-      if (u == kInvalid) {
-        table[h] = t;
-        rep[t] = t;
-        break;
-      }
-      uint32_t x = w.v(u, 0), y = w.v(u, 1), z = w.v(u, 2);
-      sort3(x, y, z);
-      if (x == a && y == b && z == c) {
-        rep[t] = u;
-        ++dupMembers;
-        break;
-      }
-    }
-  }
-  table.release();
-  if (dupMembers == 0) {
-    if (!out.duplicateOffsets.push_back(0)) return oom("the duplicate groups");
-    return {};
-  }
-  // Pass 2: the groups, ordered by their lowest triangle (= rep), members ascending.
-  Array<uint32_t> slot;  // per representative that has other members: its group
-  if (!slot.assign(nt, kInvalid)) return oom("the duplicate groups");
-  constexpr uint32_t kHasMembers = kInvalid - 1;
-  for (uint32_t t = 0; t < nt; ++t)
-    if (rep[t] != kInvalid && rep[t] != t) slot[rep[t]] = kHasMembers;
-  uint32_t groups = 0;
-  for (uint32_t t = 0; t < nt; ++t)
-    if (slot[t] == kHasMembers) slot[t] = groups++;
-  Array<uint32_t>& offsets = out.duplicateOffsets;
-  if (!offsets.assign(size_t(groups) + 1, 0) || !out.duplicateTriangles.resize(size_t(groups) + dupMembers) ||
-      !out.duplicateOrientation.assign(groups, uint8_t(DuplicateOrientation::Same)))
-    return oom("the duplicate groups");
-  for (uint32_t t = 0; t < nt; ++t)
-    if (rep[t] != kInvalid && slot[rep[t]] != kInvalid) ++offsets[slot[rep[t]] + 1];
-  for (uint32_t g = 0; g < groups; ++g) offsets[g + 1] += offsets[g];
-  Array<uint32_t> fill;
-  if (!fill.resize(groups)) return oom("the duplicate groups");
-  for (uint32_t g = 0; g < groups; ++g) fill[g] = offsets[g];
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (rep[t] == kInvalid || slot[rep[t]] == kInvalid) continue;
-    uint32_t g = slot[rep[t]];
-    out.duplicateTriangles[fill[g]++] = t;
-    uint32_t r = rep[t];
-    if (!sameWinding(w.v(t, 0), w.v(t, 1), w.v(t, 2), w.v(r, 0), w.v(r, 1), w.v(r, 2)))
-      out.duplicateOrientation[g] = uint8_t(DuplicateOrientation::Opposite);
-  }
-  for (uint32_t g = 0; g < groups; ++g)
-    if (out.duplicateOrientation[g] != uint8_t(DuplicateOrientation::Same) && offsets[g + 1] - offsets[g] > 2)
-      out.duplicateOrientation[g] = uint8_t(DuplicateOrientation::Mixed);
-  out.nDuplicateTriangles = dupMembers;
-  return {};
 }
 
 // ---------------------------------------------------------------------------

@@ -171,25 +171,15 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     }
     j.key("watertight"); j.b(t.watertight());
     j.key("manifold"); j.b(t.manifold());
-    const Intersections* x = extras ? extras->extras.intersections : nullptr;
-    j.key("selfIntersections");
-    if (x) j.u(x->nPairs()); else j.null();
-    j.key("intersectionKinds");
-    if (x) {
-      j.open('{');
-      j.key("crossing"); j.u(x->nCrossing);
-      j.key("touching"); j.u(x->nTouching);
-      j.key("coplanar"); j.u(x->nCoplanar);
-      j.close('}');
+    // The geometry keys: null here; the extras' writer (the full module) fills them in.
+    if (extras && extras->extras.intersections) {
+      extras->geometryJson(j, extras->extras);
     } else {
-      j.null();
+      for (const char* k : {"selfIntersections", "intersectionKinds", "intersectingTriangles", "intersectionsComplete", "solid"}) {
+        j.key(k);
+        j.null();
+      }
     }
-    j.key("intersectingTriangles");
-    if (x) j.u(x->nIntersectingTriangles); else j.null();
-    j.key("intersectionsComplete");
-    if (x) j.b(x->complete); else j.null();
-    j.key("solid");
-    if (x) j.b(extras->extras.solid && x->complete); else j.null();
     if (extras) extras->json(j, mesh, t, extras->extras);
   }
   j.close('}');
@@ -227,11 +217,7 @@ std::string detail::infoTextWith(const std::string& file, const Mesh& m, const T
     if (checks)
       appendf(o, "  zero-area triangles %zu, duplicate triangles %u\n", checks->zeroArea.size(),
               checks->nDuplicateTriangles);
-    if (const Intersections* x = extras ? extras->extras.intersections : nullptr)
-      appendf(o, "  self-intersections %s%llu (crossing %llu, touching %llu, coplanar %llu) over %u triangles, solid %s\n",
-              x->complete ? "" : "at least ", (unsigned long long)x->nPairs(), (unsigned long long)x->nCrossing,
-              (unsigned long long)x->nTouching, (unsigned long long)x->nCoplanar, x->nIntersectingTriangles,
-              extras->extras.solid && x->complete ? "yes" : "no");
+    if (extras && extras->extras.intersections) extras->geometryText(o, extras->extras);
     if (extras) extras->text(o, m, *t, extras->extras);
   }
   for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());

@@ -160,9 +160,9 @@ std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t 
   return j.s;
 }
 
-std::string shellListJson(const Array<Shell>& shells) {
+std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nesting) {
   Json j;
-  detail::writeShellList(j, shells);
+  detail::writeShellList(j, shells, nesting);
   return j.s;
 }
 
@@ -401,15 +401,37 @@ void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const Repor
   }
 }
 
+void geometryJson(Json& j, const ReportExtras& e) {
+  const Intersections& x = *e.intersections;
+  j.key("selfIntersections"); j.u(x.nPairs());
+  j.key("intersectionKinds");
+  j.open('{');
+  j.key("crossing"); j.u(x.nCrossing);
+  j.key("touching"); j.u(x.nTouching);
+  j.key("coplanar"); j.u(x.nCoplanar);
+  j.close('}');
+  j.key("intersectingTriangles"); j.u(x.nIntersectingTriangles);
+  j.key("intersectionsComplete"); j.b(x.complete);
+  j.key("solid"); j.b(e.solid && x.complete);
+}
+
+void geometryText(std::string& o, const ReportExtras& e) {
+  const Intersections& x = *e.intersections;
+  appendf(o, "  self-intersections %s%llu (crossing %llu, touching %llu, coplanar %llu) over %u triangles, solid %s\n",
+          x.complete ? "" : "at least ", (unsigned long long)x.nPairs(), (unsigned long long)x.nCrossing,
+          (unsigned long long)x.nTouching, (unsigned long long)x.nCoplanar, x.nIntersectingTriangles,
+          e.solid && x.complete ? "yes" : "no");
+}
+
 }  // namespace
 
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText};
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
   return detail::infoJsonWith(file, mesh, topo, &w);
 }
 
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText};
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
   return detail::infoTextWith(file, mesh, topo, &w);
 }
 

@@ -114,7 +114,10 @@ std::string shellJson(const Shell& shell, uint32_t id);
 // The line `stltopo split` prints for each file it writes: {"file":FILE,"shell":{...}}.
 std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t id);
 // `"shellList":[{...},...]`: one object per shell, in shell order.
-std::string shellListJson(const Array<Shell>& shells);
+// With `nesting` (findShellNesting of these shells), each object also has "selfIntersects",
+// "intersectsShells", "parent" and "depth", as with `info --intersections`.
+struct ShellNesting;
+std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nesting = nullptr);
 // `"defects":{...}`: each kind with its count and its first `maxPerKind` items; a hole's or
 // seam's vertex list (and a seam's cut-edge list) is cut at `maxPerKind` entries too, its
 // full length being its "edges".

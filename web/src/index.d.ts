@@ -297,6 +297,25 @@ export declare class Mesh<T extends boolean = boolean> {
     /** Per boundary loop h: its shell. 1 per loop. */
     loopShell: Uint32Array;
   } | null;
+  /**  */
+  intersections: {
+    /** The zero-area triangles (three distinct, exactly collinear corners), ascending. 1 per zero-area triangle. */
+    zeroAreaTriangles: Uint32Array;
+    /** Duplicate group g is duplicateTriangles[offsets[g] .. offsets[g+1]). one more than the duplicate groups. */
+    duplicateOffsets: Uint32Array;
+    /** The members of every duplicate group, ascending; groups by lowest member. 1 per group entry. */
+    duplicateTriangles: Uint32Array;
+    /** Per group: 0 same, 1 opposite, 2 mixed (DuplicateOrientation). 1 per duplicate group. */
+    duplicateOrientation: Uint8Array;
+    /** Intersecting pair i is triangles [2i] < [2i+1]; ordered by (i, j). 2 per pair. */
+    pairs: Uint32Array;
+    /** Per pair: 0 crossing, 1 touching, 2 coplanar (IntersectionKind). 1 per pair. */
+    kinds: Uint8Array;
+    /** Per pair: x,y,z of one point of the intersection (float64, for framing a camera). 3 per pair. */
+    points: Float64Array;
+    /** Per triangle: 1 when it is in an intersecting pair. 1 per triangle. */
+    triangleIntersects: Uint8Array;
+  };
   /** fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it). 1 per input vertex; null for meshes of loadStl(). */
   inputVertexMap: Uint32Array | null;
   // END arrays

@@ -24,6 +24,7 @@ export function isPresent(d, raw) {
     case 'colors': return raw.colorConvention !== 'none';
     case 'topology': return raw.hasTopology;
     case 'shells': return !!raw.hasShells;
+    case 'intersections': return !!raw.hasIntersections;
     case 'indexed': return !!raw.indexed;
     default: throw new Error(`stltopo: array ${d.name} has an unknown condition '${d.when}'`);
   }
@@ -38,6 +39,12 @@ export const isMeshArray = (d) => d.when === 'mesh' || d.when === 'normals' || d
 export const liveSession = new WeakMap();
 export const workerHome = new WeakMap();
 const layouts = new WeakMap(); // mesh -> the array table it was made with
+
+// findIntersections() of the instance that made the API (wasm.js): the full module.
+let intersectionFinder = null;
+export function setIntersectionFinder(f) {
+  if (!intersectionFinder) intersectionFinder = f;
+}
 
 const registry = typeof FinalizationRegistry === 'function'
   ? new FinalizationRegistry(({ entry, session }) => {
@@ -187,6 +194,8 @@ export class Mesh {
         });
       }
     }
+    // A table without the geometry rows (the core module's) still gives the property.
+    if (this.intersections === undefined) this.intersections = null;
     const { holes, seams } = buildLoops(arrays, raw.nTriangles);
     this.holes = holes;
     this.seams = seams;
@@ -238,6 +247,17 @@ export class Mesh {
       e = next[(e ^ 1) >>> 0];
       if (e === e0) return;
     }
+  }
+
+  /**
+   * The exact geometry of this mesh, whatever it was loaded with: { stats (the intersection
+   * keys of info --json --intersections), shells (with nesting), triangleShell,
+   * intersections (the arrays of mesh.intersections) }. Options: { maxPairs, worker, signal }.
+   */
+  findIntersections(options) {
+    if (this.#disposed) return Promise.reject(disposedError());
+    if (!intersectionFinder) return Promise.reject(stlError('invalid-argument', 'no stltopo instance to run findIntersections()'));
+    return intersectionFinder(this, options);
   }
 
   /** The number of defects of a kind (DEFECT_KINDS); needs { shells: true }. */
@@ -312,7 +332,19 @@ function validateArrays(M, mesh, layout, counts) {
 
 /** The kinds of defect, in the order of the report. */
 export const DEFECT_KINDS = Object.freeze(['holes', 'seams', 'nonManifoldEdges', 'inconsistentEdges',
-  'nonManifoldVertices', 'degenerateTriangles']);
+  'nonManifoldVertices', 'degenerateTriangles', 'zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections']);
+
+const GEOMETRY_KINDS = ['zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections'];
+const DUPLICATE_ORIENTATIONS = ['same', 'opposite', 'mixed'];
+/** The kind of an intersecting pair (mesh.intersections.kinds). */
+export const INTERSECTION_KINDS = Object.freeze(['crossing', 'touching', 'coplanar']);
+
+function intersectionsOf(mesh) {
+  if (!mesh.intersections) {
+    throw stlError('invalid-argument', 'the mesh has no intersection lists (load it with { intersections: true })');
+  }
+  return mesh.intersections;
+}
 
 function defectsOf(mesh) {
   if (!mesh.defects) throw stlError('invalid-argument', 'the mesh has no defect lists (load it with { shells: true })');
@@ -320,6 +352,12 @@ function defectsOf(mesh) {
 }
 
 function defectCount(mesh, kind) {
+  if (GEOMETRY_KINDS.includes(kind)) {
+    const x = intersectionsOf(mesh);
+    if (kind === 'zeroAreaTriangles') return x.zeroAreaTriangles.length;
+    if (kind === 'duplicateTriangles') return x.duplicateOffsets.length - 1;
+    return x.kinds.length;
+  }
   const d = defectsOf(mesh);
   switch (kind) {
     case 'holes': return mesh.holes.length;
@@ -356,7 +394,15 @@ function defectItem(mesh, kind, i) {
   const n = defectCount(mesh, kind);
   if (!Number.isInteger(i) || i < 0 || i >= n) throw stlError('invalid-argument', `no ${kind} item ${i} (there are ${n})`);
   const d = mesh.defects;
+  const x = mesh.intersections;
   switch (kind) {
+    case 'zeroAreaTriangles': return { triangle: x.zeroAreaTriangles[i] };
+    case 'duplicateTriangles':
+      return { triangles: Array.from(x.duplicateTriangles.subarray(x.duplicateOffsets[i], x.duplicateOffsets[i + 1])),
+        orientation: DUPLICATE_ORIENTATIONS[x.duplicateOrientation[i]] };
+    case 'selfIntersections':
+      return { triangles: [x.pairs[2 * i], x.pairs[2 * i + 1]], kind: INTERSECTION_KINDS[x.kinds[i]],
+        point: [x.points[3 * i], x.points[3 * i + 1], x.points[3 * i + 2]] };
     case 'holes':
     case 'seams': {
       const loop = mesh[kind][i];

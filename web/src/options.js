@@ -10,6 +10,8 @@ export const DEFAULTS = Object.freeze({
   normals: false,
   view: false,
   shells: false, // triangleShell, mesh.shells and mesh.defects (4 bytes more per triangle)
+  intersections: false, // mesh.intersections, the intersection keys of mesh.stats (implies shells)
+  maxPairs: 4000000, // the intersection pass's work limit (--max-pairs)
 });
 
 /**
@@ -28,8 +30,15 @@ export function normalizeOptions(options) {
     signal: options.signal || null,
     onProgress: options.onProgress || null,
     view: !!options.view,
-    shells: !!options.shells,
+    shells: !!options.shells || !!options.intersections,
+    intersections: !!options.intersections,
+    maxPairs: DEFAULTS.maxPairs,
   };
+  if (options.maxPairs !== undefined) {
+    const n = options.maxPairs;
+    if (!Number.isInteger(n) || n < 1 || n > 2 ** 40) throw invalid('maxPairs must be an integer in [1, 2^40]');
+    o.maxPairs = n;
+  }
   const weld = options.weld;
   if (weld !== undefined && weld !== 'exact') {
     if (!weld || typeof weld !== 'object' || typeof weld.tolerance !== 'number' || !(weld.tolerance >= 0) ||
@@ -62,6 +71,8 @@ export function plainOptions(o) {
     maxBytes: o.maxBytes,
     normals: o.normals,
     shells: o.shells,
+    intersections: o.intersections,
+    maxPairs: o.maxPairs,
   };
 }
 

@@ -4,7 +4,8 @@ import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, 
 import { DEFAULTS, normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
 import { toSource } from './sources.js';
 import { lazyModule } from './wasm-load.js';
-import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput } from './mesh.js';
+import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput,
+  setIntersectionFinder } from './mesh.js';
 
 const CHUNK = 1 << 20; // bytes handed to the core per feed() call
 const YIELD_MS = 16; // longest stretch of feeding without giving the event loop a turn
@@ -36,7 +37,15 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   const getModule = lazyModule(instantiate, setup);
   const getFull = lazyModule(instantiateFull, setup);
   // The module a read with these options needs: shells and defects are in the full one.
-  const moduleFor = (o) => (o.topology && o.shells ? getFull() : getModule());
+  const moduleFor = (o) => (o.topology && (o.shells || o.intersections) ? getFull() : getModule());
+
+  // The exact geometry (self-intersections, nesting, solid) of a session loaded with shells,
+  // when the options ask for it.
+  function intersectIfAsked(session, o) {
+    if (!o.topology || !o.intersections) return;
+    const st = session.intersect(o.maxPairs);
+    if (st) throw fromStatus(st);
+  }
 
   // Turns whatever escaped a call into wasm into an error, and drops a wasm
   // instance that aborted (e.g. operator new failed) so the next call gets a
@@ -102,6 +111,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       // prev and face only where they are read from wasm: views and validate().
       const st = session.finish(o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
       if (st) throw fromStatus(st);
+      intersectIfAsked(session, o);
       progress(true);
       return session;
     } catch (e) {
@@ -130,6 +140,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       hasTopology: meta.hasTopology,
       hasNormals: meta.hasNormals,
       hasShells: meta.hasShells,
+      hasIntersections: !!meta.hasIntersections,
       shellsJson: meta.hasShells ? session.shellListJson() : 'null',
       indexed: meta.indexed,
       solids: meta.solids,
@@ -205,6 +216,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       session.setMeta('none', o.solids);
       const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
       if (st) throw fromStatus(st);
+      intersectIfAsked(session, o);
       return session;
     } catch (e) {
       if (!entry.dead) session.delete();
@@ -390,10 +402,10 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   // always lists the first defects of each kind, as the native one does).
   async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
     maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
-    maxDefects = -1 }) {
+    maxDefects = -1, intersections = false, maxPairs = DEFAULTS.maxPairs }) {
     const withDefects = defects || !json;
-    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects }), tolerance,
-      keepMessageBytes: !json };
+    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects, intersections,
+      maxPairs }), tolerance, keepMessageBytes: !json };
     const entry = await moduleFor(o);
     const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
     let session = null;
@@ -441,7 +453,26 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     normalizeIndexedOptions,
   };
 
-  return { loadStl, loadFromSource, fromIndexed, writeStl, stlChunks, internal };
+  // The exact geometry of any mesh (loaded with or without shells): its positions and
+  // triangles (through vertexWeld, for a tolerance weld) go through fromIndexed() without a
+  // weld, so vertex and triangle ids stay the mesh's.
+  async function findIntersections(mesh, options = {}) {
+    if (!(mesh instanceof Mesh)) throw stlError('invalid-argument', 'findIntersections() needs a Mesh');
+    if (options === null || typeof options !== 'object') throw stlError('invalid-argument', 'options must be an object');
+    let triangles = mesh.triangles;
+    const weld = mesh.vertexWeld;
+    if (weld && mesh.stats.weldedVertices !== undefined) triangles = triangles.map((v) => weld[v]);
+    const m = await fromIndexed(mesh.positions, triangles, { weld: 'none', intersections: true,
+      maxPairs: options.maxPairs, worker: options.worker, signal: options.signal });
+    const keys = ['zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections', 'intersectionKinds',
+      'intersectingTriangles', 'intersectionsComplete', 'solid'];
+    const stats = Object.fromEntries(keys.map((k) => [k, m.stats[k]]));
+    const result = { stats, shells: m.shells, triangleShell: m.triangleShell, intersections: m.intersections };
+    return result;
+  }
+  setIntersectionFinder(findIntersections);
+
+  return { loadStl, loadFromSource, fromIndexed, writeStl, stlChunks, findIntersections, internal };
 }
 
 /** The bytes of several Uint8Arrays, joined. */

@@ -1,0 +1,30 @@
+// Private helpers of the geometric checks (geometry.cpp, triangle_checks.cpp).
+#pragma once
+
+#include <string>
+
+#include "stltopo/geometry.h"
+
+namespace stltopo::geometry_detail {
+
+inline Status oom(const char* what) { return Status::error(Code::OutOfMemory, std::string("could not allocate ") + what); }
+
+// The welded corners of a mesh: the topology's representatives, or the mesh's own ids.
+struct Welded {
+  const Mesh& mesh;
+  const uint32_t* weld;  // null: identity
+  uint32_t v(uint32_t t, int c) const {
+    uint32_t id = mesh.triangles[3 * size_t(t) + size_t(c)];
+    return weld ? weld[id] : id;
+  }
+  const float* p(uint32_t vertex) const { return mesh.positions.data() + 3 * size_t(vertex); }
+};
+
+inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
+  if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
+               topo->vertexWeld.size() != mesh.nVertices()))
+    return Status::error(Code::InvalidArgument, "the topology was not built from this mesh");
+  return {};
+}
+
+}  // namespace stltopo::geometry_detail
