@@ -20,19 +20,24 @@ if (import.meta.env?.DEV) window.stltopoDemo = { viewer }; // for poking around 
 // land in "Other", so every key of `stltopo info --json` has its element.
 const statGroups = [
   ['File', [['format', 'Format'], ['solids', 'Solids'], ['triangles', 'Triangles'], ['vertices', 'Vertices'],
-    ['colors', 'Colours'], ['degenerateTriangles', 'Degenerate triangles'], ['normalMismatches', 'Normal mismatches'],
+    ['colors', 'Colours'], ['degenerateTriangles', 'Degenerate triangles'], ['zeroAreaTriangles', 'Zero-area triangles'],
+    ['duplicateTriangles', 'Duplicate triangles'], ['normalMismatches', 'Normal mismatches'],
     ['warnings', 'Warnings']]],
   ['Topology', [['watertight', 'Watertight'], ['manifold', 'Manifold'], ['edges', 'Edges'],
     ['boundaryEdges', 'Boundary edges'], ['nonManifoldEdges', 'Non-manifold edges'],
     ['inconsistentEdges', 'Inconsistent edges'], ['nonManifoldVertices', 'Non-manifold vertices'],
     ['holes', 'Holes'], ['seams', 'Seams'], ['holeSizes', 'Hole sizes (edges)'], ['shells', 'Shells'],
     ['eulerCharacteristic', 'Euler characteristic'], ['genus', 'Genus']]],
-  ['Geometry', [['bbox', 'Bounding box'], ['area', 'Surface area'], ['volume', 'Volume']]],
+  ['Geometry', [['solid', 'Solid'], ['selfIntersections', 'Self-intersecting pairs'],
+    ['intersectionKinds', 'Crossing / touching / coplanar'], ['intersectingTriangles', 'Intersecting triangles'],
+    ['intersectionsComplete', 'Intersection pass complete'], ['bbox', 'Bounding box'], ['area', 'Surface area'],
+    ['volume', 'Volume']]],
 ];
 // Counts that mean trouble when they are not zero, and flags that mean trouble when false.
 const badWhenNonZero = new Set(['degenerateTriangles', 'normalMismatches', 'boundaryEdges', 'nonManifoldEdges',
-  'inconsistentEdges', 'nonManifoldVertices', 'holes', 'seams']);
-const badWhenFalse = new Set(['watertight', 'manifold']);
+  'inconsistentEdges', 'nonManifoldVertices', 'holes', 'seams', 'zeroAreaTriangles', 'duplicateTriangles',
+  'selfIntersections', 'intersectingTriangles']);
+const badWhenFalse = new Set(['watertight', 'manifold', 'solid', 'intersectionsComplete']);
 
 let current = null; // { seq, controller, name } of the load in flight
 let loaded = null; // { mesh, name } on screen (the edit mode starts from it)
@@ -74,6 +79,7 @@ async function load(source, { name, credit = '' } = {}) {
     const mesh = await loadStl(input, {
       topology: true,
       shells: true,
+      intersections: true, // exact self-intersections, nesting and the solid badge (issue 21)
       signal: controller.signal,
       onProgress: (fraction, bytesRead) => {
         if (seq === loadSeq) showProgress(name, Number.isFinite(fraction) ? fraction : bytesRead / total, bytesRead);
@@ -341,7 +347,7 @@ function renderShells(mesh) {
     li.innerHTML = `<i class="swatch big" style="--c:${color}"></i><span class="id">#${shell.id}</span>` +
       `<span class="edges">${shell.triangles} tri${shell.triangles === 1 ? '' : 's'}</span>` +
       `<span class="orientation ${shell.orientation}">${shell.closed ? 'closed' : 'not closed'} · ${shell.orientation}` +
-      ` · V ${+shell.volume.toPrecision(3)}</span>`;
+      `${shellNesting(shell)} · V ${+shell.volume.toPrecision(3)}</span>`;
     li.addEventListener('click', () => {
       const wasActive = li.classList.contains('active');
       document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
@@ -357,9 +363,24 @@ function renderShells(mesh) {
 }
 
 // Defects, grouped by kind; a click frames and highlights one.
+// What the nesting says about a shell (with intersections): a cavity, a body inside another,
+// an inside-out part, or overlapping bodies.
+function shellNesting(shell) {
+  if (shell.intersectsShells === undefined) return '';
+  if (shell.intersectsShells.length) return ` · <b class="overlap">overlaps #${shell.intersectsShells.join(', #')}</b>`;
+  if (shell.depth === null) return shell.selfIntersects ? ' · self-intersecting' : '';
+  const odd = shell.depth % 2 === 1;
+  const what = shell.orientation === 'inward' ? (odd ? `cavity in #${shell.parent}` : 'inside out')
+    : shell.orientation === 'outward' ? (odd ? `body inside #${shell.parent}` : shell.depth ? `island in #${shell.parent}` : '')
+      : '';
+  return (what ? ` · ${what}` : '') + (shell.selfIntersects ? ' · self-intersecting' : '');
+}
+
 const defectLabels = {
   holes: 'Holes', seams: 'Seams', nonManifoldEdges: 'Non-manifold edges', inconsistentEdges: 'Inconsistent edges',
   nonManifoldVertices: 'Non-manifold vertices', degenerateTriangles: 'Degenerate triangles',
+  zeroAreaTriangles: 'Zero-area triangles', duplicateTriangles: 'Duplicate triangles',
+  selfIntersections: 'Self-intersections',
 };
 const kMaxDefectItems = 200; // per kind in the list (the counts say how many there are)
 
@@ -370,6 +391,9 @@ function defectText(kind, d) {
     case 'nonManifoldEdges': return `edge ${d.vertices[0]}–${d.vertices[1]} · ${d.triangles.length} triangles`;
     case 'inconsistentEdges': return `edge ${d.vertices[0]}–${d.vertices[1]} · triangles ${d.triangles[0]}, ${d.triangles[1]}`;
     case 'nonManifoldVertices': return `vertex ${d.vertex} · ${d.cycles} cycles`;
+    case 'zeroAreaTriangles': return `triangle ${d.triangle} · collinear corners`;
+    case 'duplicateTriangles': return `triangles ${d.triangles.join(', ')} · ${d.orientation}`;
+    case 'selfIntersections': return `triangles ${d.triangles[0]} × ${d.triangles[1]} · ${d.kind}`;
     default: return `triangle ${d.triangle} · corners ${d.corners.join(', ')} coincide`;
   }
 }
@@ -379,7 +403,8 @@ function renderDefects(mesh) {
   root.textContent = '';
   let any = false;
   for (const kind of DEFECT_KINDS) {
-    const n = mesh.defects ? mesh.defectCount(kind) : 0;
+    const geometric = kind === 'zeroAreaTriangles' || kind === 'duplicateTriangles' || kind === 'selfIntersections';
+    const n = (geometric ? mesh.intersections : mesh.defects) ? mesh.defectCount(kind) : 0;
     if (!n) continue;
     any = true;
     const details = document.createElement('details');
@@ -473,11 +498,18 @@ function renderVerdict(stats) {
   if (stats.inconsistentEdges) problems.push(plural(stats.inconsistentEdges, 'flipped-face edge'));
   if (stats.nonManifoldVertices) problems.push(plural(stats.nonManifoldVertices, 'non-manifold vertex').replace('vertexs', 'vertices'));
   if (stats.degenerateTriangles) problems.push(plural(stats.degenerateTriangles, 'degenerate triangle'));
+  if (stats.zeroAreaTriangles) problems.push(plural(stats.zeroAreaTriangles, 'zero-area triangle'));
+  if (stats.duplicateTriangles) problems.push(plural(stats.duplicateTriangles, 'duplicate triangle'));
+  if (stats.selfIntersections) problems.push(plural(stats.selfIntersections, 'self-intersecting pair'));
   const good = stats.watertight && stats.manifold;
-  el.className = `verdict ${good ? 'good' : 'bad'}`;
+  // The solid badge: the mesh bounds a volume without ambiguity (exact geometry).
+  const solid = stats.solid === null ? '' : stats.solid ? ' <span class="badge solid">solid</span>'
+    : ' <span class="badge not-solid">not solid</span>';
+  el.className = `verdict ${good && stats.solid !== false ? 'good' : 'bad'}`;
   el.innerHTML = good
-    ? `<span class="label">Watertight and manifold</span> · ${plural(stats.shells, 'shell')}, genus ${stats.genus}`
-    : `<span class="label">${stats.watertight ? 'Watertight, not manifold' : 'Not watertight'}</span> · ${problems.join(', ') || 'empty mesh'}`;
+    ? `<span class="label">Watertight and manifold</span>${solid} · ${plural(stats.shells, 'shell')}, genus ${stats.genus}` +
+      (problems.length ? ` · ${problems.join(', ')}` : '')
+    : `<span class="label">${stats.watertight ? 'Watertight, not manifold' : 'Not watertight'}</span>${solid} · ${problems.join(', ') || 'empty mesh'}`;
 }
 
 function showMesh(mesh, { name, credit, parseMs, sceneMs, totalMs }) {

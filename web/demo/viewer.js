@@ -16,6 +16,7 @@ export const colors = {
   inconsistent: '#ff2bd6',
   nonManifoldVertex: '#ffffff',
   inward: '#7b3fe4',
+  intersecting: '#ffb300',
   highlight: '#ffffff',
   wire: '#1b222b',
 };
@@ -250,6 +251,28 @@ export class Viewer {
       this.model.add(m);
     }
 
+    // Self-intersecting triangles (loads with { intersections: true }): drawn again in their
+    // own colour, in front of the surface.
+    const hit = mesh.intersections?.triangleIntersects;
+    if (hit && mesh.intersections.kinds.length) {
+      const index = this.geometry.index?.array;
+      const out = [];
+      for (let t = 0; t < hit.length; t++) {
+        if (!hit[t]) continue;
+        if (index) out.push(index[3 * t], index[3 * t + 1], index[3 * t + 2]);
+        else out.push(3 * t, 3 * t + 1, 3 * t + 2);
+      }
+      const sub = new THREE.BufferGeometry();
+      for (const [name, attr] of Object.entries(this.geometry.attributes)) sub.setAttribute(name, attr);
+      sub.setIndex(out);
+      const m = new THREE.Mesh(sub, new THREE.MeshStandardMaterial({
+        flatShading: true, roughness: 0.75, metalness: 0.05, color: colors.intersecting, side: THREE.DoubleSide,
+        polygonOffset: true, polygonOffsetFactor: -0.5, polygonOffsetUnits: -0.5,
+      }));
+      this.layers.intersecting = m;
+      this.model.add(m);
+    }
+
     const diag = geometry.boundingSphere.radius * 2 || 1;
     this.diag = diag;
     const holes = mesh.holes ?? [];
@@ -470,13 +493,17 @@ export class Viewer {
     let pts;
     if (kind === 'nonManifoldEdges' || kind === 'inconsistentEdges') pts = item.vertices.map(at);
     else if (kind === 'nonManifoldVertices') pts = [at(item.vertex)];
-    else pts = [0, 1, 2].map((c) => at(this.mesh.triangles[3 * item.triangle + c]));
+    else if (kind === 'selfIntersections' || kind === 'duplicateTriangles') {
+      // Both triangles (the pair's point frames them too).
+      pts = item.triangles.slice(0, 2).flatMap((t) => [0, 1, 2].map((c) => at(this.mesh.triangles[3 * t + c])));
+    } else pts = [0, 1, 2].map((c) => at(this.mesh.triangles[3 * item.triangle + c]));
     const min = [0, 1, 2].map((k) => Math.min(...pts.map((q) => q[k])));
     const max = [0, 1, 2].map((k) => Math.max(...pts.map((q) => q[k])));
     this.frameBox({ min, max });
     this.setHighlight(null);
     const group = new THREE.Group();
-    const color = kind === 'inconsistentEdges' ? colors.inconsistent : kind === 'nonManifoldEdges' ? colors.nonManifold
+    const color = kind === 'selfIntersections' ? colors.intersecting : kind === 'inconsistentEdges' ? colors.inconsistent
+      : kind === 'nonManifoldEdges' ? colors.nonManifold
       : kind === 'nonManifoldVertices' ? colors.nonManifoldVertex : colors.seams;
     if (pts.length >= 2) {
       const segs = [];
