@@ -135,7 +135,7 @@ test('the entry points export the public API only (no _internal, no fileSource),
   // ./worker-thread and the two .wasm files: the files a bundler is pointed at (README, Bundlers).
   assert.deepEqual(Object.keys(pkg.exports).sort(),
     ['.', './package.json', './stltopo-full.wasm', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
-  const pub = ['DEFECT_KINDS', 'EdgeKind', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'init', 'kInvalid', 'loadStl',
+  const pub = ['DEFECT_KINDS', 'EdgeKind', 'GEOMETRY_DEFECT_KINDS', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'init', 'kInvalid', 'loadStl',
     'loadStlFile', 'toStl', 'writeStl'];
   // The editable mesh lives where it is made: the main entries only.
   assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh', 'kLoopFaceBit'].sort());

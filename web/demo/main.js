@@ -7,7 +7,7 @@
 // (the selected one has class "active" and its figures are [data-shell-stat="<shellList key>"]);
 // each defect entry data-defect-kind="<kind>" data-defect-index="<i>" (the framed one is active,
 // and body[data-focused-defect] says "<kind>:<i>"); the error code is in [data-error-code].
-import { loadStl, toStl, DEFECT_KINDS } from 'stltopo/worker';
+import { loadStl, toStl, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from 'stltopo/worker';
 import { Viewer, holeColor, colors } from './viewer.js';
 import { samples, defaultSampleId } from './samples.js';
 import { createEditor } from './edit.js';
@@ -402,7 +402,7 @@ function renderDefects(mesh) {
   const root = $('#defect-list');
   root.textContent = '';
   let any = false;
-  for (const kind of DEFECT_KINDS) {
+  for (const kind of [...DEFECT_KINDS, ...GEOMETRY_DEFECT_KINDS]) {
     const geometric = kind === 'zeroAreaTriangles' || kind === 'duplicateTriangles' || kind === 'selfIntersections';
     const n = (geometric ? mesh.intersections : mesh.defects) ? mesh.defectCount(kind) : 0;
     if (!n) continue;

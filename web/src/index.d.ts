@@ -54,6 +54,15 @@ export interface LoadOptions {
    * defect with its location; 4 more bytes per triangle). Default false.
    */
   shells?: boolean;
+  /**
+   * Also find the exact geometry (implies shells): mesh.intersections, the intersection keys
+   * of mesh.stats (selfIntersections, intersectionKinds, intersectingTriangles,
+   * intersectionsComplete, solid) and each shell's selfIntersects, intersectsShells, parent
+   * and depth (README, "Geometry"). Default false.
+   */
+  intersections?: boolean;
+  /** The intersection pass's work limit (--max-pairs), default 4000000. */
+  maxPairs?: number;
 }
 
 /** How a shell is wound: inconsistent edges, else boundary edges, else the sign of its volume. */
@@ -89,11 +98,23 @@ export interface Shell {
   area: number;
   /** Signed volume (sum of the signed tetrahedra from the origin), float64. */
   volume: number;
+  /** With { intersections: true }: two of its triangles intersect. */
+  selfIntersects?: boolean;
+  /** With { intersections: true }: the other shells it intersects. */
+  intersectsShells?: number[];
+  /** With { intersections: true }: the innermost closed shell around it (closed shells meeting no other), else null. */
+  parent?: number | null;
+  /** With { intersections: true }: the number of shells around it (0 at the top level), null when not nested. */
+  depth?: number | null;
 }
 
 /** The kinds of defect, in the order of the report. */
 export type DefectKind = 'holes' | 'seams' | 'nonManifoldEdges' | 'inconsistentEdges' | 'nonManifoldVertices' |
-  'degenerateTriangles';
+  'degenerateTriangles' | GeometryDefectKind;
+/** The geometric kinds of defect, with { intersections: true }. */
+export type GeometryDefectKind = 'zeroAreaTriangles' | 'duplicateTriangles' | 'selfIntersections';
+/** The geometric kinds, in the order of the report. */
+export declare const GEOMETRY_DEFECT_KINDS: readonly GeometryDefectKind[];
 
 /** One defect as mesh.defect() gives it: the item shapes of `info --json --defects`. */
 export type Defect =
@@ -102,7 +123,10 @@ export type Defect =
   | { vertices: [number, number]; positions: [number[], number[]]; triangles: number[] }
   | { vertices: [number, number]; triangles: [number, number] }
   | { vertex: number; position: number[]; cycles: number }
-  | { triangle: number; corners: number[] };
+  | { triangle: number; corners: number[] }
+  | { triangle: number }
+  | { triangles: number[]; orientation: 'same' | 'opposite' | 'mixed' }
+  | { triangles: [number, number]; kind: 'crossing' | 'touching' | 'coplanar'; point: [number, number, number] };
 
 /** The kinds of defect, in the order of the report. */
 export declare const DEFECT_KINDS: readonly DefectKind[];
@@ -163,6 +187,10 @@ export interface Stats {
   /** Vertex positions (welded exactly); the topology of a tolerance weld uses weldedVertices of them. */
   vertices: number;
   degenerateTriangles: number;
+  /** Three distinct, exactly collinear corners (README, "Geometry"). */
+  zeroAreaTriangles: number;
+  /** Triangles that are not the lowest id of their duplicate group. */
+  duplicateTriangles: number;
   colors: 'none' | 'viscam' | 'magics';
   normalMismatches: number;
   bbox: { min: [number, number, number]; max: [number, number, number] } | null;
@@ -186,6 +214,12 @@ export interface Stats {
   weldedVertices?: number;
   watertight?: boolean;
   manifold?: boolean;
+  // With topology; null unless loaded with { intersections: true }:
+  selfIntersections?: number | null;
+  intersectionKinds?: { crossing: number; touching: number; coplanar: number } | null;
+  intersectingTriangles?: number | null;
+  intersectionsComplete?: boolean | null;
+  solid?: boolean | null;
 }
 
 export type ValidateResult = { ok: true } | { ok: false; code: string; message: string; element?: number };
@@ -220,6 +254,14 @@ export declare class Mesh<T extends boolean = boolean> {
   defectCount(kind: DefectKind): number;
   /** Defect i of a kind (0 <= i < defectCount(kind)) as an object; lists are not cut. */
   defect(kind: DefectKind, i: number): Defect;
+  /** The exact geometry of this mesh, whatever it was loaded with (runs in the full module). */
+  findIntersections(options?: { maxPairs?: number; worker?: boolean; signal?: AbortSignal }): Promise<{
+    stats: Pick<Stats, 'zeroAreaTriangles' | 'duplicateTriangles' | 'selfIntersections' | 'intersectionKinds' |
+      'intersectingTriangles' | 'intersectionsComplete' | 'solid'>;
+    shells: Shell[];
+    triangleShell: Uint32Array;
+    intersections: NonNullable<Mesh['intersections']>;
+  }>;
   // BEGIN arrays: written by scripts/gen-api-docs.mjs from the bindings' array table
   /** x,y,z of vertex v at 3v..3v+2. 3 per vertex. */
   positions: Float32Array;

@@ -29,6 +29,6 @@ export async function loadStlFile() {
 
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
+export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
 export { kLoopFaceBit } from './edit.js';
 export { extractShell } from './extract-shell.js';

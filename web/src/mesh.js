@@ -332,9 +332,10 @@ function validateArrays(M, mesh, layout, counts) {
 
 /** The kinds of defect, in the order of the report. */
 export const DEFECT_KINDS = Object.freeze(['holes', 'seams', 'nonManifoldEdges', 'inconsistentEdges',
-  'nonManifoldVertices', 'degenerateTriangles', 'zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections']);
-
-const GEOMETRY_KINDS = ['zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections'];
+  'nonManifoldVertices', 'degenerateTriangles']);
+/** The geometric kinds (after DEFECT_KINDS in the report), with { intersections: true }. */
+export const GEOMETRY_DEFECT_KINDS = Object.freeze(['zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections']);
+const GEOMETRY_KINDS = GEOMETRY_DEFECT_KINDS;
 const DUPLICATE_ORIENTATIONS = ['same', 'opposite', 'mixed'];
 /** The kind of an intersecting pair (mesh.intersections.kinds). */
 export const INTERSECTION_KINDS = Object.freeze(['crossing', 'touching', 'coplanar']);

@@ -1,6 +1,6 @@
 // Types for 'stltopo/worker': loadStl in a Web Worker (worker_threads in Node).
 import type { StlInput, LoadOptions, WithTopology, WithoutTopology, Mesh, IndexedOptions, WriteOptions } from './index.js';
-export { StlError, Mesh, kInvalid, EdgeKind, init, DEFECT_KINDS, extractShell } from './index.js';
+export { StlError, Mesh, kInvalid, EdgeKind, init, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS, extractShell } from './index.js';
 export type {
   StlInput, LoadOptions, WithTopology, WithoutTopology, IfTopology, InitOptions, IndexedOptions, WriteOptions, Stats, Solid,
   Warning, BoundaryLoop, ValidateResult, ErrorCode, WarningCode, Shell, Orientation, DefectKind, Defect, IndexedShell,

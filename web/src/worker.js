@@ -57,5 +57,5 @@ export async function toStl(mesh, options) {
 }
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS } from './mesh.js';
+export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
 export { extractShell } from './extract-shell.js';
