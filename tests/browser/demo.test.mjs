@@ -1,7 +1,7 @@
 // Browser test of the demo page (web/demo), run by scripts/test-browser.sh after `vite build`.
 // Real Chromium (Debian `chromium`) driven by playwright-core, against `vite preview` of the built
 // site on a free port, plus a CORS file server for ?url=. The reference for every statistic is the
-// native CLI: `build/stltopo info --json <file>`.
+// native CLI: `build/stltopo info --json --intersections <file>` (the demo loads with intersections).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawn } from 'node:child_process';
@@ -51,7 +51,7 @@ async function freePort() {
 }
 
 function cliStats(file) {
-  return JSON.parse(execFileSync(cli, ['info', '--json', file], { encoding: 'utf8' }));
+  return JSON.parse(execFileSync(cli, ['info', '--json', '--intersections', file], { encoding: 'utf8' }));
 }
 
 /** Parses a data-stat text back into a JSON value (strings stay strings). */
@@ -269,7 +269,7 @@ test('shells and defects: the lists match the CLI, a click isolates a shell or f
   await openDemo(page, '?sample=unit-sphere');
   // Spider: 18 shells, holes, seams, flipped faces, non-manifold vertices, degenerate triangles.
   assert.equal(await loadThroughInput(page, SPIDER), 'ready');
-  const want = JSON.parse(execFileSync(cli, ['info', '--json', '--shells', '--defects', SPIDER], { encoding: 'utf8' }));
+  const want = JSON.parse(execFileSync(cli, ['info', '--json', '--intersections', '--shells', '--defects', SPIDER], { encoding: 'utf8' }));
   const shells = await page.evaluate(() => [...document.querySelectorAll('[data-shell]')].map((e) => Number(e.dataset.shell)));
   assert.deepEqual(shells, want.shellList.map((s) => s.id));
   const counts = await page.evaluate(() => Object.fromEntries(
