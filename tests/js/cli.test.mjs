@@ -4,7 +4,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { readFileSync } from 'node:fs';
+import { readFileSync, readdirSync } from 'node:fs';
 import path from 'node:path';
 import { fixtures, fixture, nativeCli, haveNativeCli, root } from './helpers.mjs';
 
@@ -73,6 +73,21 @@ test('--shells --defects [--max-defects N]: byte-identical on every fixture, JSO
   const text = assertSameRun(['info', ...files]).stdout.toString();
   assert.match(text, /\n  non-manifold edge \d+-\d+: \[/);
   assert.match(text, /\n  hole \d+: \d+ edges, perimeter /);
+});
+
+test('--intersections [--max-pairs N]: byte-identical on every fixture and case (wasm = native)', { skip }, () => {
+  const cases = readdirSync(path.join(root, 'tests/judge/cases')).filter((f) => f.endsWith('.stl'))
+    .map((f) => path.join('tests/judge/cases', f));
+  const all = [...files, ...cases, 'no/such/file.stl'];
+  const a = assertSameRun(['info', '--json', '--intersections', '--shells', '--defects', ...all]);
+  assert.match(a.stdout.toString(), /"selfIntersections":\{"count":[1-9]/);
+  assert.match(a.stdout.toString(), /"kind":"coplanar","point":\[/);
+  assertSameRun(['info', '--json', '--intersections', '--max-pairs', '5', ...all]);
+  assertSameRun(['info', '--intersections', '--defects', '--max-defects', '3', ...cases]);
+  assertSameRun(['info', '--json', '--intersections', '--tolerance', '0.001', ...files.slice(0, 20)]);
+  for (const bad of [['--max-pairs', '0'], ['--max-pairs', '-3'], ['--max-pairs', 'x'], ['--no-topology', '--intersections']]) {
+    assert.equal(assertSameRun(['info', '--json', ...bad, cases[0]]).status, 2);
+  }
 });
 
 test('all good files: exit code 0', { skip }, () => {
