@@ -481,22 +481,25 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     if (found.size() >= maxFound) stop = true;
   };
   // A self-join of the hierarchy: (node, node) pairs on an explicit stack; a pair of the
-  // same node stands for the pairs inside it. Each pair of positions is tested once.
-  Array<uint64_t> todo;
-  if (n > 0 && !todo.push_back(0)) return oom("the intersection traversal");
+  // same node stands for the pairs inside it. Each pair of positions is tested once. A pop
+  // pushes at most 3 pairs one level deeper (the depth of a pair: the sum of its nodes'
+  // depths, at most 2 * 30 for 2^32 triangles) and the next pop takes one of them, so at
+  // most 2 wait per level: the stack never holds more than 121 entries.
+  uint64_t todo[256];
+  int sp = 0;
+  if (n > 0) todo[sp++] = 0;
   const uint64_t progressEvery = 1u << 18;
-  while (!todo.empty() && !stop) {
-    const uint64_t top = todo[todo.size() - 1];
-    todo.shrink(todo.size() - 1);
+  while (sp > 0 && !stop) {
+    const uint64_t top = todo[--sp];
     const uint32_t ia = uint32_t(top >> 32), ib = uint32_t(top);
     const Node& A = bvh.nodes[ia];
     const Node& B = bvh.nodes[ib];
     if (ia == ib) {
       if (A.right) {
         const uint32_t l = ia + 1, r = A.right;
-        if (!todo.push_back(uint64_t(l) << 32 | r) || !todo.push_back(uint64_t(r) << 32 | r) ||
-            !todo.push_back(uint64_t(l) << 32 | l))
-          return oom("the intersection traversal");
+        todo[sp++] = uint64_t(l) << 32 | r;
+        todo[sp++] = uint64_t(r) << 32 | r;
+        todo[sp++] = uint64_t(l) << 32 | l;
       } else {
         for (uint32_t p = A.first; p < A.end && !stop; ++p)
           for (uint32_t q = p + 1; q < A.end && !stop; ++q) testPositions(p, q);
@@ -516,11 +519,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       }
       sinceProgress += A.end - A.first;
     } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
-      if (!todo.push_back(uint64_t(A.right) << 32 | ib) || !todo.push_back(uint64_t(ia + 1) << 32 | ib))
-        return oom("the intersection traversal");
+      todo[sp++] = uint64_t(A.right) << 32 | ib;
+      todo[sp++] = uint64_t(ia + 1) << 32 | ib;
     } else {
-      if (!todo.push_back(uint64_t(ia) << 32 | B.right) || !todo.push_back(uint64_t(ia) << 32 | (ib + 1)))
-        return oom("the intersection traversal");
+      todo[sp++] = uint64_t(ia) << 32 | B.right;
+      todo[sp++] = uint64_t(ia) << 32 | (ib + 1);
     }
     if (sinceProgress >= progressEvery && options.progress) {
       sinceProgress = 0;

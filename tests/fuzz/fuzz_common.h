@@ -102,6 +102,71 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
 }
 
+// The exact geometry (issue 21) of a topology with triangleShell: the invariants of every
+// list, the work limit, and the report with every extra. Returns that report.
+inline std::string checkGeometry(const Mesh& m, const Topology& t, const Array<Shell>& shells, const Defects& d) {
+  GeometryReport g;
+  IntersectionOptions io;
+  io.maxPairs = 1u << 16;  // a fuzz input may be a coplanar soup: keep each run short
+  Status s = analyzeGeometry(m, t, g, io);
+  if (!s.ok()) {
+    std::fprintf(stderr, "analyzeGeometry: %s\n", s.message.c_str());
+    FUZZ_CHECK(s.ok());
+  }
+  const uint32_t nt = m.nTriangles();
+  const TriangleChecks& c = g.checks;
+  for (size_t i = 0; i < c.zeroArea.size(); ++i) {
+    const uint32_t z = c.zeroArea[i];
+    FUZZ_CHECK(z < nt && (i == 0 || c.zeroArea[i - 1] < z));
+    const uint32_t* v = m.triangles.data() + 3 * size_t(z);
+    const uint32_t a = t.vertexWeld[v[0]], b = t.vertexWeld[v[1]], cc = t.vertexWeld[v[2]];
+    FUZZ_CHECK(a != b && b != cc && a != cc);  // zero-area and degenerate are disjoint
+  }
+  uint32_t members = 0;
+  for (uint32_t k = 0; k < c.nDuplicateGroups(); ++k) {
+    const uint32_t b = c.duplicateOffsets[k], e = c.duplicateOffsets[k + 1];
+    FUZZ_CHECK(e >= b + 2 && c.duplicateOrientation[k] <= 2);
+    for (uint32_t i = b + 1; i < e; ++i) FUZZ_CHECK(c.duplicateTriangles[i - 1] < c.duplicateTriangles[i]);
+    if (k > 0) FUZZ_CHECK(c.duplicateTriangles[c.duplicateOffsets[k - 1]] < c.duplicateTriangles[b]);
+    members += e - b - 1;
+  }
+  FUZZ_CHECK(members == c.nDuplicateTriangles);
+  const Intersections& x = g.intersections;
+  FUZZ_CHECK(x.nCrossing + x.nTouching + x.nCoplanar == x.nPairs());
+  FUZZ_CHECK(x.nPairs() <= io.maxPairs);
+  uint32_t flagged = 0;
+  for (uint32_t tri = 0; tri < nt; ++tri) flagged += x.triangleIntersects[tri];
+  FUZZ_CHECK(flagged == x.nIntersectingTriangles);
+  for (size_t i = 0; i < x.nPairs(); ++i) {
+    const uint32_t a = x.pairs[2 * i], b = x.pairs[2 * i + 1];
+    FUZZ_CHECK(a < b && b < nt && x.kinds[i] <= 2 && x.triangleIntersects[a] && x.triangleIntersects[b]);
+    FUZZ_CHECK(t.triangleShell[a] != kInvalid && t.triangleShell[b] != kInvalid);
+    if (i > 0) FUZZ_CHECK((uint64_t(x.pairs[2 * i - 2]) << 32 | x.pairs[2 * i - 1]) < (uint64_t(a) << 32 | b));
+  }
+  const ShellNesting& n = g.nesting;
+  for (size_t k = 0; k < shells.size(); ++k) {
+    if (n.depth[k] == kInvalid) {
+      FUZZ_CHECK(n.parent[k] == kInvalid);
+      continue;
+    }
+    FUZZ_CHECK(shells[k].closed() && n.intersectsOffsets[k] == n.intersectsOffsets[k + 1]);
+    FUZZ_CHECK((n.parent[k] == kInvalid) == (n.depth[k] == 0));
+    if (n.parent[k] != kInvalid) FUZZ_CHECK(n.parent[k] < shells.size() && n.depth[n.parent[k]] + 1 <= n.depth[k]);
+  }
+  if (g.solid) FUZZ_CHECK(x.complete && x.nPairs() == 0 && t.watertight() && t.manifold());
+  ReportExtras e{&g.shells, &d, 3};
+  e.checks = &c;
+  e.intersections = &x;
+  e.nesting = &n;
+  e.solid = g.solid;
+  std::string j = infoJson("f", m, &t, e);
+  FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
+  FUZZ_CHECK(!infoText("f", m, &t, e).empty());
+  // The checks the plain report makes itself are the same.
+  FUZZ_CHECK(infoJson("f", m, &t).find("\"zeroAreaTriangles\":" + std::to_string(c.zeroArea.size()) + ",") != std::string::npos);
+  return j;
+}
+
 // The shell report and the defect lists of the report-only topology with triangleShell:
 // the shells' counts add up to the whole report's, the lists have its counts, and each
 // (of the first few) shell extracted on its own is one shell with the same report.
@@ -130,6 +195,7 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
   FUZZ_CHECK(d.nonManifoldVertices.size() == full.nNonManifoldVertices && d.degenerateTriangles.size() == full.nDegenerate);
   std::string j = infoJson("f", m, &t, ReportExtras{&shells, &d, 3});
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
+  checkGeometry(m, t, shells, d);
   for (uint32_t i = 0; i < shells.size() && i < 4; ++i) {
     Mesh part;
     FUZZ_CHECK(extractShell(m, t, i, part).ok());

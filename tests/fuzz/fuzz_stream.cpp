@@ -73,6 +73,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fuzz::checkTopology(whole, TopologyOptions{}, tw);
     FUZZ_CHECK(buildTopology(streamed, ts).ok());
     FUZZ_CHECK(infoJson("f", whole, &tw) == infoJson("f", streamed, &ts));
+    // The exact geometry is the same for every chunking.
+    TopologyOptions to;
+    to.triangleShell = true;
+    to.prevAndFace = false;
+    Topology gw, gs;
+    FUZZ_CHECK(buildTopology(whole, gw, to).ok() && buildTopology(streamed, gs, to).ok());
+    Array<Shell> sw, sst;
+    Defects dw, ds;
+    FUZZ_CHECK(findShellsAndDefects(whole, gw, &sw, &dw).ok() && findShellsAndDefects(streamed, gs, &sst, &ds).ok());
+    FUZZ_CHECK(fuzz::checkGeometry(whole, gw, sw, dw) == fuzz::checkGeometry(streamed, gs, sst, ds));
   }
   // finish() twice is an API error, not a crash.
   Mesh again;

@@ -1,0 +1,104 @@
+#!/usr/bin/env node
+// The exact-geometry benchmark (issue 21): what `info --intersections` costs over plain
+// `info`, natively and in wasm (the npm CLI), against CGAL's own self_intersections on the
+// same meshes, and the extra peak memory per triangle. Whole processes, one at a time, the
+// repetitions alternating between the contenders; medians.
+//   node bench/geometry.mjs [--sizes 100k,1M] [--reps N] [--out FILE]
+// Needs build-bench (scripts/bench.sh builds it: procstat, genmesh, stltopo_cli and, with
+// CGAL, stltopo_cgal_pmp) and dist/ (the npm CLI).
+import fs from 'node:fs';
+import path from 'node:path';
+import { spawnSync } from 'node:child_process';
+import { fileURLToPath } from 'node:url';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+const BUILD = path.join(root, process.env.STLTOPO_BENCH_BUILD_DIR || 'build-bench');
+const BIN = {
+  cli: path.join(BUILD, 'stltopo'),
+  procstat: path.join(BUILD, 'bench/procstat'),
+  genmesh: path.join(BUILD, 'bench/genmesh'),
+  cgal: path.join(BUILD, 'bench/judge/stltopo_cgal_pmp'),
+};
+const SIZES = { '100k': 100000, '1M': 1000000, '4M': 4000000 };
+const opt = { sizes: ['100k', '1M'], reps: 3, out: path.join(root, 'bench/results/geometry-latest.json') };
+for (let i = 2; i < process.argv.length; ++i) {
+  const a = process.argv[i];
+  if (a === '--sizes') opt.sizes = process.argv[++i].split(',');
+  else if (a === '--reps') opt.reps = Number(process.argv[++i]);
+  else if (a === '--out') opt.out = path.resolve(process.argv[++i]);
+  else { console.error(`geometry.mjs: unknown argument ${a}`); process.exit(2); }
+}
+const DATA = path.join(root, 'bench/data');
+fs.mkdirSync(DATA, { recursive: true });
+
+function procstat(args) {
+  const out = path.join(DATA, '.geometry-stdout');
+  const r = spawnSync(BIN.procstat, ['--stdout', out, '--timeout', '600', '--', ...args], { encoding: 'utf8' });
+  if (r.status !== 0) throw new Error(`procstat: ${r.stderr}`);
+  const p = JSON.parse(r.stdout.trim());
+  p.stdout = fs.readFileSync(out, 'utf8');
+  return p;
+}
+const median = (xs) => { const s = [...xs].sort((a, b) => a - b); return s.length ? s[(s.length - 1) >> 1] : null; };
+
+const cases = [];
+for (const size of opt.sizes) {
+  for (const shuffle of [false, true]) {
+    const file = path.join(DATA, `torus-${size}${shuffle ? '-shuffled' : ''}.stl`);
+    if (!fs.existsSync(file)) spawnSync(BIN.genmesh, [String(SIZES[size]), file, ...(shuffle ? ['--shuffle'] : [])]);
+    cases.push({ id: `torus ${size}${shuffle ? ' shuffled' : ''}`, file, triangles: SIZES[size] });
+  }
+}
+const haveCgal = fs.existsSync(BIN.cgal);
+const node = process.execPath;
+const npmCli = path.join(root, 'bin/stltopo.mjs');
+const contenders = {
+  info: (f) => [BIN.cli, 'info', '--json', f],
+  intersections: (f) => [BIN.cli, 'info', '--json', '--intersections', f],
+  'npm info': (f) => [node, npmCli, 'info', '--json', f],
+  'npm intersections': (f) => [node, npmCli, 'info', '--json', '--intersections', f],
+  ...(haveCgal ? { cgal: (f) => [BIN.cgal, f] } : {}),
+};
+const results = [];
+for (const c of cases) {
+  const runs = Object.fromEntries(Object.keys(contenders).map((k) => [k, []]));
+  for (let rep = 0; rep < opt.reps; ++rep) {
+    for (const [k, args] of Object.entries(contenders)) {
+      const p = procstat(args(c.file));
+      const row = { wallMs: p.wallMs, maxRssKiB: p.maxRssKiB };
+      if (k === 'cgal') {
+        const head = JSON.parse(p.stdout.split('\n')[0]);
+        row.searchMs = head.seconds * 1000;
+        row.pairs = head.pairs;
+      } else if (k.endsWith('intersections')) {
+        row.pairs = JSON.parse(p.stdout).selfIntersections;
+      }
+      runs[k].push(row);
+    }
+  }
+  const m = (k, f = 'wallMs') => median(runs[k]?.map((r) => r[f]) ?? []);
+  const passNative = m('intersections') - m('info');
+  const passWasm = m('npm intersections') - m('npm info');
+  const r = {
+    case: c.id, triangles: c.triangles,
+    infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
+    passNativeMs: passNative, passWasmMs: passWasm, wasmToNative: passWasm / passNative,
+    extraBytesPerTriangle: ((m('intersections', 'maxRssKiB') - m('info', 'maxRssKiB')) * 1024) / c.triangles,
+    pairs: runs.intersections[0].pairs,
+    cgalSearchMs: haveCgal ? m('cgal', 'searchMs') : null, cgalWallMs: haveCgal ? m('cgal') : null,
+    cgalPairs: haveCgal ? runs.cgal[0].pairs : null,
+    cgalToStltopoPass: haveCgal ? m('cgal', 'searchMs') / passNative : null,
+  };
+  results.push(r);
+  console.error(JSON.stringify(r));
+}
+fs.mkdirSync(path.dirname(opt.out), { recursive: true });
+fs.writeFileSync(opt.out, JSON.stringify({ date: new Date().toISOString(), reps: opt.reps, results }, null, 1));
+const f1 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(1));
+const f2 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(2));
+console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass |');
+console.log('|---|---|---|---|---|---|---|---|---|---|');
+for (const r of results) {
+  console.log(`| ${r.case} | ${f1(r.infoMs)} | ${f1(r.intersectionsMs)} | ${f2(r.ratioToInfo)} | ${f1(r.passNativeMs)} | ${f1(r.passWasmMs)} | ` +
+    `${f2(r.wasmToNative)} | ${f1(r.extraBytesPerTriangle)} | ${f1(r.cgalSearchMs)} | ${f2(r.cgalToStltopoPass)} |`);
+}
