@@ -11,7 +11,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "detail.h"
+#include "stltopo/report.h"
+#include "text_format.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
 
 // Allocation failure of the std containers (names, the attribute list) is caught where
 // exceptions exist; the wasm build has none (an allocation failure there aborts, as for
@@ -34,7 +37,8 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
 }
 Status refused(const std::string& why) { return Status::error(Code::EditRefused, why); }
 Status badArgument(const std::string& why) { return Status::error(Code::InvalidArgument, why); }
-Status oom() { return Status::error(Code::OutOfMemory, "could not allocate the editable mesh's arrays"); }
+// What out-of-memory says could not be allocated (detail::oom).
+constexpr const char* kEditArrays = "the editable mesh's arrays";
 
 // Capacity for n elements, growing geometrically (so that appends are amortized O(1)).
 template <class T>
@@ -219,7 +223,7 @@ struct EditableMesh::Impl {
       }
       return true;
     }
-    Status status() const { return oom ? stltopo::oom() : refused(refusal); }
+    Status status() const { return oom ? detail::oom(kEditArrays) : refused(refusal); }
   };
   static void writePending(M& m, const PendingWrites& pw) {
     for (const Pending& p : pw.list) {
@@ -802,7 +806,7 @@ Status EditableMesh::init(const Mesh& mesh, const Topology& topo) {
     return badArgument("the topology has no prev and face (TopologyOptions::prevAndFace = false)");
   auto fail = [&]() {
     *this = EditableMesh{};
-    return oom();
+    return detail::oom(kEditArrays);
   };
   if (!positions_.resize(size_t(nv) * 3) || !triangles_.resize(size_t(nt) * 3) || !vertexDead_.assign(nv, 0) ||
       !degenerate_.resize(nt) || !cornerNext_.resize(size_t(nt) * 3) || !cornerPrev_.resize(size_t(nt) * 3) ||
@@ -895,7 +899,7 @@ Status EditableMesh::addAttribute(const std::string& name, Element element, Valu
     if (defaultValue)
       for (uint32_t k = 0; k < components; ++k) a.defaultValue[k] = defaultValue[k];
     const size_t n = Impl::elementCount(*this, element), s = Impl::stride(a);
-    if (!a.bytes.resize(n * s)) return oom();
+    if (!a.bytes.resize(n * s)) return detail::oom(kEditArrays);
     if (values && n > 0) {
       std::memcpy(a.bytes.data(), values, n * s);
     } else {
@@ -912,7 +916,7 @@ Status EditableMesh::addAttribute(const std::string& name, Element element, Valu
     attributes_.push_back(std::move(a));
     attributes_.back().view.data = attributes_.back().bytes.data();
   } STLTOPO_CATCH {
-    return oom();
+    return detail::oom(kEditArrays);
   }
   return Status{};
 }
@@ -1005,7 +1009,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   const uint32_t nvSlots = nVertices(), ntSlots = nTriangles(), nhSlots = nHalfedges();
   if (!mp.vertices.assign(nvSlots, kInvalid) || !mp.triangles.assign(ntSlots, kInvalid) ||
       !mp.halfedges.assign(nhSlots, kInvalid))
-    return oom();
+    return detail::oom(kEditArrays);
   uint32_t nv = 0, nt = 0;
   for (uint32_t v = 0; v < nvSlots; ++v)
     if (!vertexDead_[v] && vertexCornerCount_[v] > 0) mp.vertices[v] = nv++;
@@ -1026,7 +1030,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   if (!out.positions.resize(size_t(nv) * 3) || !out.triangles.resize(size_t(nt) * 3) || !out.attributes.resize(nt) ||
       (colors && (!out.colors.resize(size_t(nt) * 3) || !out.colorValid.resize(nt))) ||
       (normal && !out.normals.resize(size_t(nt) * 3)))
-    return oom();
+    return detail::oom(kEditArrays);
   for (uint32_t v = 0; v < nvSlots; ++v) {
     uint32_t w = mp.vertices[v];
     if (w == kInvalid) continue;
@@ -1046,7 +1050,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
     if (out.solids.empty() && nt > 0) out.solids.push_back(Solid{});
     out.warnings = warnings_;
   } STLTOPO_CATCH {
-    return oom();
+    return detail::oom(kEditArrays);
   }
   size_t solid = 0;
   for (uint32_t t = 0; t < ntSlots; ++t) {
@@ -1091,7 +1095,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   Array<uint32_t> pairMap;
   Array<uint8_t> openHalf;
   const uint32_t nPairSlots = uint32_t(pairKind_.size());
-  if (!pairMap.assign(nPairSlots, kInvalid) || !openHalf.assign(nPairSlots, 0)) return oom();
+  if (!pairMap.assign(nPairSlots, kInvalid) || !openHalf.assign(nPairSlots, 0)) return detail::oom(kEditArrays);
   uint32_t nPairs = 0;
   for (uint32_t t = 0; t < ntSlots; ++t) {
     if (!triangleAlive(t) || degenerate_[t]) continue;
@@ -1116,15 +1120,15 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   T.tolerance = 0;
   T.nWeldedVertices = nv;
   EditLoops L;
-  if (!Impl::labelLoops(*this, L, nullptr)) return oom();
+  if (!Impl::labelLoops(*this, L, nullptr)) return detail::oom(kEditArrays);
   Array<uint32_t> loopOf;  // per slot half-edge: its loop (boundary half-edges only)
-  if (!loopOf.assign(nhSlots, kInvalid)) return oom();
+  if (!loopOf.assign(nhSlots, kInvalid)) return detail::oom(kEditArrays);
   for (uint32_t h = 0; h < L.nLoops(); ++h)
     for (uint32_t i = L.loopOffsets[h]; i < L.loopOffsets[h + 1]; ++i) loopOf[L.loopHalfedges[i]] = h;
   if (!T.next.resize(nh) || !T.prev.resize(nh) || !T.vert.resize(nh) || !T.face.resize(nh) || !T.pairKind.resize(nPairs) ||
       !T.triangleHalfedge.resize(nt) || !T.vertexHalfedge.assign(nv, kInvalid) || !T.vertexWeld.resize(nv) ||
       !T.triangleDegenerate.resize(nt) || !T.vertexNonManifold.resize(nv))
-    return oom();
+    return detail::oom(kEditArrays);
   for (uint32_t e = 0; e < nhSlots; ++e) {
     uint32_t y = mp.halfedges[e];
     if (y == kInvalid) continue;
@@ -1159,7 +1163,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   if (!T.loopHalfedge.resize(L.nLoops()) || !T.loopHalfedges.resize(L.loopHalfedges.size()) ||
       !T.loopOffsets.resize(L.loopOffsets.size()) || !T.loopIsSeam.resize(L.nLoops()) ||
       !T.loopPerimeter.resize(L.nLoops()))
-    return oom();
+    return detail::oom(kEditArrays);
   for (uint32_t h = 0; h < L.nLoops(); ++h) {
     T.loopHalfedge[h] = mp.halfedges[L.loopHalfedge[h]];
     T.loopIsSeam[h] = L.loopIsSeam[h];
@@ -1175,7 +1179,7 @@ Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const 
   T.nNonManifoldVertices = nNonManifoldVertices_;
   T.nDegenerate = nDegenerate_;
   uint32_t shells = Impl::countShells(*this);
-  if (shells == kInvalid) return oom();
+  if (shells == kInvalid) return detail::oom(kEditArrays);
   T.nShells = shells;
   return Status{};
 }
@@ -1195,7 +1199,7 @@ Status EditableMesh::compact(CompactMaps* maps) {
   STLTOPO_TRY {
     renumbered.resize(attributes_.size());
   } STLTOPO_CATCH {
-    return oom();
+    return detail::oom(kEditArrays);
   }
   for (size_t i = 0; i < attributes_.size(); ++i) {
     Attribute& a = attributes_[i];
@@ -1208,7 +1212,7 @@ Status EditableMesh::compact(CompactMaps* maps) {
       case Element::Triangle: map = &mp.triangles; n = t.nTriangles; break;
       case Element::Edge: map = &mp.halfedges; n = t.nHalfedges() / 2; step = 2; break;
     }
-    if (!x.bytes.resize(n * st)) return oom();
+    if (!x.bytes.resize(n * st)) return detail::oom(kEditArrays);
     for (size_t i0 = 0; i0 < map->size(); i0 += step) {
       uint32_t y = (*map)[i0];
       if (y != kInvalid) std::memcpy(x.bytes.data() + size_t(y / step) * st, a.bytes.data() + (i0 / step) * st, st);
@@ -1218,7 +1222,7 @@ Status EditableMesh::compact(CompactMaps* maps) {
       x.rules = a.rules;
       x.defaultValue = a.defaultValue;
     } STLTOPO_CATCH {
-      return oom();
+      return detail::oom(kEditArrays);
     }
     x.view = a.view;
     x.view.data = x.bytes.data();
@@ -1313,17 +1317,17 @@ Status EditableMesh::reserve(uint32_t vertices, uint32_t triangles) {
     for (int c = 0; c < 3; ++c)
       if (!chAdded_.push_back(kInvalid)) {
         Impl::clearChange(*this);
-        return oom();
+        return detail::oom(kEditArrays);
       }
   bool ok = Impl::reserve(*this, vertices);
   Impl::clearChange(*this);
-  return ok ? Status{} : oom();
+  return ok ? Status{} : detail::oom(kEditArrays);
 }
 
 Status EditableMesh::addVertex(float x, float y, float z, uint32_t* out) {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
     return Status::error(Code::NonFinite, "a vertex needs finite coordinates");
-  if (!Impl::reserve(*this, 1)) return oom();
+  if (!Impl::reserve(*this, 1)) return detail::oom(kEditArrays);
   float p[3] = {x, y, z};
   uint32_t v = Impl::appendVertex(*this, p);
   if (out) *out = v;
@@ -1336,7 +1340,7 @@ Status EditableMesh::removeTriangle(uint32_t t) {
   Impl::clearChange(*this);
   if (!chRemoved_.push_back(t) || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   Impl::apply(*this);
   return Status{};
@@ -1364,11 +1368,11 @@ Status EditableMesh::addTriangle(uint32_t a, uint32_t b, uint32_t c, uint32_t* o
   for (uint32_t x : v)
     if (!chAdded_.push_back(x)) {
       Impl::clearChange(*this);
-      return oom();
+      return detail::oom(kEditArrays);
     }
   if (!Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   uint32_t t = Impl::apply(*this);
   if (out) *out = t;
@@ -1409,7 +1413,7 @@ Status EditableMesh::flipEdge(uint32_t e) {
   for (uint32_t x : corners) ok = ok && chRewrittenCorners_.push_back(x);
   if (!ok || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   Impl::apply(*this);
   Impl::writePending(*this, pw);
@@ -1426,7 +1430,7 @@ Status EditableMesh::splitEdge(uint32_t e, double t, uint32_t* newVertex) {
   Array<uint32_t> sides;
   bool ok = true;
   Impl::forEachEdgeSide(*this, a, b, [&](uint32_t x) { ok = ok && sides.push_back(x); });
-  if (!ok) return oom();
+  if (!ok) return detail::oom(kEditArrays);
   std::sort(sides.begin(), sides.end());
   const uint32_t m = nVertices();
   Impl::PendingWrites pw;
@@ -1458,7 +1462,7 @@ Status EditableMesh::splitEdge(uint32_t e, double t, uint32_t* newVertex) {
   }
   if (!ok || !Impl::reserve(*this, 1)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   float pm[3];
   for (int k = 0; k < 3; ++k)
@@ -1606,7 +1610,7 @@ Status EditableMesh::collapseEdge(uint32_t e, double t, uint32_t* remaining) {
   });
   if (!ok || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   for (int k = 0; k < 3; ++k) positions_[3 * size_t(a) + k] = float(pn[k]);
   Impl::apply(*this);
@@ -1636,7 +1640,7 @@ Status EditableMesh::reverseTriangle(uint32_t t) {
   for (uint32_t x : cs) ok = ok && chRewrittenCorners_.push_back(x);
   if (!ok || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   Impl::apply(*this);
   negateNormal(attribute(kAttrNormal), t);
@@ -1649,7 +1653,7 @@ Status EditableMesh::reverseShell(uint32_t t) {
   Impl::clearChange(*this);
   // Breadth-first over shared edges; chRewritten_ is the queue, triangle stamps the marks.
   Impl::newTriangleEpoch(*this);
-  if (!chRewritten_.push_back(t)) return oom();
+  if (!chRewritten_.push_back(t)) return detail::oom(kEditArrays);
   triStamp_[t] = triEpoch_;
   bool ok = true;
   if (!degenerate_[t])
@@ -1671,7 +1675,7 @@ Status EditableMesh::reverseShell(uint32_t t) {
   ok = ok && done.resize(chRewritten_.size());
   if (!ok || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   std::memcpy(done.data(), chRewritten_.data(), chRewritten_.size() * 4);
   Impl::apply(*this);
@@ -1696,7 +1700,7 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
   do {
     if (pairKind_[x >> 1] != uint8_t(EdgeKind::Boundary))
       return refused(detail::format("the loop of half-edge %u is a seam (it has a cut side): filling it would make non-manifold edges", e));
-    if (!loop.push_back(vert_[x])) return oom();
+    if (!loop.push_back(vert_[x])) return detail::oom(kEditArrays);
     x = next_[x];
   } while (x != e);
   // Cut the loop at repeated vertices into simple polygons: a stack of vertices; when a
@@ -1704,7 +1708,7 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
   // A vertex on the stack has stamp_ == epoch_ (found by a search back, only when it
   // repeats).
   Array<uint32_t> stack, polys, polyOffsets;
-  if (!polyOffsets.push_back(0)) return oom();
+  if (!polyOffsets.push_back(0)) return detail::oom(kEditArrays);
   Impl::newEpoch(*this);
   auto emit = [&](size_t from) {
     for (size_t i = from; i < stack.size(); ++i) {
@@ -1718,12 +1722,12 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
     if (stamp_[v] == epoch_) {
       size_t from = stack.size();
       while (from > 0 && stack[from - 1] != v) --from;
-      if (!emit(from - 1)) return oom();
+      if (!emit(from - 1)) return detail::oom(kEditArrays);
     }
     stamp_[v] = epoch_;
-    if (!stack.push_back(v)) return oom();
+    if (!stack.push_back(v)) return detail::oom(kEditArrays);
   }
-  if (!emit(0)) return oom();
+  if (!emit(0)) return detail::oom(kEditArrays);
   // Triangulate each polygon.
   Array<uint32_t> tris;
   Array<uint64_t> diagonals;
@@ -1769,15 +1773,15 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
     }
     if (!ear) {
       for (uint32_t i = 1; i + 1 < n; ++i) {
-        if (!tris.push_back(P[0]) || !tris.push_back(P[i]) || !tris.push_back(P[i + 1])) return oom();
-        if (i + 1 < n - 1 && !diagonals.push_back(edgeKey(P[0], P[i + 1]))) return oom();
+        if (!tris.push_back(P[0]) || !tris.push_back(P[i]) || !tris.push_back(P[i + 1])) return detail::oom(kEditArrays);
+        if (i + 1 < n - 1 && !diagonals.push_back(edgeKey(P[0], P[i + 1]))) return detail::oom(kEditArrays);
       }
       continue;
     }
     // Ear clipping in the plane.
     Array<double> xy;
     Array<uint32_t> ring;
-    if (!xy.resize(2 * size_t(n)) || !ring.resize(n)) return oom();
+    if (!xy.resize(2 * size_t(n)) || !ring.resize(n)) return detail::oom(kEditArrays);
     for (uint32_t i = 0; i < n; ++i) {
       double A[3];
       Impl::position(*this, P[i], A);
@@ -1810,11 +1814,11 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
         return refused(detail::format("every ear of the loop of half-edge %u would make an existing edge non-manifold", e));
       uint32_t i = ring[(pick + m - 1) % m], j = ring[pick], k = ring[(pick + 1) % m];
       if (!tris.push_back(P[i]) || !tris.push_back(P[j]) || !tris.push_back(P[k]) || !diagonals.push_back(edgeKey(P[i], P[k])))
-        return oom();
+        return detail::oom(kEditArrays);
       for (uint32_t r = pick; r + 1 < m; ++r) ring[r] = ring[r + 1];
       --m;
     }
-    if (!tris.push_back(P[ring[0]]) || !tris.push_back(P[ring[1]]) || !tris.push_back(P[ring[2]])) return oom();
+    if (!tris.push_back(P[ring[0]]) || !tris.push_back(P[ring[1]]) || !tris.push_back(P[ring[2]])) return detail::oom(kEditArrays);
   }
   // No inner edge may land on an existing edge, nor on another inner edge.
   std::sort(diagonals.begin(), diagonals.end());
@@ -1832,7 +1836,7 @@ Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* ou
   }
   if (!ok || !Impl::reserve(*this, 0)) {
     Impl::clearChange(*this);
-    return oom();
+    return detail::oom(kEditArrays);
   }
   uint32_t first = Impl::apply(*this);
   if (out)

@@ -1,5 +1,11 @@
 // extractShell: one shell as a mesh of its own (for `stltopo split` and the JS extractShell).
-#include "detail.h"
+#include "stltopo/mesh.h"
+#include "stltopo/shells.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "text_format.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
 
 namespace stltopo {
 
@@ -11,7 +17,7 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
   if (shell >= topo.nShells)
     return Status::error(Code::InvalidArgument,
                          detail::format("shell %u does not exist (the mesh has %u)", shell, topo.nShells));
-  auto oom = [] { return Status::error(Code::OutOfMemory, "could not allocate the shell's mesh"); };
+  auto oom = [] { return detail::oom("the shell's mesh"); };
   const uint32_t* ts = topo.triangleShell.data();
   const bool normals = mesh.normals.size() == size_t(nt) * 3;
   const bool colors = mesh.colorConvention != ColorConvention::None && mesh.colors.size() == size_t(nt) * 3 &&
