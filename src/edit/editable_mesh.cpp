@@ -13,6 +13,12 @@ const Impl& emptyImpl() {
   return empty;
 }
 Status noImpl() { return detail::oom(edit_detail::kEditArrays); }
+// The Impl, allocated first when missing (null when it cannot be). One function, so that the
+// allocation is not repeated in every forwarder.
+Impl* ensure(Impl*& impl) {
+  if (!impl) impl = detail::tryNew<Impl>();
+  return impl;
+}
 }  // namespace
 
 EditableMesh::EditableMesh() : impl_(detail::tryNew<Impl>()) {}
@@ -28,9 +34,7 @@ EditableMesh& EditableMesh::operator=(EditableMesh&& o) noexcept {
 }
 
 #define STLTOPO_READ (impl_ ? *impl_ : emptyImpl())
-#define STLTOPO_WRITE(call, otherwise) \
-  if (!impl_) impl_ = detail::tryNew<Impl>(); \
-  return impl_ ? impl_->call : otherwise
+#define STLTOPO_WRITE(call, otherwise) return ensure(impl_) ? impl_->call : otherwise
 
 Status EditableMesh::init(const Mesh& mesh, const Topology& topo) { STLTOPO_WRITE(init(mesh, topo), noImpl()); }
 Status EditableMesh::init(const Mesh& mesh, const TopologyOptions& options) { STLTOPO_WRITE(init(mesh, options), noImpl()); }
