@@ -20,13 +20,15 @@
 //     its sides are paired again by the rule buildTopology uses (first unpaired with first
 //     unpaired, opposite directions, in side order 3t + c), and the half-edges of the sides
 //     whose partner changed move to other slots.
-//   - Face ids: face[e] < kLoopFaceBit is a triangle id. A boundary half-edge has
-//     face[e] = kLoopFaceBit | h, where h is its boundary loop in the loop numbering; that
-//     numbering is rebuilt (O(n)) when loops are read after an edit changed the boundary
-//     (loops(), face(e)), and until then the face word of a changed boundary half-edge is
-//     kStaleLoopFace. Loop h is numbered as buildTopology would number it on the
+//   - Face ids, as in Topology: face(e) is the triangle id, or nTriangles() + h for a
+//     half-edge of boundary loop h (nTriangles() counts the slots, dead ones included, so
+//     the two never meet). Loop h is numbered as buildTopology would number it on the
 //     compacted mesh: loops in order of their earliest triangle side, each listed in next
-//     order from the twin of that side.
+//     order from the twin of that side; the numbering is rebuilt (O(n)) when loops are read
+//     after an edit changed the boundary (loops(), face(e), stats()). The stored face words
+//     (faceWords()) keep a triangle id, or kLoopFaceBit | h for a boundary half-edge, so
+//     that adding a triangle renumbers nothing; a changed boundary half-edge holds
+//     kStaleLoopFace there until the loops are numbered again.
 //
 // After every edit, the topology is the one buildTopology gives for the current
 // triangles: toMesh()/compact() produce a Mesh and Topology whose arrays equal
@@ -52,7 +54,7 @@
 
 namespace stltopo {
 
-inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // face word of a boundary half-edge
+inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // stored face word of a boundary half-edge
 inline constexpr uint32_t kStaleLoopFace = kLoopFaceBit | 0x7FFFFFFEu;  // loop not numbered yet
 
 // ---------------------------------------------------------------------------
@@ -168,8 +170,9 @@ class EditableMesh {
   const Array<uint32_t>& next() const;
   const Array<uint32_t>& prev() const;
   const Array<uint32_t>& vert() const;
-  // The face words; those of changed boundary half-edges are kStaleLoopFace until loops()
-  // or face(e) renumbers the loops.
+  // The stored face words: a triangle id, or kLoopFaceBit | h for a boundary half-edge of
+  // loop h (kStaleLoopFace until loops() or face(e) renumbers the loops). face(e) gives the
+  // face id.
   const Array<uint32_t>& faceWords() const;
   const Array<uint8_t>& pairKind() const;
   const Array<uint32_t>& triangleHalfedge() const;
@@ -177,7 +180,9 @@ class EditableMesh {
   const Array<uint8_t>& triangleDegenerateFlags() const;
   const Array<uint8_t>& vertexNonManifoldFlags() const;
 
-  // face[e] with the loop numbering brought up to date (O(n) after an edit, else O(1)).
+  // The face id of half-edge e, as Topology numbers faces: its triangle, or nTriangles() + h
+  // for boundary loop h, with the loop numbering brought up to date (O(n) after an edit,
+  // else O(1)). kInvalid for a dead half-edge, or when memory ran out numbering the loops.
   uint32_t face(uint32_t e);
   const EditLoops& loops();
   const EditStats& stats();

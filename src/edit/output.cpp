@@ -21,8 +21,9 @@ const EditLoops& EditableMesh::Impl::loops() {
 }
 
 uint32_t EditableMesh::Impl::face(uint32_t e) {
-  if (Impl::boundaryFace(face_[e])) loops();
-  return face_[e];
+  if (!Impl::boundaryFace(face_[e])) return face_[e];
+  loops();
+  return face_[e] == kStaleLoopFace ? kInvalid : nTriangles() + (face_[e] & ~kLoopFaceBit);
 }
 
 const EditStats& EditableMesh::Impl::stats() {
