@@ -137,17 +137,10 @@ constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
 val arrayLayout() {
   val list = val::array();
   for (const JsArray& a : kJsArrays) {
-    val d = val::object();
-    d.set("name", val(a.name));
-    d.set("group", val(a.group));
-    d.set("key", val(a.key));
-    d.set("element", val(a.element));
-    d.set("width", val(a.width));
+    val d = js::layoutRow(a.name, a.group, a.key, a.element, a.width, a.type, a.doc);
     d.set("when", val(a.when));
     d.set("copied", val((a.flags & kCopied) != 0));
     d.set("derived", val((a.flags & kDerived) != 0));
-    d.set("type", val(a.type));
-    d.set("doc", val(a.doc));
     list.call<void>("push", d);
   }
   return list;

@@ -254,15 +254,7 @@ constexpr EditArray kEditArrays[] = {STLTOPO_JS_EDIT_ARRAYS(STLTOPO_EDIT_ROW)};
 val editArrayLayout() {
   val list = val::array();
   for (const EditArray& a : kEditArrays) {
-    val d = val::object();
-    d.set("name", val(a.name));
-    d.set("group", val(a.group));
-    d.set("key", val(a.key));
-    d.set("element", val(a.element));
-    d.set("width", val(a.width));
-    d.set("type", val(a.type));
-    d.set("doc", val(a.doc));
-    list.call<void>("push", d);
+    list.call<void>("push", js::layoutRow(a.name, a.group, a.key, a.element, a.width, a.type, a.doc));
   }
   return list;
 }

@@ -41,6 +41,22 @@ template <> struct JsType<Array<uint32_t>> { static constexpr const char* js = "
 template <> struct JsType<Array<uint16_t>> { static constexpr const char* js = "Uint16Array"; };
 template <> struct JsType<Array<uint8_t>> { static constexpr const char* js = "Uint8Array"; };
 
+// One row of an array table as a JS object: the fields STLTOPO_JS_ARRAYS and
+// STLTOPO_JS_EDIT_ARRAYS share ({ name, group, key, element, width, type, doc }).
+inline emscripten::val layoutRow(const char* name, const char* group, const char* key, const char* element, int width,
+                                 const char* type, const char* doc) {
+  using emscripten::val;
+  val d = val::object();
+  d.set("name", val(name));
+  d.set("group", val(group));
+  d.set("key", val(key));
+  d.set("element", val(element));
+  d.set("width", val(width));
+  d.set("type", val(type));
+  d.set("doc", val(doc));
+  return d;
+}
+
 // "viscam", "magics"; anything else is None.
 inline ColorConvention colorConvention(const std::string& name) {
   return name == "viscam" ? ColorConvention::VisCam : name == "magics" ? ColorConvention::Magics : ColorConvention::None;
