@@ -3,8 +3,9 @@
 // failure comes back as a status object ({code, message, offset?, line?,
 // triangle?, element?}) or null for success.
 //
-// The arrays that cross to JS are listed once, in STLTOPO_JS_ARRAYS below; the
-// JS layer (web/src/mesh.js), index.d.ts and docs/JS-API.md follow that table.
+// The arrays that cross to JS are listed once, in STLTOPO_JS_ARRAYS below (those of the
+// EditableMesh in its sibling table, STLTOPO_JS_EDIT_ARRAYS in edit_arrays.h); the JS layer
+// (web/src/mesh.js, web/src/edit.js), index.d.ts and docs/JS-API.md follow those tables.
 //
 // Typed arrays leave wasm memory in one of two ways (see array()):
 //   copy = true : a view is taken and slice()d in the same expression, so the JS
@@ -144,14 +145,6 @@ using stltopo::Status;
 constexpr int kCopied = 1;
 constexpr int kDerived = 2;
 
-template <class A>
-struct JsType;
-template <> struct JsType<Array<float>> { static constexpr const char* js = "Float32Array"; };
-template <> struct JsType<Array<double>> { static constexpr const char* js = "Float64Array"; };
-template <> struct JsType<Array<uint32_t>> { static constexpr const char* js = "Uint32Array"; };
-template <> struct JsType<Array<uint16_t>> { static constexpr const char* js = "Uint16Array"; };
-template <> struct JsType<Array<uint8_t>> { static constexpr const char* js = "Uint8Array"; };
-
 struct JsArray {
   const char *name, *group, *key, *element;
   int width;
@@ -167,7 +160,7 @@ struct JsArray {
 #define STLTOPO_DOC(doc) doc
 #endif
 #define STLTOPO_ROW(name, part, group, key, element, width, when, flags, doc) \
-  {#name, group, key, element, width, when, flags, JsType<decltype(stltopo::part::name)>::js, STLTOPO_DOC(doc)},
+  {#name, group, key, element, width, when, flags, js::JsType<decltype(stltopo::part::name)>::js, STLTOPO_DOC(doc)},
 constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
 #undef STLTOPO_ROW
 
@@ -175,17 +168,10 @@ constexpr JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_ROW)};
 val arrayLayout() {
   val list = val::array();
   for (const JsArray& a : kJsArrays) {
-    val d = val::object();
-    d.set("name", val(a.name));
-    d.set("group", val(a.group));
-    d.set("key", val(a.key));
-    d.set("element", val(a.element));
-    d.set("width", val(a.width));
+    val d = js::layoutRow(a.name, a.group, a.key, a.element, a.width, a.type, a.doc);
     d.set("when", val(a.when));
     d.set("copied", val((a.flags & kCopied) != 0));
     d.set("derived", val((a.flags & kDerived) != 0));
-    d.set("type", val(a.type));
-    d.set("doc", val(a.doc));
     list.call<void>("push", d);
   }
   return list;
@@ -352,9 +338,7 @@ class Session {
   // The scalars of a mesh whose arrays were upload()ed: its colour convention ("none",
   // "viscam", "magics") and solids ([{ name, firstTriangle, triangleCount }]).
   void setMeta(const std::string& colorConvention, val solids) {
-    mesh_.colorConvention = colorConvention == "viscam"   ? stltopo::ColorConvention::VisCam
-                            : colorConvention == "magics" ? stltopo::ColorConvention::Magics
-                                                          : stltopo::ColorConvention::None;
+    mesh_.colorConvention = js::colorConvention(colorConvention);
     mesh_.solids.clear();
     const int n = solids.isArray() ? solids["length"].as<int>() : 0;
     for (int i = 0; i < n; ++i) {
@@ -401,16 +385,7 @@ class Session {
   // "as-mesh"/"none"/"viscam"/"magics", name a string or null (each solid's own).
   val writeBegin(const std::string& format, const std::string& colors, val name, bool storedNormals, double chunkBytes) {
     delete writer_;
-    stltopo::WriteOptions o;
-    o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
-    o.colors = colors == "none"     ? stltopo::WriteColors::None
-               : colors == "viscam" ? stltopo::WriteColors::VisCam
-               : colors == "magics" ? stltopo::WriteColors::Magics
-                                    : stltopo::WriteColors::AsMesh;
-    if (name.isString()) o.name = name.as<std::string>();
-    o.storedNormals = storedNormals;
-    if (chunkBytes > 0) o.chunkBytes = size_t(chunkBytes);
-    writer_ = new (std::nothrow) stltopo::StlWriter(*writing_, o);
+    writer_ = new (std::nothrow) stltopo::StlWriter(*writing_, js::writeOptions(format, colors, name, storedNormals, chunkBytes));
     if (!writer_) return js::status(Status::error(Code::OutOfMemory, "could not allocate the writer"));
     return val::null();
   }

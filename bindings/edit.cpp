@@ -7,8 +7,10 @@
 
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <utility>
 
+#include "edit_arrays.h"
 #include "js_values.h"
 #include "stltopo/edit.h"
 #include "stltopo/stltopo.h"
@@ -41,24 +43,18 @@ stltopo::RuleCallback jsRule(val fn) {
 
 class EditSession {
  public:
-  // Staging: JS fills the mesh arrays of the mesh to edit, then init().
+  // Staging: JS fills the mesh arrays of the mesh to edit (STLTOPO_JS_EDIT_UPLOADS), then
+  // init(). A writable view of n elements, or null (unknown name, out of memory).
   val upload(const std::string& name, double n) {
-    Array<float>* f = nullptr;
-    Array<uint32_t>* u = nullptr;
-    Array<uint16_t>* w = nullptr;
-    Array<uint8_t>* b = nullptr;
-    if (name == "positions") f = &staged_.positions;
-    else if (name == "normals") f = &staged_.normals;
-    else if (name == "triangles") u = &staged_.triangles;
-    else if (name == "attributes") w = &staged_.attributes;
-    else if (name == "colors") b = &staged_.colors;
-    else if (name == "colorValid") b = &staged_.colorValid;
-    size_t k = n >= 0 ? size_t(n) : 0;
-    if (f && f->resize(k)) return val(typed_memory_view(f->size(), f->data()));
-    if (u && u->resize(k)) return val(typed_memory_view(u->size(), u->data()));
-    if (w && w->resize(k)) return val(typed_memory_view(w->size(), w->data()));
-    if (b && b->resize(k)) return val(typed_memory_view(b->size(), b->data()));
-    return val::null();
+    val out = val::null();
+    auto up = [&](auto& a) {
+      if (a.resize(n >= 0 ? size_t(n) : 0)) out = val(typed_memory_view(a.size(), a.data()));
+    };
+#define STLTOPO_UPLOAD(member) \
+  if (name == #member) up(staged_.member);
+    STLTOPO_JS_EDIT_UPLOADS(STLTOPO_UPLOAD)
+#undef STLTOPO_UPLOAD
+    return out;
   }
   void addSolid(const std::string& name, double first, double count) {
     stltopo::Solid s;
@@ -69,9 +65,7 @@ class EditSession {
   }
   void setFormat(const std::string& format, const std::string& colors) {
     staged_.format = format == "binary" ? stltopo::Format::Binary : format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Unknown;
-    staged_.colorConvention = colors == "viscam" ? stltopo::ColorConvention::VisCam
-                              : colors == "magics" ? stltopo::ColorConvention::Magics
-                                                   : stltopo::ColorConvention::None;
+    staged_.colorConvention = js::colorConvention(colors);
   }
   val init(double tolerance) {
     const uint32_t nv = staged_.nVertices();
@@ -145,28 +139,25 @@ class EditSession {
     return o;
   }
   std::string infoJson(const std::string& file) { return em_.infoJson(file); }
+  // A named array of STLTOPO_JS_EDIT_ARRAYS (a copy, or a borrowed view); null for an
+  // unknown name.
   val array(const std::string& n, bool copy) {
-    if (n == "positions") return js::array(em_.positions(), copy);
-    if (n == "triangles") return js::array(em_.triangles(), copy);
-    if (n == "next") return js::array(em_.next(), copy);
-    if (n == "prev") return js::array(em_.prev(), copy);
-    if (n == "vert") return js::array(em_.vert(), copy);
-    if (n == "face") {
-      em_.loops();  // numbers the loops: the face words of boundary half-edges
-      return js::array(em_.faceWords(), copy);
-    }
-    if (n == "pairKind") return js::array(em_.pairKind(), copy);
-    if (n == "triangleHalfedge") return js::array(em_.triangleHalfedge(), copy);
-    if (n == "vertexHalfedge") return js::array(em_.vertexHalfedge(), copy);
-    if (n == "triangleDegenerate") return js::array(em_.triangleDegenerateFlags(), copy);
-    if (n == "vertexNonManifold") return js::array(em_.vertexNonManifoldFlags(), copy);
-    const stltopo::EditLoops& l = em_.loops();
-    if (n == "loopHalfedge") return js::array(l.loopHalfedge, copy);
-    if (n == "loopOffsets") return js::array(l.loopOffsets, copy);
-    if (n == "loopHalfedges") return js::array(l.loopHalfedges, copy);
-    if (n == "loopIsSeam") return js::array(l.loopIsSeam, copy);
-    if (n == "loopPerimeter") return js::array(l.loopPerimeter, copy);
+#define STLTOPO_EDIT_ARRAY(name, source, ...) \
+  if (n == #name) return js::array(this->source, copy);
+    STLTOPO_JS_EDIT_ARRAYS(STLTOPO_EDIT_ARRAY)
+#undef STLTOPO_EDIT_ARRAY
     return val::null();
+  }
+  // The face ids of the half-edges, as a Mesh numbers them: the triangle id, or nTriangles +
+  // h for a half-edge of boundary loop h (EditableMesh::face); kInvalid for dead slots.
+  const Array<uint32_t>& faceIds() {
+    const uint32_t nh = em_.nHalfedges();
+    if (!faceIds_.resize(nh)) {
+      faceIds_ = Array<uint32_t>{};
+      return faceIds_;
+    }
+    for (uint32_t e = 0; e < nh; ++e) faceIds_[e] = em_.halfedgeAlive(e) ? em_.face(e) : stltopo::kInvalid;
+    return faceIds_;
   }
   val validate() const { return js::status(em_.validate()); }
 
@@ -177,14 +168,7 @@ class EditSession {
     stltopo::Mesh m;
     Status s = em_.toMesh(m);
     if (!s.ok()) return js::status(s);
-    stltopo::WriteOptions o;
-    o.format = format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
-    o.colors = colors == "none" ? stltopo::WriteColors::None
-               : colors == "viscam" ? stltopo::WriteColors::VisCam
-               : colors == "magics" ? stltopo::WriteColors::Magics
-                                    : stltopo::WriteColors::AsMesh;
-    o.storedNormals = normals != "computed";
-    if (name.isString()) o.name = name.as<std::string>();
+    const stltopo::WriteOptions o = js::writeOptions(format, colors, name, normals != "computed");
     Array<uint8_t> out;
     bool grown = true;
     auto sink = [](void* user, const uint8_t* data, size_t n) {
@@ -247,12 +231,33 @@ class EditSession {
     return out;
   }
 
-  EditableMesh& mesh() { return em_; }
+  EditableMesh& em() { return em_; }
 
  private:
   stltopo::Mesh staged_;
   EditableMesh em_;
+  Array<uint32_t> faceIds_;  // faceIds()
 };
+
+// The table as JS objects, as _arrayLayout gives the mesh's: [{ name, group, key, element,
+// width, type, doc }].
+struct EditArray {
+  const char *name, *group, *key, *element;
+  int width;
+  const char *type, *doc;
+};
+#define STLTOPO_EDIT_ROW(name, source, group, key, element, width, doc) \
+  {#name, group, key, element, width, js::JsType<std::remove_cvref_t<decltype(std::declval<EditSession&>().source)>>::js, doc},
+constexpr EditArray kEditArrays[] = {STLTOPO_JS_EDIT_ARRAYS(STLTOPO_EDIT_ROW)};
+#undef STLTOPO_EDIT_ROW
+
+val editArrayLayout() {
+  val list = val::array();
+  for (const EditArray& a : kEditArrays) {
+    list.call<void>("push", js::layoutRow(a.name, a.group, a.key, a.element, a.width, a.type, a.doc));
+  }
+  return list;
+}
 
 }  // namespace
 
@@ -284,4 +289,5 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("attribute", &EditSession::attribute)
       .function("attributeInfo", &EditSession::attributeInfo)
       .function("attributeNames", &EditSession::attributeNames);
+  emscripten::function("_editArrayLayout", &editArrayLayout);
 }

@@ -1,7 +1,9 @@
 #!/usr/bin/env node
-// Writes the mesh's array properties into web/src/index.d.ts and docs/JS-API.md from the
-// bindings' array table (STLTOPO_JS_ARRAYS in bindings/bindings.cpp, read from the built
-// dist/ as _arrayLayout), between the "BEGIN arrays" and "END arrays" lines.
+// Writes the array properties of Mesh and EditableMesh into web/src/index.d.ts and
+// docs/JS-API.md from the bindings' array tables (STLTOPO_JS_ARRAYS in bindings/bindings.cpp,
+// read from the built dist/ as _arrayLayout, between the "BEGIN arrays" and "END arrays"
+// lines; STLTOPO_JS_EDIT_ARRAYS in bindings/edit_arrays.h, read from the full module as
+// _editArrayLayout, between "BEGIN editable arrays" and "END editable arrays").
 //   node scripts/gen-api-docs.mjs           rewrite both blocks
 //   node scripts/gen-api-docs.mjs --check   exit 1 when a block differs (tests/js/boundary.test.mjs)
 import { readFileSync, writeFileSync } from 'node:fs';
@@ -75,6 +77,35 @@ function mdBlock(layout) {
   return ['| mesh. | type | length | contents |', '| --- | --- | --- | --- |', ...rows];
 }
 
+// The EditableMesh's block: every array is a copy made when read after an edit, never null.
+function editDtsBlock(layout) {
+  const out = [];
+  const groups = new Map();
+  for (const d of layout) {
+    if (!d.group) {
+      out.push(`  /** ${d.doc} ${per(d)}. */`, `  readonly ${d.key}: ${d.type};`);
+      continue;
+    }
+    if (!groups.has(d.group)) {
+      const members = [];
+      groups.set(d.group, members);
+      out.push({ group: d.group, members });
+    }
+    groups.get(d.group).push(d);
+  }
+  return out.flatMap((x) => (typeof x === 'string' ? [x] : [
+    `  /** ${GROUP_DOC[x.group] || ''} */`,
+    `  readonly ${x.group}: {`,
+    ...x.members.flatMap((d) => [`    /** ${d.doc} ${per(d)}. */`, `    readonly ${d.key}: ${d.type};`]),
+    '  };',
+  ]));
+}
+
+function editMdBlock(layout) {
+  const rows = layout.map((d) => `| \`${d.group ? `${d.group}.` : ''}${d.key}\` | ${d.type} | ${per(d)} | ${d.doc} |`);
+  return ['| em. | type | length | contents |', '| --- | --- | --- | --- |', ...rows];
+}
+
 function replaceBlock(file, lines, open, close) {
   const path = `${root}${file}`;
   const text = readFileSync(path, 'utf8');
@@ -92,9 +123,11 @@ function replaceBlock(file, lines, open, close) {
 }
 
 // The full module: the core one carries the table without its doc lines and geometry rows.
-const { layout } = await api.internal.getFull();
+const { layout, editLayout } = await api.internal.getFull();
 const ok = [
   replaceBlock('web/src/index.d.ts', dtsBlock(layout), 'BEGIN arrays', 'END arrays'),
   replaceBlock('docs/JS-API.md', mdBlock(layout), 'BEGIN arrays', 'END arrays'),
+  replaceBlock('web/src/index.d.ts', editDtsBlock(editLayout), 'BEGIN editable arrays', 'END editable arrays'),
+  replaceBlock('docs/JS-API.md', editMdBlock(editLayout), 'BEGIN editable arrays', 'END editable arrays'),
 ].every(Boolean);
 process.exitCode = ok ? 0 : 1;

@@ -1,5 +1,11 @@
 // extractShell: one shell as a mesh of its own (for `stltopo split` and the JS extractShell).
-#include "detail.h"
+#include "stltopo/mesh.h"
+#include "stltopo/shells.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "text_format.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
 
 namespace stltopo {
 
@@ -11,7 +17,7 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
   if (shell >= topo.nShells)
     return Status::error(Code::InvalidArgument,
                          detail::format("shell %u does not exist (the mesh has %u)", shell, topo.nShells));
-  auto oom = [] { return Status::error(Code::OutOfMemory, "could not allocate the shell's mesh"); };
+  const char* const kMesh = "the shell's mesh";  // what out-of-memory names
   const uint32_t* ts = topo.triangleShell.data();
   const bool normals = mesh.normals.size() == size_t(nt) * 3;
   const bool colors = mesh.colorConvention != ColorConvention::None && mesh.colors.size() == size_t(nt) * 3 &&
@@ -23,7 +29,7 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
   if (!newId.assign(nv, kInvalid) || !out.triangles.reserve(size_t(n) * 3) || !out.attributes.reserve(n) ||
       (normals && !out.normals.reserve(size_t(n) * 3)) ||
       (colors && (!out.colors.reserve(size_t(n) * 3) || !out.colorValid.reserve(n))))
-    return oom();
+    return detail::oom(kMesh);
   out.format = mesh.format;
   out.colorConvention = colors ? mesh.colorConvention : ColorConvention::None;
   size_t solid = 0;
@@ -37,7 +43,7 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
         id = out.nVertices();
         const float* p = mesh.positions.data() + size_t(c[k]) * 3;
         for (int i = 0; i < 3; ++i)
-          if (!out.positions.push_back(p[i])) return oom();
+          if (!out.positions.push_back(p[i])) return detail::oom(kMesh);
       }
       (void)out.triangles.push_back(id);  // reserved
     }
@@ -59,7 +65,7 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
         const std::string& name = mesh.solids[solidOfT].name;
         part.firstTriangle = nOut;
         if (!detail::tryAssign(part.name, name.data(), name.size()) || !detail::tryPushBack(out.solids, std::move(part)))
-          return oom();
+          return detail::oom(kMesh);
       }
       ++out.solids.back().triangleCount;
     }

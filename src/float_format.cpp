@@ -8,7 +8,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "detail.h"
+#include "bit_cast.h"
+#include "text_format.h"
 
 namespace stltopo::detail {
 namespace {

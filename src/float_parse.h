@@ -6,7 +6,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "detail.h"
+#include "bit_cast.h"
+#include "stltopo/read.h"
+#include "text_format.h"
 
 namespace stltopo::detail {
 

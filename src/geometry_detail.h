@@ -1,13 +1,12 @@
 // Private helpers of the geometric checks (geometry.cpp, triangle_checks.cpp).
 #pragma once
 
-#include <string>
-
 #include "stltopo/geometry.h"
+#include "try_alloc.h"
 
 namespace stltopo::geometry_detail {
 
-inline Status oom(const char* what) { return Status::error(Code::OutOfMemory, std::string("could not allocate ") + what); }
+using detail::oom;  // "out-of-memory: could not allocate <what>"
 
 // The welded corners of a mesh: the topology's representatives, or the mesh's own ids.
 struct Welded {

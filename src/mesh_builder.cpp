@@ -4,7 +4,6 @@
 
 namespace stltopo::detail {
 
-Status oom(const char* what) { return Status::error(Code::OutOfMemory, std::string("could not allocate ") + what); }
 
 void trim(const char*& b, const char*& e) {
   auto ws = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };

@@ -10,12 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "detail.h"
+#include "bit_cast.h"
+#include "stltopo/mesh.h"
+#include "stltopo/read.h"
+#include "stltopo/status.h"
+#include "text_format.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
 
 namespace stltopo::detail {
 
 // out-of-memory: "could not allocate <what>".
-Status oom(const char* what);
 
 inline uint32_t bitsOf(float f) { return detail::bitCast<uint32_t>(f); }
 inline bool finiteBits(uint32_t b) { return (b & 0x7f800000u) != 0x7f800000u; }

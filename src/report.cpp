@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <locale.h>
 
-#include "detail.h"
+#include "report_json.h"
+#include "text_format.h"
+#include "triangle_figures.h"
 #include "float_format.h"
 
 namespace stltopo {

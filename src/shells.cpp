@@ -5,13 +5,18 @@
 #include <algorithm>
 #include <cmath>
 
-#include "detail.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
 
 namespace stltopo {
 namespace {
 
 Status bad(const char* msg) { return Status::error(Code::InvalidArgument, msg); }
-Status oom() { return Status::error(Code::OutOfMemory, "could not allocate the shell and defect lists"); }
+// What out-of-memory says could not be allocated.
+constexpr const char* kLists = "the shell and defect lists";
 
 // A triangle side on a cut (inconsistent or non-manifold) edge.
 struct CutSide {
@@ -94,7 +99,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   Array<uint32_t> cycleVertex, cycleWanted;  // per vnext cycle of those: its vertex, a triangle side of it
   if (!shells.assign(nShells, Shell{}) || !isLoop.assign((size_t(nh) + 63) / 64, 0) || !wanted.resize(nl) ||
       !d.loopShell.assign(nl, kInvalid))
-    return oom();
+    return detail::oom(kLists);
   for (uint32_t x : topo.loopHalfedges) {
     if (x >= nh) return notMesh();
     setBit(isLoop, x);
@@ -107,13 +112,13 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     if (EdgeKind(pairKind[k]) != EdgeKind::Inconsistent && EdgeKind(pairKind[k]) != EdgeKind::NonManifold) continue;
     for (uint32_t e = 2 * k; e <= 2 * k + 1; ++e) {
       if (testBit(isLoop, e)) continue;
-      if (!cutSides.push_back(uint32_t(wanted.size())) || !wanted.push_back(e)) return oom();
+      if (!cutSides.push_back(uint32_t(wanted.size())) || !wanted.push_back(e)) return detail::oom(kLists);
     }
   }
   if (topo.nNonManifoldVertices > 0) {
     for (uint32_t e = 0; e < nh; ++e)
-      if (topo.vertexNonManifold[vert[e]] && !outgoing.push_back(e)) return oom();
-    if (!visited.assign(outgoing.size(), 0)) return oom();
+      if (topo.vertexNonManifold[vert[e]] && !outgoing.push_back(e)) return detail::oom(kLists);
+    if (!visited.assign(outgoing.size(), 0)) return detail::oom(kLists);
     for (size_t i = 0; i < outgoing.size(); ++i) {
       if (visited[i]) continue;
       uint32_t x = outgoing[i], side = kInvalid, steps = 0;
@@ -129,7 +134,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       if (side == kInvalid) return notMesh();
       if (!cycleVertex.push_back(vert[side]) || !cycleWanted.push_back(uint32_t(wanted.size())) ||
           !wanted.push_back(side))
-        return oom();
+        return detail::oom(kLists);
     }
     outgoing.release();
     visited.release();
@@ -141,7 +146,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   Array<uint32_t> triangleOf;  // per wanted entry
   if (!probes.resize(wanted.size() * 3) || !probeBit.assign((size_t(nh) + 63) / 64, 0) ||
       !triangleOf.assign(wanted.size(), kInvalid))
-    return oom();
+    return detail::oom(kLists);
   for (size_t i = 0; i < wanted.size(); ++i) {
     uint32_t e = wanted[i];
     if (e >= nh) return notMesh();
@@ -156,7 +161,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   // vertices that are manifold (a manifold vertex is in one shell), the degenerate triangles,
   // and the triangles of the wanted sides.
   Array<uint64_t> seen;  // per vertex: counted in its (only) shell; manifold vertices only
-  if (!seen.assign((size_t(nv) + 63) / 64, 0)) return oom();
+  if (!seen.assign((size_t(nv) + 63) / 64, 0)) return detail::oom(kLists);
   const float* P = mesh.positions.data();
   const std::vector<Solid>& solids = mesh.solids;
   size_t solid = 0;
@@ -171,7 +176,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
         const uint32_t* w = topo.vertexWeld.data();
         if (!d.degenerateTriangles.push_back(t) ||
             !d.degenerateCorners.push_back(cornerMask(w[corner[0]], w[corner[1]], w[corner[2]])))
-          return oom();
+          return detail::oom(kLists);
       }
       continue;
     }
@@ -223,7 +228,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   // half-edge). A shell's interior edges follow from its sides: 3 triangles = 2 interior
   // + boundary + cut sides.
   Array<uint32_t> sides;  // per shell: boundary and cut sides
-  if (!sides.assign(nShells, 0)) return oom();
+  if (!sides.assign(nShells, 0)) return detail::oom(kLists);
   for (uint32_t h = 0; h < nl; ++h) {
     uint32_t s = triangleShell[triangleOf[h]];
     d.loopShell[h] = s;
@@ -234,7 +239,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   }
   // Cut edges: the sides of one undirected edge are adjacent once sorted.
   Array<CutSide> cuts;
-  if (!cuts.resize(cutSides.size())) return oom();
+  if (!cuts.resize(cutSides.size())) return detail::oom(kLists);
   for (size_t i = 0; i < cutSides.size(); ++i) {
     uint32_t e = wanted[cutSides[i]], a = vert[e], b = vert[twin(e)];  // twin's origin = e's destination
     uint32_t t = triangleOf[cutSides[i]];
@@ -242,7 +247,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     ++sides[triangleShell[t]];
   }
   std::sort(cuts.begin(), cuts.end());
-  if (defectsOut && !d.nonManifoldEdgeOffsets.push_back(0)) return oom();
+  if (defectsOut && !d.nonManifoldEdgeOffsets.push_back(0)) return detail::oom(kLists);
   for (size_t i = 0; i < cuts.size();) {
     size_t j = i + 1;
     while (j < cuts.size() && cuts[j].a == cuts[i].a && cuts[j].b == cuts[i].b) ++j;
@@ -253,10 +258,10 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     if (defectsOut) {
       Array<uint32_t>& vertices = nonManifold ? d.nonManifoldEdgeVertices : d.inconsistentEdgeVertices;
       Array<uint32_t>& triangles = nonManifold ? d.nonManifoldEdgeTriangles : d.inconsistentEdgeTriangles;
-      if (!vertices.push_back(cuts[i].a) || !vertices.push_back(cuts[i].b)) return oom();
+      if (!vertices.push_back(cuts[i].a) || !vertices.push_back(cuts[i].b)) return detail::oom(kLists);
       for (size_t k = i; k < j; ++k)
-        if (!triangles.push_back(cuts[k].triangle)) return oom();
-      if (nonManifold && !d.nonManifoldEdgeOffsets.push_back(uint32_t(triangles.size()))) return oom();
+        if (!triangles.push_back(cuts[k].triangle)) return detail::oom(kLists);
+      if (nonManifold && !d.nonManifoldEdgeOffsets.push_back(uint32_t(triangles.size()))) return detail::oom(kLists);
     }
     i = j;
   }
@@ -271,7 +276,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   // Non-manifold vertices: a shell counts a vertex once per vnext cycle it has there (a cycle
   // never leaves its fan, so it lies in the shell of any of its triangles).
   Array<Cycle> cycles;
-  if (!cycles.resize(cycleVertex.size())) return oom();
+  if (!cycles.resize(cycleVertex.size())) return detail::oom(kLists);
   for (size_t i = 0; i < cycleVertex.size(); ++i) cycles[i] = {cycleVertex[i], triangleShell[triangleOf[cycleWanted[i]]]};
   std::sort(cycles.begin(), cycles.end());
   for (size_t i = 0; i < cycles.size();) {
@@ -286,7 +291,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     }
     if (defectsOut && (!d.nonManifoldVertices.push_back(cycles[i].vertex) ||
                        !d.nonManifoldVertexCycles.push_back(uint32_t(j - i))))
-      return oom();
+      return detail::oom(kLists);
     i = j;
   }
 

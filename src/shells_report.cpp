@@ -2,7 +2,8 @@
 // --defects`, lines for the human-readable report. Same number format as infoJson.
 #include <algorithm>
 
-#include "detail.h"
+#include "report_json.h"
+#include "text_format.h"
 #include "stltopo/shells.h"
 
 namespace stltopo {

@@ -1,6 +1,7 @@
 #include "solid_parts.h"
 
-#include "detail.h"
+#include "stltopo/status.h"
+#include "text_format.h"
 
 namespace stltopo::detail {
 

@@ -4,7 +4,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "stltopo.h"
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
 
 namespace stltopo::detail {
 

@@ -3,7 +3,11 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "detail.h"
+#include "stltopo/array.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "text_format.h"
+#include "try_alloc.h"
 
 #if defined(__linux__) && !defined(__EMSCRIPTEN__)
 #include <sys/mman.h>
@@ -109,6 +113,8 @@ bool detail::tryAssign(std::string& s, const char* p, size_t n) {
   s.assign(p, n);
   return true;
 }
+
+Status detail::oom(const char* what) { return Status::error(Code::OutOfMemory, format("could not allocate %s", what)); }
 
 void detail::adviseHugePages(void* p, size_t bytes) {
 #if defined(__linux__) && !defined(__EMSCRIPTEN__) && defined(MADV_HUGEPAGE)

@@ -17,14 +17,18 @@
 #include <algorithm>
 #include <cmath>
 
-#include "detail.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "try_alloc.h"
 #include "weld_tolerance.h"
 
 namespace stltopo {
 namespace {
 
 Status fail(Code c, const char* msg) { return Status::error(c, msg); }
-Status oom() { return fail(Code::OutOfMemory, "could not allocate the topology arrays"); }
+// What out-of-memory says could not be allocated.
+constexpr const char* kArrays = "the topology arrays";
 
 // "No partner": the 30-bit side field of a partner word when the side is unpaired.
 constexpr uint32_t kNone = 0x3FFFFFFFu;
@@ -126,15 +130,15 @@ Status weldCorners(const Mesh& mesh, const TopologyOptions& options, Topology& o
   const uint32_t* tri = mesh.triangles.data();
   w.C = tri;
   if (!(options.tolerance > 0)) {
-    if (!out.vertexWeld.resize(nv)) return oom();
+    if (!out.vertexWeld.resize(nv)) return detail::oom(kArrays);
     for (uint32_t v = 0; v < nv; ++v) out.vertexWeld[v] = v;
     out.nWeldedVertices = nv;
     return Status{};
   }
   uint32_t nReps = detail::toleranceWeld(mesh, options.tolerance, out.vertexWeld);
-  if (nReps == kInvalid) return oom();
+  if (nReps == kInvalid) return detail::oom(kArrays);
   out.nWeldedVertices = nReps;
-  if (!w.remapped.resize(size_t(nt) * 3)) return oom();
+  if (!w.remapped.resize(size_t(nt) * 3)) return detail::oom(kArrays);
   for (size_t i = 0; i < size_t(nt) * 3; ++i) w.remapped[i] = out.vertexWeld[tri[i]];
   w.C = w.remapped.data();
   return Status{};
@@ -147,7 +151,7 @@ Status weldCorners(const Mesh& mesh, const TopologyOptions& options, Topology& o
 // sides in file order.
 Status groupSidesByEdge(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
   const uint32_t* C = w.C;
-  if (!out.triangleDegenerate.resize(nt) || !w.offsets.assign(size_t(nv) + 1, 0)) return oom();
+  if (!out.triangleDegenerate.resize(nt) || !w.offsets.assign(size_t(nv) + 1, 0)) return detail::oom(kArrays);
   uint8_t* degen = out.triangleDegenerate.data();
   Array<uint32_t>& offsets = w.offsets;
   uint32_t nLive = 0;
@@ -166,9 +170,9 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
   }
   for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
   w.nLive = nLive;
-  if (!w.keys.resize(nLive)) return oom();
+  if (!w.keys.resize(nLive)) return detail::oom(kArrays);
   Array<uint32_t> cursor;
-  if (!cursor.resize(nv)) return oom();
+  if (!cursor.resize(nv)) return detail::oom(kArrays);
   if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
   uint64_t* K = w.keys.data();
   auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
@@ -193,7 +197,7 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
 // reads it), w.nCouples, the edge counts in `out`, and the unions of the triangles that
 // share an edge queued or done in w.uf (flushed at the end). Frees the CSR.
 Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
-  if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return oom();
+  if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
   UnionFind& uf = w.uf;
   const uint32_t* offsets = w.offsets.data();
   uint32_t nCouples = 0;
@@ -252,7 +256,7 @@ Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
             P[o] = partner::paired(EdgeKind::NonManifold, s);  // o < s (a group is sorted by side)
             ++nCouples;
           } else if (!queue[d].push_back(s)) {
-            return oom();
+            return detail::oom(kArrays);
           }
         }
       }
@@ -317,9 +321,9 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
   if (!out.next.resize(nh) || !out.vert.resize(nh) || !out.pairKind.resize(nPairs) ||
       !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) || !w.boundary.resize(nBoundarySides) ||
       !w.vinfo.assign(nv, Work::VertexInfo{kInvalid, 0}))
-    return oom();
+    return detail::oom(kArrays);
   if (!w.unlabelled.assign((size_t(nh) + 63) / 64, 0) || (full && (!out.prev.resize(nh) || !out.face.resize(nh))))
-    return oom();
+    return detail::oom(kArrays);
   const uint32_t* C = w.C;
   const uint8_t* degen = out.triangleDegenerate.data();
   uint32_t* next = out.next.data();
@@ -430,7 +434,7 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
   const uint8_t* pairKind = out.pairKind.data();
   uint32_t* face = out.face.data();
   uint32_t nLoops = 0;
-  if (!out.loopOffsets.push_back(0)) return oom();
+  if (!out.loopOffsets.push_back(0)) return detail::oom(kArrays);
   for (uint32_t i = 0; i < nBoundarySides; ++i) {
     uint32_t e = bnd[i];
     if (!isUnlabelled(ubits, e)) continue;
@@ -441,7 +445,7 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
     do {
       ubits[x >> 6] &= ~(uint64_t(1) << (x & 63));
       if (full) face[x] = f;
-      if (!out.loopHalfedges.push_back(x)) return oom();
+      if (!out.loopHalfedges.push_back(x)) return detail::oom(kArrays);
       if (pairKind[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
       const float* a = mesh.positions.data() + size_t(vert[x]) * 3;
       const float* c = mesh.positions.data() + size_t(vert[x ^ 1u]) * 3;
@@ -452,7 +456,7 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
     } while (x != e);
     if (!out.loopHalfedge.push_back(e) || !out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) ||
         !out.loopIsSeam.push_back(seam ? 1 : 0) || !out.loopPerimeter.push_back(perim))
-      return oom();
+      return detail::oom(kArrays);
     if (seam) ++out.nSeams; else ++out.nHoles;
     ++nLoops;
   }
@@ -467,7 +471,7 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
 // chosen one, kInvalid if unused), vertexNonManifold, nUsedVertices and
 // nNonManifoldVertices. Returns invalid only if a cycle does not close.
 Status classifyVertices(uint32_t nv, Topology& out, Work& w) {
-  if (!out.vertexNonManifold.resize(nv)) return oom();
+  if (!out.vertexNonManifold.resize(nv)) return detail::oom(kArrays);
   const uint32_t* next = out.next.data();
   const Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* vh = out.vertexHalfedge.data();

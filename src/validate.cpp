@@ -2,7 +2,11 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "detail.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "text_format.h"
+#include "try_alloc.h"
 
 namespace stltopo {
 namespace {
@@ -11,7 +15,8 @@ Status bad(const char* what, uint32_t element) {
   s.element = element;
   return s;
 }
-Status oom() { return Status::error(Code::OutOfMemory, "could not allocate validate()'s work arrays"); }
+// What out-of-memory says could not be allocated.
+constexpr const char* kWorkArrays = "validate()'s work arrays";
 Status badCount(const char* what, uint32_t expected) {
   Status s = Status::error(Code::Invalid, detail::format("%s (expected %u)", what, expected));
   s.element = expected;
@@ -62,7 +67,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Every triangle has its 3 half-edges; next cycles are exactly the faces.
   Array<uint32_t> perFace;
   if (!perFace.assign(nf, 0)) {
-    return oom();
+    return detail::oom(kWorkArrays);
   }
   for (uint32_t e = 0; e < nh; ++e) ++perFace[t.face[e]];
   for (uint32_t f = 0; f < nt; ++f) {
@@ -104,7 +109,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Vertex lookups.
   Array<uint8_t> used;
   if (!used.assign(nv, 0)) {
-    return oom();
+    return detail::oom(kWorkArrays);
   }
   for (uint32_t e = 0; e < nh; ++e) used[t.vert[e]] = 1;
   uint32_t nUsed = 0;
@@ -145,7 +150,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   Array<uint32_t> off, byLow, edgeOf, stamp, edgeAt;
   if (!off.assign(size_t(nv) + 1, 0) || !byLow.resize(np) || !edgeOf.resize(np) || !stamp.assign(nv, kInvalid) ||
       !edgeAt.resize(nv))
-    return oom();
+    return detail::oom(kWorkArrays);
   auto lo = [&](uint32_t k) { return std::min(t.vert[2 * k], t.vert[2 * k + 1]); };
   auto hi = [&](uint32_t k) { return std::max(t.vert[2 * k], t.vert[2 * k + 1]); };
   for (uint32_t k = 0; k < np; ++k) ++off[lo(k) + 1];
@@ -165,7 +170,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Per edge: its triangle sides and whether a side of it is cut (unpaired).
   Array<uint32_t> sides;
   Array<uint8_t> cut;
-  if (!sides.assign(nEdges, 0) || !cut.assign(nEdges, 0)) return oom();
+  if (!sides.assign(nEdges, 0) || !cut.assign(nEdges, 0)) return detail::oom(kWorkArrays);
   for (uint32_t k = 0; k < np; ++k) {
     bool left = t.face[2 * k] < nt, right = t.face[2 * k + 1] < nt;
     if (!left && !right) return bad("pair has no triangle side", 2 * k);
@@ -205,7 +210,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Vertices: non-manifold when the vnext cycle through vertexHalfedge misses an outgoing
   // half-edge (vnext is a permutation: next is one, checked above).
   Array<uint32_t> degree;
-  if (!degree.assign(nv, 0)) return oom();
+  if (!degree.assign(nv, 0)) return detail::oom(kWorkArrays);
   for (uint32_t e = 0; e < nh; ++e) ++degree[t.vert[e]];
   uint32_t nNonManifoldVertices = 0;
   for (uint32_t v = 0; v < nv; ++v) {
@@ -227,7 +232,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
 
   // Shells: the triangles that share an undirected edge are one shell.
   Array<uint32_t> parent, firstTriangle;
-  if (!parent.resize(nt) || !firstTriangle.assign(nEdges, kInvalid)) return oom();
+  if (!parent.resize(nt) || !firstTriangle.assign(nEdges, kInvalid)) return detail::oom(kWorkArrays);
   for (uint32_t f = 0; f < nt; ++f) parent[f] = f;
   for (uint32_t e = 0; e < nh; ++e) {
     uint32_t f = t.face[e];
@@ -247,7 +252,7 @@ Status validate(const Mesh& mesh, const Topology& t) {
     // The shells numbered by their lowest triangle: the first triangle met of each root.
     if (t.triangleShell.size() != nt) return bad("triangleShell has the wrong length", nt);
     Array<uint32_t> number;
-    if (!number.assign(nt, kInvalid)) return oom();
+    if (!number.assign(nt, kInvalid)) return detail::oom(kWorkArrays);
     uint32_t n = 0;
     for (uint32_t f = 0; f < nt; ++f) {
       uint32_t want = kInvalid;

@@ -1,7 +1,9 @@
 // The tolerance weld: a representative per vertex, for the topology only.
 #pragma once
 
-#include "detail.h"
+#include "bit_cast.h"
+#include "stltopo/mesh.h"
+#include "stltopo/topology.h"
 
 namespace stltopo::detail {
 

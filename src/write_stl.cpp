@@ -8,7 +8,11 @@
 #include <cstring>
 #include <new>
 
-#include "detail.h"
+#include "bit_cast.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
+#include "text_format.h"
+#include "try_alloc.h"
 #include "float_format.h"
 #include "mesh_builder.h"
 #include "solid_parts.h"
@@ -148,7 +152,7 @@ struct StlWriter::Impl {
                             kNoOffset, 0, uint32_t(t));
     Status ps = detail::solidParts(mesh.solids.data(), mesh.solids.size(), nt, parts);
     if (!ps.ok()) return ps;
-    if (!buf.resize(opt.chunkBytes)) return oom();
+    if (!buf.resize(opt.chunkBytes)) return detail::oom(kBuffers);
     // The attribute words.
     ColorConvention in = mesh.colorConvention;
     ColorConvention want = opt.colors == WriteColors::None     ? ColorConvention::None
@@ -165,7 +169,7 @@ struct StlWriter::Impl {
     return Status{};
   }
 
-  static Status oom() { return Status::error(Code::OutOfMemory, "could not allocate the writer's buffers"); }
+  static constexpr const char* kBuffers = "the writer's buffers";  // what out-of-memory names
 
   uint16_t word(uint32_t t) const {
     switch (words) {
@@ -348,7 +352,7 @@ uint64_t StlWriter::bytesWritten() const { return impl_ ? impl_->written : 0; }
 Status StlWriter::next(const uint8_t*& data, size_t& size) {
   data = nullptr;
   size = 0;
-  if (!impl_) return Impl::oom();
+  if (!impl_) return detail::oom(Impl::kBuffers);
   Impl& w = *impl_;
   if (!w.error.ok()) return w.error;
   if (!w.checked) {

@@ -55,7 +55,7 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
   for (uint32_t h = 0; h < l.nLoops(); ++h)
     for (uint32_t i = l.loopOffsets[h]; i < l.loopOffsets[h + 1]; ++i) {
       uint32_t e = l.loopHalfedges[i];
-      if (em.face(e) != (kLoopFaceBit | h)) return "face of a loop half-edge is not its loop";
+      if (em.face(e) != em.nTriangles() + h) return "face of a loop half-edge is not its loop";
     }
   return "";
 }

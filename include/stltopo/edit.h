@@ -20,13 +20,15 @@
 //     its sides are paired again by the rule buildTopology uses (first unpaired with first
 //     unpaired, opposite directions, in side order 3t + c), and the half-edges of the sides
 //     whose partner changed move to other slots.
-//   - Face ids: face[e] < kLoopFaceBit is a triangle id. A boundary half-edge has
-//     face[e] = kLoopFaceBit | h, where h is its boundary loop in the loop numbering; that
-//     numbering is rebuilt (O(n)) when loops are read after an edit changed the boundary
-//     (loops(), face(e)), and until then the face word of a changed boundary half-edge is
-//     kStaleLoopFace. Loop h is numbered as buildTopology would number it on the
+//   - Face ids, as in Topology: face(e) is the triangle id, or nTriangles() + h for a
+//     half-edge of boundary loop h (nTriangles() counts the slots, dead ones included, so
+//     the two never meet). Loop h is numbered as buildTopology would number it on the
 //     compacted mesh: loops in order of their earliest triangle side, each listed in next
-//     order from the twin of that side.
+//     order from the twin of that side; the numbering is rebuilt (O(n)) when loops are read
+//     after an edit changed the boundary (loops(), face(e), stats()). The stored face words
+//     (faceWords()) keep a triangle id, or kLoopFaceBit | h for a boundary half-edge, so
+//     that adding a triangle renumbers nothing; a changed boundary half-edge holds
+//     kStaleLoopFace there until the loops are numbered again.
 //
 // After every edit, the topology is the one buildTopology gives for the current
 // triangles: toMesh()/compact() produce a Mesh and Topology whose arrays equal
@@ -52,7 +54,7 @@
 
 namespace stltopo {
 
-inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // face word of a boundary half-edge
+inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // stored face word of a boundary half-edge
 inline constexpr uint32_t kStaleLoopFace = kLoopFaceBit | 0x7FFFFFFEu;  // loop not numbered yet
 
 // ---------------------------------------------------------------------------
@@ -129,11 +131,12 @@ struct CompactMaps {
 
 class EditableMesh {
  public:
-  EditableMesh() = default;
+  EditableMesh();
+  ~EditableMesh();
   EditableMesh(const EditableMesh&) = delete;
   EditableMesh& operator=(const EditableMesh&) = delete;
-  EditableMesh(EditableMesh&&) noexcept = default;
-  EditableMesh& operator=(EditableMesh&&) noexcept = default;
+  EditableMesh(EditableMesh&& o) noexcept;
+  EditableMesh& operator=(EditableMesh&& o) noexcept;
 
   // Takes `mesh` and its topology (built by buildTopology with prevAndFace = true, from this
   // mesh). Half-edge and loop ids are the topology's. With a tolerance weld the triangles
@@ -146,37 +149,40 @@ class EditableMesh {
   Status init(const Mesh& mesh, const TopologyOptions& options = {});
 
   // Slot counts: the lengths of the arrays, dead slots included.
-  uint32_t nVertices() const { return uint32_t(positions_.size() / 3); }
-  uint32_t nTriangles() const { return uint32_t(triangles_.size() / 3); }
-  uint32_t nHalfedges() const { return uint32_t(next_.size()); }
-  uint32_t nLiveTriangles() const { return nLiveTriangles_; }
-  uint32_t nLiveVertices() const { return nLiveVertices_; }
-  uint32_t nLiveHalfedges() const { return 2 * nLivePairs_; }
+  uint32_t nVertices() const;
+  uint32_t nTriangles() const;
+  uint32_t nHalfedges() const;
+  uint32_t nLiveTriangles() const;
+  uint32_t nLiveVertices() const;
+  uint32_t nLiveHalfedges() const;
 
-  bool vertexAlive(uint32_t v) const { return v < nVertices() && !vertexDead_[v]; }
-  bool triangleAlive(uint32_t t) const { return t < nTriangles() && triangles_[3 * size_t(t)] != kInvalid; }
-  bool halfedgeAlive(uint32_t e) const { return e < nHalfedges() && vert_[e] != kInvalid; }
-  bool isBoundary(uint32_t e) const { return (face_[e] & kLoopFaceBit) != 0 && face_[e] != kInvalid; }
-  bool triangleDegenerate(uint32_t t) const { return degenerate_[t] != 0; }
-  bool vertexNonManifold(uint32_t v) const { return vertexNonManifold_[v] != 0; }
+  bool vertexAlive(uint32_t v) const;
+  bool triangleAlive(uint32_t t) const;
+  bool halfedgeAlive(uint32_t e) const;
+  bool isBoundary(uint32_t e) const;
+  bool triangleDegenerate(uint32_t t) const;
+  bool vertexNonManifold(uint32_t v) const;
 
   // The arrays, laid out as Mesh and Topology (dead triangles: kInvalid corners; dead
   // half-edges: kInvalid in every word; dead vertices: positions left as they were).
-  const Array<float>& positions() const { return positions_; }
-  const Array<uint32_t>& triangles() const { return triangles_; }
-  const Array<uint32_t>& next() const { return next_; }
-  const Array<uint32_t>& prev() const { return prev_; }
-  const Array<uint32_t>& vert() const { return vert_; }
-  // The face words; those of changed boundary half-edges are kStaleLoopFace until loops()
-  // or face(e) renumbers the loops.
-  const Array<uint32_t>& faceWords() const { return face_; }
-  const Array<uint8_t>& pairKind() const { return pairKind_; }
-  const Array<uint32_t>& triangleHalfedge() const { return triangleHalfedge_; }
-  const Array<uint32_t>& vertexHalfedge() const { return vertexHalfedge_; }
-  const Array<uint8_t>& triangleDegenerateFlags() const { return degenerate_; }
-  const Array<uint8_t>& vertexNonManifoldFlags() const { return vertexNonManifold_; }
+  const Array<float>& positions() const;
+  const Array<uint32_t>& triangles() const;
+  const Array<uint32_t>& next() const;
+  const Array<uint32_t>& prev() const;
+  const Array<uint32_t>& vert() const;
+  // The stored face words: a triangle id, or kLoopFaceBit | h for a boundary half-edge of
+  // loop h (kStaleLoopFace until loops() or face(e) renumbers the loops). face(e) gives the
+  // face id.
+  const Array<uint32_t>& faceWords() const;
+  const Array<uint8_t>& pairKind() const;
+  const Array<uint32_t>& triangleHalfedge() const;
+  const Array<uint32_t>& vertexHalfedge() const;
+  const Array<uint8_t>& triangleDegenerateFlags() const;
+  const Array<uint8_t>& vertexNonManifoldFlags() const;
 
-  // face[e] with the loop numbering brought up to date (O(n) after an edit, else O(1)).
+  // The face id of half-edge e, as Topology numbers faces: its triangle, or nTriangles() + h
+  // for boundary loop h, with the loop numbering brought up to date (O(n) after an edit,
+  // else O(1)). kInvalid for a dead half-edge, or when memory ran out numbering the loops.
   uint32_t face(uint32_t e);
   const EditLoops& loops();
   const EditStats& stats();
@@ -260,60 +266,12 @@ class EditableMesh {
   // then validate() on toMesh()'s output. O(n). Code::Invalid with the element.
   Status validate() const;
 
-  struct Impl;  // the edit machinery (edit.cpp)
+  struct Impl;  // the state and the edit machinery (src/edit/)
 
  private:
-  friend struct Impl;
-  // Mesh.
-  Array<float> positions_;
-  Array<uint32_t> triangles_;
-  Array<uint8_t> vertexDead_;
-  Array<uint8_t> degenerate_;
-  // Corner lists: corner 3t + c is in the doubly linked list of the vertex it uses.
-  Array<uint32_t> cornerNext_, cornerPrev_, vertexCorner_, vertexCornerCount_;
-  // Half-edges.
-  Array<uint32_t> sideHalfedge_;  // per side 3t + c (corner c -> c + 1): its half-edge
-  Array<uint32_t> next_, prev_, vert_, face_;
-  Array<uint8_t> pairKind_;
-  Array<uint32_t> freePairs_;
-  Array<uint32_t> triangleHalfedge_, vertexHalfedge_;
-  Array<uint8_t> vertexNonManifold_;
-  // Counts kept up to date by every edit.
-  uint32_t nLiveTriangles_ = 0, nLiveVertices_ = 0, nLivePairs_ = 0, nDegenerate_ = 0;
-  uint32_t nEdges_ = 0, nBoundaryEdges_ = 0, nNonManifoldEdges_ = 0, nInconsistentEdges_ = 0;
-  uint32_t nNonManifoldVertices_ = 0;
-  // Computed when read.
-  bool loopsStale_ = true, statsStale_ = true;
-  EditLoops loops_;
-  EditStats stats_;
-  // File-level data carried to toMesh().
-  Format format_ = Format::Unknown;
-  ColorConvention colorConvention_ = ColorConvention::None;
-  std::vector<Solid> solids_;       // names; firstTriangle of the original ranges
-  std::vector<Status> warnings_;
-  // Attributes.
-  struct Attribute {
-    std::string name;
-    AttributeView view;
-    Array<uint8_t> bytes;
-    AttributeRules rules;
-    std::vector<double> defaultValue;
-  };
-  std::vector<Attribute> attributes_;
-  // Scratch for edits, kept between edits so that an edit does not allocate.
-  Array<uint32_t> stamp_;  // per vertex: == epoch_ when in the current set
-  uint32_t epoch_ = 0;
-  Array<uint32_t> triStamp_;  // per triangle: == triEpoch_ when in the current set
-  uint32_t triEpoch_ = 0;
-  Array<uint32_t> chRemoved_, chRewritten_, chRewrittenCorners_, chAdded_;  // the change
-  Array<uint32_t> touchedVertices_, dirtyTriangles_, sides_, oldSlots_, pairs_, claimed_;
-  Array<uint64_t> touchedEdges_;
-  struct Detached {
-    uint64_t edge;  // lo << 32 | hi
-    uint32_t he;
-    uint32_t lowToHigh;
-  };
-  Array<Detached> detached_;
+  // The state and the machinery (src/edit/impl.h). Null only after a move or when it could
+  // not be allocated: the object then reads as empty and init() allocates it again.
+  Impl* impl_;
 };
 
 }  // namespace stltopo

@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readdirSync, copyFileSync, readFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync, readdirSync, copyFileSync, readFileSync, existsSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fixture, root, nativeCli, haveNativeCli } from './helpers.mjs';
@@ -23,12 +23,25 @@ test('npm pack → install in a fresh folder → import, parse, worker, CLI', { 
       assert.ok(names.includes(must), `${must} missing from the package: ${names.join(', ')}`);
     }
     for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/stltopo\.mjs|dist\/.*|docs\/(JS-API|EDITING)\.md)$/.test(n), `unexpected ${n}`);
-    // The README is the registry's page: its links are absolute, anchors, or files in the package.
+    // The README is the registry's page: its links are absolute, anchors, or relative links
+    // that resolve. There is no public repository yet (package.json has no `repository`), so a
+    // relative link is a file of the package, or one of the few repository files the README
+    // points readers of the source tree to (REPO_ONLY; a registry page cannot show those).
+    const REPO_ONLY = ['docs/demo.png', 'bench/PROFILE.md', 'tests/fixtures/SOURCES.md', 'tests/fuzz/README.md', 'CONTRIBUTING.md'];
     const readme = readFileSync(path.join(root, 'README.md'), 'utf8');
     for (const [, link] of readme.matchAll(/\]\(([^)\s]+)\)/g)) {
       if (/^(https?:|#)/.test(link)) continue;
-      assert.ok(names.includes(link.split('#')[0]), `README links ${link}, which is not in the package`);
+      assert.ok(!/github\.com\/stltopo\/stltopo/.test(link), `README links the invented repository: ${link}`);
+      const file = link.split('#')[0];
+      if (REPO_ONLY.includes(file)) {
+        assert.ok(existsSync(path.join(root, file)), `README links ${link}, which does not exist`);
+        continue;
+      }
+      assert.ok(names.includes(file), `README links ${link}, which is not in the package`);
     }
+    assert.ok(!readme.includes('github.com/stltopo/stltopo'), 'README names the invented repository github.com/stltopo/stltopo');
+    const pkgJson = JSON.parse(readFileSync(path.join(root, 'package.json'), 'utf8'));
+    for (const k of ['repository', 'homepage', 'bugs']) assert.equal(pkgJson[k], undefined, `package.json ${k}: no public repository yet`);
 
     const app = path.join(dir, 'app');
     execFileSync('mkdir', ['-p', app]);

@@ -518,7 +518,7 @@ function showMesh(mesh, { name, credit, parseMs, sceneMs, totalMs }) {
   renderVerdict(stats);
   for (const el of document.querySelectorAll('[data-count]')) {
     const n = stats[el.dataset.count];
-    el.textContent = n === undefined ? '' : String(n);
+    el.textContent = n === undefined || n === null ? '' : String(n);
     el.closest('.toggle')?.classList.toggle('problem', n > 0);
   }
   const holes = mesh.holes ?? [];

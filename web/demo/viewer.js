@@ -148,7 +148,7 @@ export class Viewer {
     this.model = new THREE.Group();
     this.scene.add(this.model);
     this.layers = {}; // name → Object3D, toggled by setLayerVisible
-    this.visible = { wireframe: false, backFaces: true, holes: true, seams: true, nonManifold: true, inconsistent: true, nonManifoldVertices: true, inward: true };
+    this.visible = { wireframe: false, backFaces: true, holes: true, seams: true, nonManifold: true, inconsistent: true, nonManifoldVertices: true, inward: true, intersecting: true };
     this.isolated = null; // the shell shown on its own, or null
     this.sprite = circleSprite();
     this.backUniforms = { color: { value: new THREE.Color(colors.back) }, mix: { value: 1 } };
@@ -387,7 +387,7 @@ export class Viewer {
 
   applyVisibility() {
     const v = this.visible;
-    for (const name of ['holes', 'seams', 'nonManifold', 'inconsistent', 'nonManifoldVertices', 'inward']) {
+    for (const name of ['holes', 'seams', 'nonManifold', 'inconsistent', 'nonManifoldVertices', 'inward', 'intersecting']) {
       if (this.layers[name]) this.layers[name].visible = v[name];
     }
     this.backUniforms.mix.value = v.backFaces ? 1 : 0;
@@ -454,6 +454,7 @@ export class Viewer {
     }
     for (const s of this.surfaces ?? []) s.visible = id === null;
     if (this.layers.inward) this.layers.inward.visible = id === null && this.visible.inward;
+    if (this.layers.intersecting) this.layers.intersecting.visible = id === null && this.visible.intersecting;
     if (id === null || !this.mesh?.shells) {
       this.frameAll();
       return;

@@ -1,12 +1,11 @@
 // EditableMesh: local edits on a mesh held in wasm memory (see docs/EDITING.md for the
 // contracts). The arrays and figures read from it are copies, made when first read after an
-// edit; the mesh itself lives in wasm until dispose().
+// edit; the mesh itself lives in wasm until dispose(). Its array properties follow the
+// bindings' table (entry.editLayout: STLTOPO_JS_EDIT_ARRAYS in bindings/edit_arrays.h), one
+// getter per row, as a Mesh's follow STLTOPO_JS_ARRAYS.
 import { stlError, invalid, fromStatus } from './errors.js';
-import { Mesh, kInvalid } from './mesh.js';
+import { Mesh, kInvalid, buildLoops, trackSession, untrackSession } from './mesh.js';
 import { normalizeWriteOptions } from './options.js';
-
-/** The face word of a boundary half-edge: kLoopFaceBit | loop id. */
-export const kLoopFaceBit = 0x80000000;
 
 const ELEMENTS = { vertex: 0, triangle: 1, edge: 2 };
 const RULES = { keepFirst: 0, average: 1, fail: 2 };
@@ -39,13 +38,6 @@ function id(x, what) {
   return x;
 }
 
-// An editable mesh that is dropped without dispose() still frees its wasm memory, eventually.
-const registry = typeof FinalizationRegistry === 'function'
-  ? new FinalizationRegistry(({ entry, session }) => {
-    if (!entry.dead && !session.isDeleted()) session.delete();
-  })
-  : null;
-
 /**
  * Creates the EditableMesh class on a module getter (async () => entry with .module), as
  * index.js and node.js make it for their module.
@@ -64,7 +56,16 @@ export function createEditableMesh(getModule) {
       this.format = source.format || 'unknown';
       this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
       this.warnings = source.warnings ? [...source.warnings] : [];
-      if (registry) registry.register(this, { entry, session }, this);
+      // One getter per row of the array table; a group is an object of getters.
+      for (const d of entry.editLayout) {
+        let obj = this;
+        if (d.group) {
+          if (!Object.hasOwn(this, d.group)) Object.defineProperty(this, d.group, { value: {}, enumerable: true });
+          obj = this[d.group];
+        }
+        Object.defineProperty(obj, d.key, { enumerable: true, get: () => this.#get(d.name) });
+      }
+      trackSession(this, entry, session);
     }
 
     /**
@@ -134,19 +135,6 @@ export function createEditableMesh(getModule) {
     get nHalfedges() { return this.#get('counts').nHalfedges; }
     get nLiveTriangles() { return this.#get('counts').nLiveTriangles; }
     get nLiveVertices() { return this.#get('counts').nLiveVertices; }
-    get positions() { return this.#get('positions'); }
-    /** Dead triangles hold kInvalid corners. */
-    get triangles() { return this.#get('triangles'); }
-    get halfedges() {
-      const self = this;
-      return {
-        get next() { return self.#get('next'); },
-        get prev() { return self.#get('prev'); },
-        get vert() { return self.#get('vert'); },
-        /** Triangle id, or kLoopFaceBit | loop id for a boundary half-edge. */
-        get face() { return self.#get('face'); },
-      };
-    }
     /** The triangle attributes the file brought, as a Mesh has them (null when absent). */
     get attributes() { return this.#attr('attribute'); }
     get colors() { return this.colorConvention === 'none' ? null : this.#attr('color'); }
@@ -157,29 +145,16 @@ export function createEditableMesh(getModule) {
       if (!this.#cache.has(key)) this.#cache.set(key, this.#live().attribute(name, true));
       return this.#cache.get(key);
     }
-    get triangleHalfedge() { return this.#get('triangleHalfedge'); }
-    get vertexHalfedge() { return this.#get('vertexHalfedge'); }
-    get problems() {
-      return { pairKind: this.#get('pairKind'), triangleDegenerate: this.#get('triangleDegenerate'), vertexNonManifold: this.#get('vertexNonManifold') };
-    }
     /** The figures of `info --json` for the compacted mesh (computed when read after an edit). */
     get stats() { return this.#get('stats'); }
     #loops() {
       let l = this.#cache.get('loopList');
-      if (l) return l;
-      const off = this.#get('loopOffsets');
-      const list = this.#get('loopHalfedges');
-      const seam = this.#get('loopIsSeam');
-      const perim = this.#get('loopPerimeter');
-      const vert = this.#get('vert');
-      l = { holes: [], seams: [] };
-      for (let h = 0; h + 1 < off.length; ++h) {
-        const halfedges = list.slice(off[h], off[h + 1]);
-        const vertices = halfedges.map((e) => vert[e]);
-        const loop = { id: h, face: (kLoopFaceBit | h) >>> 0, halfedges, vertices, edgeCount: halfedges.length, perimeter: perim[h] };
-        (seam[h] ? l.seams : l.holes).push(loop);
+      if (!l) {
+        const arrays = {};
+        for (const n of ['loopOffsets', 'loopHalfedges', 'loopIsSeam', 'loopPerimeter', 'vert']) arrays[n] = this.#get(n);
+        l = buildLoops(arrays, this.nTriangles);
+        this.#cache.set('loopList', l);
       }
-      this.#cache.set('loopList', l);
       return l;
     }
     /** Boundary loops without cut sides, numbered as a fresh load of the compacted mesh numbers them. */
@@ -261,7 +236,7 @@ export function createEditableMesh(getModule) {
       if (this.#disposed) return;
       this.#disposed = true;
       this.#cache.clear();
-      if (registry) registry.unregister(this);
+      untrackSession(this);
       if (!this.#m.dead) this.#session.delete();
     }
   }

@@ -165,7 +165,10 @@ export interface Warning {
   triangle?: number;
 }
 
-/** A boundary loop (face id nTriangles + id): a hole, or a seam when it holds cut sides. */
+/**
+ * A boundary loop of a Mesh or an EditableMesh (face id nTriangles + id, as halfedges.face
+ * holds it): a hole, or a seam when it holds cut sides.
+ */
 export interface BoundaryLoop {
   /** Boundary-loop index h (holes and seams share the numbering). */
   id: number;
@@ -179,8 +182,8 @@ export interface BoundaryLoop {
   perimeter: number;
 }
 
-/** Exactly the keys and values of `stltopo info --json`, minus "file". */
-export interface Stats {
+/** The keys of `stltopo info --json` that every mesh has (minus "file"). */
+export interface MeshStats {
   format: 'binary' | 'ascii';
   solids: { name: string; triangles: number }[];
   triangles: number;
@@ -197,30 +200,44 @@ export interface Stats {
   area: number;
   volume: number;
   warnings: Warning[];
-  // Present when loaded with topology (the default):
-  edges?: number;
-  boundaryEdges?: number;
-  nonManifoldEdges?: number;
-  inconsistentEdges?: number;
-  nonManifoldVertices?: number;
-  holes?: number;
-  seams?: number;
-  holeSizes?: number[];
-  shells?: number;
-  eulerCharacteristic?: number;
-  /** null unless the mesh is watertight and manifold. */
-  genus?: number | null;
-  /** With a tolerance weld: the representatives the topology uses. */
-  weldedVertices?: number;
-  watertight?: boolean;
-  manifold?: boolean;
-  // With topology; null unless loaded with { intersections: true }:
-  selfIntersections?: number | null;
-  intersectionKinds?: { crossing: number; touching: number; coplanar: number } | null;
-  intersectingTriangles?: number | null;
-  intersectionsComplete?: boolean | null;
-  solid?: boolean | null;
 }
+
+/** The keys of `stltopo info --json` that a mesh with topology (the default) has besides. */
+export interface TopologyStats {
+  edges: number;
+  boundaryEdges: number;
+  nonManifoldEdges: number;
+  inconsistentEdges: number;
+  nonManifoldVertices: number;
+  holes: number;
+  seams: number;
+  holeSizes: number[];
+  shells: number;
+  eulerCharacteristic: number;
+  /** null unless the mesh is watertight and manifold. */
+  genus: number | null;
+  /** Only with a tolerance weld: the representatives the topology uses. */
+  weldedVertices?: number;
+  watertight: boolean;
+  manifold: boolean;
+  /** The exact geometry (README, "Geometry"): null unless loaded with { intersections: true }. */
+  selfIntersections: number | null;
+  intersectionKinds: { crossing: number; touching: number; coplanar: number } | null;
+  intersectingTriangles: number | null;
+  intersectionsComplete: boolean | null;
+  solid: boolean | null;
+}
+
+/**
+ * Exactly the keys and values of `stltopo info --json`, minus "file", typed by whether the
+ * mesh has topology: Stats<true> has every topology key (mesh.stats.holes is a number),
+ * Stats<false> none, Stats (topology known only at run time) may have them.
+ */
+export type Stats<T extends boolean = boolean> = [T] extends [true]
+  ? MeshStats & TopologyStats
+  : [T] extends [false]
+    ? MeshStats
+    : MeshStats & Partial<TopologyStats>;
 
 export type ValidateResult = { ok: true } | { ok: false; code: string; message: string; element?: number };
 
@@ -256,7 +273,7 @@ export declare class Mesh<T extends boolean = boolean> {
   defect(kind: DefectKind, i: number): Defect;
   /** The exact geometry of this mesh, whatever it was loaded with (runs in the full module). */
   findIntersections(options?: { maxPairs?: number; worker?: boolean; signal?: AbortSignal }): Promise<{
-    stats: Pick<Stats, 'zeroAreaTriangles' | 'duplicateTriangles' | 'selfIntersections' | 'intersectionKinds' |
+    stats: Pick<Stats<true>, 'zeroAreaTriangles' | 'duplicateTriangles' | 'selfIntersections' | 'intersectionKinds' |
       'intersectingTriangles' | 'intersectionsComplete' | 'solid'>;
     shells: Shell[];
     triangleShell: Uint32Array;
@@ -361,7 +378,7 @@ export declare class Mesh<T extends boolean = boolean> {
   /** fromIndexed(): per vertex of the input, its vertex in the mesh (kInvalid when no triangle uses it). 1 per input vertex; null for meshes of loadStl(). */
   inputVertexMap: Uint32Array | null;
   // END arrays
-  stats: Stats;
+  stats: Stats<T>;
 
   sym(e: number): number;
   twin(e: number): number;
@@ -489,9 +506,6 @@ export interface InitOptions {
  */
 export declare function init(options: InitOptions): void;
 
-/** The face word of a boundary half-edge in an EditableMesh: kLoopFaceBit | loop id. */
-export declare const kLoopFaceBit: 2147483648;
-
 export type AttributeElement = 'vertex' | 'triangle' | 'edge';
 /** a, b: the two values (components numbers each); t: b's weight. Return the new value, or null to refuse the edit. */
 export type AttributeRuleFn = (a: Float64Array, b: Float64Array, t: number) => ArrayLike<number> | null | false;
@@ -510,15 +524,8 @@ export interface IndexedMeshInput {
   format?: 'binary' | 'ascii' | 'unknown';
 }
 
-/** A loop of an EditableMesh: face is kLoopFaceBit | id. */
-export interface EditableLoop {
-  id: number;
-  face: number;
-  halfedges: Uint32Array;
-  vertices: Uint32Array;
-  edgeCount: number;
-  perimeter: number;
-}
+/** @deprecated An EditableMesh's loops are BoundaryLoops (face id nTriangles + id), as a Mesh's. */
+export type EditableLoop = BoundaryLoop;
 
 /**
  * Local edits on a copy of a mesh in wasm memory (docs/EDITING.md). Ids are slots: removed
@@ -539,15 +546,53 @@ export declare class EditableMesh {
   readonly colors: Uint8Array | null;
   readonly colorValid: Uint8Array | null;
   readonly normals: Float32Array | null;
+  // BEGIN editable arrays: written by scripts/gen-api-docs.mjs from the bindings' table
+  /** x,y,z of vertex v at 3v..3v+2 (a dead vertex keeps its last position). 3 per vertex. */
   readonly positions: Float32Array;
+  /** Vertex ids of corner c of triangle t at 3t+c; kInvalid for a dead triangle. 3 per triangle. */
   readonly triangles: Uint32Array;
-  readonly halfedges: { readonly next: Uint32Array; readonly prev: Uint32Array; readonly vert: Uint32Array; readonly face: Uint32Array };
+  /** Half-edge arrays, length nHalfedges; twin(e) = e ^ 1. */
+  readonly halfedges: {
+    /** Next half-edge around the same face. 1 per halfedge. */
+    readonly next: Uint32Array;
+    /** Inverse of next. 1 per halfedge. */
+    readonly prev: Uint32Array;
+    /** Origin vertex (org). 1 per halfedge. */
+    readonly vert: Uint32Array;
+    /** Left face: the triangle id, or nTriangles + h for boundary loop h (as a Mesh). 1 per halfedge. */
+    readonly face: Uint32Array;
+  };
+  /** Per triangle: half-edge of side corner0->corner1, kInvalid if degenerate or dead. 1 per triangle. */
   readonly triangleHalfedge: Uint32Array;
+  /** Per vertex: an outgoing half-edge, kInvalid if unused. 1 per vertex. */
   readonly vertexHalfedge: Uint32Array;
-  readonly problems: { pairKind: Uint8Array; triangleDegenerate: Uint8Array; vertexNonManifold: Uint8Array };
-  readonly stats: Stats;
-  readonly holes: EditableLoop[];
-  readonly seams: EditableLoop[];
+  /** Per boundary loop: the twin of its earliest triangle side. 1 per loop. */
+  readonly loopHalfedge: Uint32Array;
+  /** All boundary loops, flat. */
+  readonly loops: {
+    /** Loop h is halfedges[offsets[h] .. offsets[h+1]). nLoops + 1. */
+    readonly offsets: Uint32Array;
+    /** The half-edges of every loop in next order, starting at loopHalfedge[h]. 1 per loop entry. */
+    readonly halfedges: Uint32Array;
+    /** 1 when the loop contains a cut (inconsistent or non-manifold) side. 1 per loop. */
+    readonly isSeam: Uint8Array;
+    /** Sum of the loop's edge lengths. 1 per loop. */
+    readonly perimeter: Float64Array;
+  };
+  /** Per-element problems. */
+  readonly problems: {
+    /** Per pair k = e >> 1: 0 interior, 1 boundary, 2 inconsistent, 3 non-manifold (EdgeKind). 1 per pair. */
+    readonly pairKind: Uint8Array;
+    /** 1 when two corners of the triangle weld together. 1 per triangle. */
+    readonly triangleDegenerate: Uint8Array;
+    /** 1 when the vertex's outgoing half-edges form more than one vnext cycle. 1 per vertex. */
+    readonly vertexNonManifold: Uint8Array;
+  };
+  // END editable arrays
+  /** The figures of `info --json` for the compacted mesh: always with topology. */
+  readonly stats: Stats<true>;
+  readonly holes: BoundaryLoop[];
+  readonly seams: BoundaryLoop[];
   triangleAlive(t: number): boolean;
   halfedgeAlive(e: number): boolean;
   validate(): ValidateResult;
@@ -560,7 +605,7 @@ export declare class EditableMesh {
   collapseEdge(e: number, t?: number): number;
   reverseTriangle(t: number): void;
   reverseShell(t: number): void;
-  fillHole(hole: number | EditableLoop, options?: { method?: 'fan' | 'ear' }): Uint32Array;
+  fillHole(hole: number | BoundaryLoop, options?: { method?: 'fan' | 'ear' }): Uint32Array;
   compact(): { vertices: Uint32Array; triangles: Uint32Array; halfedges: Uint32Array };
   /** The STL file of the (compacted) mesh, whole. */
   toStl(options?: WriteOptions): Uint8Array;

@@ -46,22 +46,38 @@ export function setIntersectionFinder(f) {
   if (!intersectionFinder) intersectionFinder = f;
 }
 
+// The one finalizer of wasm sessions (a { view: true } Mesh, an EditableMesh): an owner
+// dropped without dispose() still frees its wasm memory, eventually.
 const registry = typeof FinalizationRegistry === 'function'
   ? new FinalizationRegistry(({ entry, session }) => {
     if (!entry.dead && !session.isDeleted()) session.delete();
   })
   : null;
+/** Frees `session` when `owner` is garbage-collected, unless untrackSession(owner) ran first. */
+export function trackSession(owner, entry, session) {
+  if (registry) registry.register(owner, { entry, session }, owner);
+}
+export function untrackSession(owner) {
+  if (registry) registry.unregister(owner);
+}
 
-function buildLoops(arrays, nTriangles) {
+/**
+ * The boundary loops as { holes, seams }, for Mesh and EditableMesh alike: loop h is
+ * { id: h, face: nTriangles + h, halfedges, vertices, edgeCount, perimeter }. arrays holds
+ * loopOffsets, loopHalfedges, loopIsSeam, loopPerimeter and either loopVertices (the origin
+ * of every loop half-edge) or vert.
+ */
+export function buildLoops(arrays, nTriangles) {
   const holes = [];
   const seams = [];
   const off = arrays.loopOffsets;
   if (!off) return { holes, seams };
   const list = arrays.loopHalfedges;
   const lv = arrays.loopVertices;
+  const vert = arrays.vert;
   for (let h = 0; h + 1 < off.length; ++h) {
     const halfedges = list.subarray(off[h], off[h + 1]);
-    const vertices = lv.slice(off[h], off[h + 1]);
+    const vertices = lv ? lv.slice(off[h], off[h + 1]) : halfedges.map((e) => vert[e]);
     const loop = { id: h, face: nTriangles + h, halfedges, vertices, edgeCount: halfedges.length, perimeter: arrays.loopPerimeter[h] };
     (arrays.loopIsSeam[h] ? seams : holes).push(loop);
   }
@@ -206,7 +222,7 @@ export class Mesh {
     const stats = JSON.parse(raw.statsJson);
     delete stats.file;
     this.stats = stats;
-    if (live && registry) registry.register(this, { entry, session }, this);
+    if (live) trackSession(this, entry, session);
     if (live) liveSession.set(this, { entry, session });
   }
 
@@ -291,7 +307,7 @@ export class Mesh {
     if (this.#disposed || !this.#session) return;
     this.#disposed = true;
     liveSession.delete(this);
-    if (registry) registry.unregister(this);
+    untrackSession(this);
     if (!this.#entry.dead) this.#session.delete();
     this.#session = null;
   }

@@ -33,5 +33,4 @@ export async function loadStlFile(path, options) {
 export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
-export { kLoopFaceBit } from './edit.js';
 export { extractShell } from './extract-shell.js';

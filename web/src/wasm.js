@@ -33,6 +33,8 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   const setup = (entry, m) => {
     entry.heapMax = m._heapMax();
     entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
+    // The EditableMesh's table (STLTOPO_JS_EDIT_ARRAYS), in the full module only.
+    if (m._editArrayLayout) entry.editLayout = Object.freeze(m._editArrayLayout().map((d) => Object.freeze(d)));
   };
   const getModule = lazyModule(instantiate, setup);
   const getFull = lazyModule(instantiateFull, setup);

@@ -2,7 +2,7 @@
 // of 'stltopo', 'stltopo/worker' and 'stltopo/three' through the package's
 // "exports" (self-reference), so the .d.ts files must match the package.
 import {
-  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh, kLoopFaceBit,
+  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh,
   type IndexedOptions, type WriteOptions,
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
@@ -143,9 +143,25 @@ export async function editing(mesh: Mesh): Promise<number> {
   const v: number = em.splitEdge(0, 0.25) + em.collapseEdge(1) + em.addTriangle(0, 1, 2, { nonManifold: true });
   em.addAttribute('temp', 'vertex', new Float32Array(em.nVertices), { merge: (a, b, t) => [a[0] * (1 - t) + b[0] * t], split: 'average' });
   const maps = em.compact();
-  const face: number = em.halfedges.face[0] & kLoopFaceBit;
+  const face: number = em.halfedges.face[0] >= em.nTriangles ? em.halfedges.face[0] - em.nTriangles : 0;
+  const loop: BoundaryLoop = em.holes[0];
+  const loopFace: number = loop.face + em.loops.offsets[0] + em.problems.pairKind[0] + em.stats.holes;
   const ok = em.validate().ok ? 1 : 0;
   em.dispose();
   indexed.dispose();
-  return filled.length + v + maps.triangles.length + face + ok + em.stats.triangles;
+  return filled.length + v + maps.triangles.length + face + loopFace + ok + em.stats.triangles;
+}
+
+// Stats are typed by what the mesh holds: a default load (topology) has every topology
+// count, so arithmetic on them compiles under strict; { topology: false } has none.
+export async function statsByTopology(input: StlInput): Promise<number> {
+  const mesh = await loadStl(input);
+  const holes: number = mesh.stats.holes + 1;
+  const watertight: boolean = mesh.stats.watertight;
+  const genus: number | null = mesh.stats.genus;
+  const bare = await loadStl(input, { topology: false });
+  // @ts-expect-error a mesh without topology has no topology counts
+  const none = bare.stats.holes;
+  const either: Stats = bare.stats;
+  return holes + (watertight ? 1 : 0) + (genus ?? 0) + (either.holes ?? 0) + (none === undefined ? 0 : 1);
 }

@@ -1,0 +1,78 @@
+// The JSON writer of the reports and the hooks between the plain report (report.cpp) and
+// the shell and defect report (shells_report.cpp). Private (not installed).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "float_format.h"
+#include "stltopo/mesh.h"
+#include "stltopo/report.h"
+#include "stltopo/shells.h"
+#include "stltopo/topology.h"
+
+namespace stltopo::detail {
+
+// A JSON writer for the reports: s holds the text, `first` whether the next key or
+// element is the first of its object or array.
+struct Json {
+  std::string s;
+  bool first = true;
+  void open(char c) { s += c; first = true; }
+  void close(char c) { s += c; first = false; }
+  void key(const char* k) {
+    if (!first) s += ',';
+    first = false;
+    s += '"';
+    s += k;
+    s += "\":";
+  }
+  void sep() {
+    if (!first) s += ',';
+    first = false;
+  }
+  void u(uint64_t v) { s += std::to_string(v); }
+  void i(int64_t v) { s += std::to_string(v); }
+  void str(const std::string& v) { s += jsonString(v); }
+  void b(bool v) { s += v ? "true" : "false"; }
+  void null() { s += "null"; first = false; }
+  // A float32 coordinate (-0 printed as 0) or a float64 figure, in shortest form.
+  void f32(float v) { s += shortest(v + 0.0f, true); }
+  void f64(double v) { s += shortest(v, false); }
+  // [x,y,z] of float32 coordinates, and {"min":[..],"max":[..]}.
+  void point(const float* p) {
+    s += '[';
+    for (int k = 0; k < 3; ++k) {
+      if (k) s += ',';
+      f32(p[k]);
+    }
+    s += ']';
+  }
+  void bbox(const float* lo, const float* hi) {
+    open('{');
+    key("min"); point(lo);
+    key("max"); point(hi);
+    close('}');
+  }
+};
+
+// The report's "shellList" and "defects" keys with their values (shells_report.cpp).
+// With `nesting` (of these shells), each shell also gets its intersection and nesting keys.
+void writeShellList(Json& j, const Array<Shell>& shells, const ShellNesting* nesting = nullptr);
+// `checks` null: computed here; `intersections` null: "selfIntersections" is null.
+void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects& defects, uint32_t maxPerKind,
+                  const TriangleChecks* checks = nullptr, const Intersections* intersections = nullptr);
+// How infoJson/infoText write the ReportExtras (shells_report.cpp), handed to the report
+// (report.cpp) so that the plain report does not depend on them.
+struct ExtrasWriter {
+  const ReportExtras& extras;
+  void (*json)(Json& j, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+  void (*text)(std::string& out, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+  // The intersection keys / line, when extras.intersections is given.
+  void (*geometryJson)(Json& j, const ReportExtras& extras);
+  void (*geometryText)(std::string& out, const ReportExtras& extras);
+};
+std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
+std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
+
+}  // namespace stltopo::detail
