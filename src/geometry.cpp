@@ -228,7 +228,8 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
   bool sharedA[3] = {false, false, false}, sharedB[3] = {false, false, false};
   for (int i = 0; i < shared; ++i) sharedA[ia[i]] = sharedB[ib[i]] = true;
   int sb[3], sa[3];
-  for (int i = 0; i < 3; ++i) sb[i] = sharedB[i] ? 0 : pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[i]);
+  const pred::Plane planeA(a.p[0], a.p[1], a.p[2]);
+  for (int i = 0; i < 3; ++i) sb[i] = sharedB[i] ? 0 : planeA.side(b.p[i]);
   if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0)) return -1;
   if (shared == 2) {
     if (sb[3 - ib[0] - ib[1]] != 0) return -1;  // not coplanar: they meet only on the shared side
@@ -238,7 +239,8 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
     const int d = (ib[0] + 1) % 3, e = (ib[0] + 2) % 3;
     if (sb[d] * sb[e] > 0) return -1;
   }
-  for (int i = 0; i < 3; ++i) sa[i] = sharedA[i] ? 0 : pred::orient3d(b.p[0], b.p[1], b.p[2], a.p[i]);
+  const pred::Plane planeB(b.p[0], b.p[1], b.p[2]);
+  for (int i = 0; i < 3; ++i) sa[i] = sharedA[i] ? 0 : planeB.side(a.p[i]);
   if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return -1;
   if (shared == 1) {
     const int c = (ia[0] + 1) % 3, d = (ia[0] + 2) % 3;
