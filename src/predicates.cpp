@@ -12,7 +12,9 @@
 // IEEE doubles.
 #include "predicates.h"
 
+#include <algorithm>
 #include <cstddef>
+#include <cstring>
 
 namespace stltopo::pred {
 namespace {
@@ -134,7 +136,69 @@ int crossTerm(const D& p, const D& q, const D& r, const D& s, double* out) {
 
 }  // namespace
 
+// The exact determinants in 128-bit integers, for the common inputs whose float32
+// coordinates span at most kSpan bits from the largest to the smallest unit in the last
+// place (a mesh's nearby corners almost always do): each coordinate is then an integer of at
+// most kSpan bits in units of the smallest ulp, and the determinant fits an __int128.
+// False when the inputs span more (the expansions decide those).
+namespace {
+
+constexpr int kSpan = 40;
+
+// A float32 as m * 2^e, m an integer with |m| < 2^24 (0 for zero: e is then ignored).
+struct Fixed {
+  int32_t m;
+  int e;
+};
+inline Fixed fixedOf(float f) {
+  uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  const int exp = int((bits >> 23) & 0xff);
+  int32_t mant = int32_t(bits & 0x7fffff);
+  if (exp != 0) mant |= 0x800000;
+  if (bits >> 31) mant = -mant;
+  return {mant, (exp == 0 ? 1 : exp) - 150};
+}
+
+// The coordinates as integers in units of 2^emin, or false when they span more than kSpan bits.
+template <int N>
+bool toIntegers(const float* const (&v)[N], int64_t (&out)[N]) {
+  Fixed f[N];
+  int emin = 1 << 30, emax = -(1 << 30);
+  for (int i = 0; i < N; ++i) {
+    f[i] = fixedOf(*v[i]);
+    if (f[i].m == 0) continue;
+    emin = std::min(emin, f[i].e);
+    emax = std::max(emax, f[i].e);
+  }
+  if (emin > emax) emin = emax = 0;  // all zero
+  if (emax - emin + 24 > kSpan) return false;
+  for (int i = 0; i < N; ++i) out[i] = f[i].m == 0 ? 0 : int64_t(f[i].m) * (int64_t(1) << (f[i].e - emin));
+  return true;
+}
+
+inline int sign128(__int128 x) { return x > 0 ? 1 : x < 0 ? -1 : 0; }
+
+}  // namespace
+
+int orient3dExact(const float* a, const float* b, const float* c, const float* d);
+
 int orient2dExact(double ax, double ay, double bx, double by, double cx, double cy) {
+  // The inputs are float32 values (orient2d is only called on float32 coordinates).
+  const float f[6] = {float(ax), float(ay), float(bx), float(by), float(cx), float(cy)};
+  if (double(f[0]) == ax && double(f[1]) == ay && double(f[2]) == bx && double(f[3]) == by && double(f[4]) == cx &&
+      double(f[5]) == cy) {
+    const float* const v[6] = {&f[0], &f[1], &f[2], &f[3], &f[4], &f[5]};
+    int64_t i[6];
+    if (toIntegers(v, i)) {
+      const __int128 ux = i[2] - i[0], uy = i[3] - i[1], vx = i[4] - i[0], vy = i[5] - i[1];
+      return sign128(ux * vy - uy * vx);
+    }
+  }
+  return orient2dExpansion(ax, ay, bx, by, cx, cy);
+}
+
+int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy) {
   const D ux(bx, ax), uy(by, ay), vx(cx, ax), vy(cy, ay);
   double det[24];
   const int n = crossTerm(ux, vy, uy, vx, det);
@@ -142,6 +206,19 @@ int orient2dExact(double ax, double ay, double bx, double by, double cx, double 
 }
 
 int orient3dExact(const float* a, const float* b, const float* c, const float* d) {
+  const float* const v[12] = {&a[0], &a[1], &a[2], &b[0], &b[1], &b[2], &c[0], &c[1], &c[2], &d[0], &d[1], &d[2]};
+  int64_t i[12];
+  if (toIntegers(v, i)) {
+    // |coordinate| < 2^40: differences < 2^41, minors < 2^83, terms < 2^124, the sum < 2^126.
+    const __int128 ux = i[3] - i[0], uy = i[4] - i[1], uz = i[5] - i[2];
+    const __int128 vx = i[6] - i[0], vy = i[7] - i[1], vz = i[8] - i[2];
+    const __int128 wx = i[9] - i[0], wy = i[10] - i[1], wz = i[11] - i[2];
+    return sign128(wx * (uy * vz - uz * vy) + wy * (uz * vx - ux * vz) + wz * (ux * vy - uy * vx));
+  }
+  return orient3dExpansion(a, b, c, d);
+}
+
+int orient3dExpansion(const float* a, const float* b, const float* c, const float* d) {
   const D ux(b[0], a[0]), uy(b[1], a[1]), uz(b[2], a[2]);
   const D vx(c[0], a[0]), vy(c[1], a[1]), vz(c[2], a[2]);
   const D wx(d[0], a[0]), wy(d[1], a[1]), wz(d[2], a[2]);

@@ -13,9 +13,13 @@
 
 namespace stltopo::pred {
 
-// The exact signs, for the rare inputs the filters cannot decide.
+// The exact signs, for the rare inputs the filters cannot decide: in 128-bit integers when the
+// coordinates span at most 40 bits of magnitude (almost always), else in expansion arithmetic.
 int orient2dExact(double ax, double ay, double bx, double by, double cx, double cy);
 int orient3dExact(const float* a, const float* b, const float* c, const float* d);
+// The expansion arithmetic alone (for any inputs; the tests compare the two stages).
+int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy);
+int orient3dExpansion(const float* a, const float* b, const float* c, const float* d);
 
 // Sign of (b - a) x (c - a) in the plane (ax, ay) ...: > 0 when a, b, c turn
 // counter-clockwise.

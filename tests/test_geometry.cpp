@@ -10,6 +10,7 @@
 #include <set>
 #include <tuple>
 
+#include "predicates.h"  // private (src/): the exact stages, compared below
 #include "stl_gen.h"
 #include "stltopo/stltopo.h"
 
@@ -429,6 +430,52 @@ TEST(Geometry, PredicatesAreExactAcrossScales) {
           c);
   ASSERT_EQ(c.geo.checks.zeroArea.size(), 1u);
   EXPECT_EQ(c.geo.checks.zeroArea[0], 0u);
+}
+
+}  // namespace
+
+// The two exact stages of the predicates agree: 128-bit integers (coordinates within 40 bits
+// of magnitude) and expansion arithmetic (any input), on random and nearly degenerate inputs.
+namespace {
+
+TEST(Geometry, ExactStagesAgree) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(-1, 1);
+  int zeros = 0, compared = 0;
+  for (int round = 0; round < 200000; ++round) {
+    const int scale = int(rng() % 24) - 12;  // magnitudes 2^-12 .. 2^11
+    auto pt = [&](std::array<float, 3>& p) {
+      for (float& x : p) x = std::ldexp(unit(rng), scale);
+    };
+    std::array<float, 3> a, b, c, d;
+    pt(a), pt(b), pt(c), pt(d);
+    switch (round % 4) {
+      case 0: break;  // random
+      case 1:         // d in the plane of a, b, c (up to float rounding)
+        for (int k = 0; k < 3; ++k) d[k] = a[k] + 0.5f * (b[k] - a[k]) + 0.25f * (c[k] - a[k]);
+        break;
+      case 2:  // d exactly a corner moved by one ulp
+        d = a;
+        { const int k = int(rng() % 3); d[k] = std::nextafter(d[k], 2.0f); }
+        break;
+      case 3:  // on a grid: exact coplanarity is frequent
+        for (auto* p : {&a, &b, &c, &d})
+          for (float& x : *p) x = std::ldexp(float(int(rng() % 5) - 2), scale);
+        break;
+    }
+    const int e = stltopo::pred::orient3dExpansion(a.data(), b.data(), c.data(), d.data());
+    const int x = stltopo::pred::orient3dExact(a.data(), b.data(), c.data(), d.data());
+    ASSERT_EQ(x, e) << "round " << round;
+    const int f = stltopo::pred::orient3d(a.data(), b.data(), c.data(), d.data());
+    ASSERT_EQ(f, e) << "round " << round;
+    const int e2 = stltopo::pred::orient2dExpansion(a[0], a[1], b[0], b[1], d[0], d[1]);
+    ASSERT_EQ(stltopo::pred::orient2dExact(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
+    ASSERT_EQ(stltopo::pred::orient2d(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
+    zeros += e == 0;
+    ++compared;
+  }
+  EXPECT_GT(zeros, 1000);  // the exact stages decided many exact zeros
+  EXPECT_EQ(compared, 200000);
 }
 
 }  // namespace
