@@ -46,38 +46,60 @@ const char* duplicateOrientationName(DuplicateOrientation o) {
 // ---------------------------------------------------------------------------
 // Zero-area and duplicate triangles.
 
+// Whether the topology can rule duplicates out: a duplicate of t has t's side corner0 ->
+// corner1 too. When that edge is a boundary edge, t has none; when it is interior (exactly two
+// opposite sides), its only other triangle is the one across, a duplicate of t exactly when
+// its third corner is t's. Only a cut edge (more sides) leaves the question open.
+bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
+  const uint32_t e = topo.triangleHalfedge[t];
+  if (e == kInvalid) return false;
+  switch (EdgeKind(topo.pairKind[e >> 1])) {
+    case EdgeKind::Boundary: return false;
+    case EdgeKind::Interior: return topo.vert[topo.next[topo.next[e ^ 1u]]] == thirdCorner;
+    default: return true;
+  }
+}
+
 Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out) {
   out = TriangleChecks{};
   if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
   const Welded w{mesh, topo ? topo->vertexWeld.data() : nullptr};
   const uint32_t nt = mesh.nTriangles();
-  // Pass 1: zero-area triangles, and each valid triangle into an open-addressed table
-  // keyed by its sorted corners; rep[t] = the lowest triangle with t's corner set.
-  Array<uint32_t> rep;
-  size_t cap = 16;
-  while (cap < 2 * size_t(nt)) cap *= 2;
-  Array<uint32_t> table;
-  if (!rep.resize(nt) || !table.assign(cap, kInvalid)) return oom("the duplicate-triangle table");
-  const size_t mask = cap - 1;
-  uint32_t dupMembers = 0;
+  const bool useTopology = topo && topo->triangleHalfedge.size() == nt && !topo->next.empty() && !topo->vert.empty();
+  // Pass 1: zero-area triangles, and the candidates for a duplicate group (with a topology,
+  // only the triangles it cannot rule out: none in a clean mesh).
+  Array<uint32_t> cand;
   for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
-    rep[t] = kInvalid;
+    const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
     if (a == b || b == c || a == c) continue;  // degenerate
     if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !out.zeroArea.push_back(t)) return oom("the zero-area list");
+    if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !cand.push_back(t)) return oom("the duplicate candidates");
+  }
+  // Pass 2: the candidates into an open-addressed table keyed by their sorted corners;
+  // rep[i] = the index of the lowest candidate with candidate i's corner set.
+  const uint32_t nc = uint32_t(cand.size());
+  Array<uint32_t> rep;
+  size_t cap = 16;
+  while (cap < 2 * size_t(nc)) cap *= 2;
+  Array<uint32_t> table;
+  if (!rep.resize(nc) || !table.assign(cap, kInvalid)) return oom("the duplicate-triangle table");
+  const size_t mask = cap - 1;
+  uint32_t dupMembers = 0;
+  for (uint32_t i = 0; i < nc; ++i) {
+    uint32_t a = w.v(cand[i], 0), b = w.v(cand[i], 1), c = w.v(cand[i], 2);
     sort3(a, b, c);
     size_t h = mix((uint64_t(a) << 32 | b) ^ mix(c)) & mask;
     for (;; h = (h + 1) & mask) {
-      uint32_t u = table[h];
+      const uint32_t u = table[h];
       if (u == kInvalid) {
-        table[h] = t;
-        rep[t] = t;
+        table[h] = i;
+        rep[i] = i;
         break;
       }
-      uint32_t x = w.v(u, 0), y = w.v(u, 1), z = w.v(u, 2);
+      uint32_t x = w.v(cand[u], 0), y = w.v(cand[u], 1), z = w.v(cand[u], 2);
       sort3(x, y, z);
       if (x == a && y == b && z == c) {
-        rep[t] = u;
+        rep[i] = u;
         ++dupMembers;
         break;
       }
@@ -88,30 +110,29 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
     if (!out.duplicateOffsets.push_back(0)) return oom("the duplicate groups");
     return {};
   }
-  // Pass 2: the groups, ordered by their lowest triangle (= rep), members ascending.
+  // Pass 3: the groups, ordered by their lowest triangle (= rep), members ascending.
   Array<uint32_t> slot;  // per representative that has other members: its group
-  if (!slot.assign(nt, kInvalid)) return oom("the duplicate groups");
+  if (!slot.assign(nc, kInvalid)) return oom("the duplicate groups");
   constexpr uint32_t kHasMembers = kInvalid - 1;
-  for (uint32_t t = 0; t < nt; ++t)
-    if (rep[t] != kInvalid && rep[t] != t) slot[rep[t]] = kHasMembers;
+  for (uint32_t i = 0; i < nc; ++i)
+    if (rep[i] != i) slot[rep[i]] = kHasMembers;
   uint32_t groups = 0;
-  for (uint32_t t = 0; t < nt; ++t)
-    if (slot[t] == kHasMembers) slot[t] = groups++;
+  for (uint32_t i = 0; i < nc; ++i)
+    if (slot[i] == kHasMembers) slot[i] = groups++;
   Array<uint32_t>& offsets = out.duplicateOffsets;
   if (!offsets.assign(size_t(groups) + 1, 0) || !out.duplicateTriangles.resize(size_t(groups) + dupMembers) ||
       !out.duplicateOrientation.assign(groups, uint8_t(DuplicateOrientation::Same)))
     return oom("the duplicate groups");
-  for (uint32_t t = 0; t < nt; ++t)
-    if (rep[t] != kInvalid && slot[rep[t]] != kInvalid) ++offsets[slot[rep[t]] + 1];
+  for (uint32_t i = 0; i < nc; ++i)
+    if (slot[rep[i]] != kInvalid) ++offsets[slot[rep[i]] + 1];
   for (uint32_t g = 0; g < groups; ++g) offsets[g + 1] += offsets[g];
   Array<uint32_t> fill;
   if (!fill.resize(groups)) return oom("the duplicate groups");
   for (uint32_t g = 0; g < groups; ++g) fill[g] = offsets[g];
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (rep[t] == kInvalid || slot[rep[t]] == kInvalid) continue;
-    uint32_t g = slot[rep[t]];
+  for (uint32_t i = 0; i < nc; ++i) {
+    if (slot[rep[i]] == kInvalid) continue;
+    const uint32_t g = slot[rep[i]], t = cand[i], r = cand[rep[i]];
     out.duplicateTriangles[fill[g]++] = t;
-    uint32_t r = rep[t];
     if (!sameWinding(w.v(t, 0), w.v(t, 1), w.v(t, 2), w.v(r, 0), w.v(r, 1), w.v(r, 2)))
       out.duplicateOrientation[g] = uint8_t(DuplicateOrientation::Opposite);
   }

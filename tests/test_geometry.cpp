@@ -394,6 +394,14 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
       groups.emplace_back(checks.duplicateTriangles.data() + checks.duplicateOffsets[g],
                           checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
     ASSERT_EQ(groups, want.groups) << "round " << round;
+    // Without a topology (every triangle hashed) the checks are the same.
+    stltopo::TriangleChecks alone;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, nullptr, alone).ok());
+    ASSERT_TRUE(gen::sameArray(alone.duplicateTriangles, checks.duplicateTriangles) &&
+                gen::sameArray(alone.duplicateOffsets, checks.duplicateOffsets) &&
+                gen::sameArray(alone.duplicateOrientation, checks.duplicateOrientation) &&
+                gen::sameArray(alone.zeroArea, checks.zeroArea))
+        << "round " << round;
     dupGroups += groups.size();
     ++total;
     withPairs += !got.empty();

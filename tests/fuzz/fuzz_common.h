@@ -102,6 +102,8 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
 }
 
+using gen::sameArray;
+
 // The exact geometry (issue 21) of a topology with triangleShell: the invariants of every
 // list, the work limit, and the report with every extra. Returns that report.
 inline std::string checkGeometry(const Mesh& m, const Topology& t, const Array<Shell>& shells, const Defects& d) {
@@ -131,6 +133,13 @@ inline std::string checkGeometry(const Mesh& m, const Topology& t, const Array<S
     members += e - b - 1;
   }
   FUZZ_CHECK(members == c.nDuplicateTriangles);
+  if (t.tolerance == 0) {  // the topology's shortcut and hashing every triangle agree
+    TriangleChecks alone;
+    FUZZ_CHECK(checkTriangles(m, nullptr, alone).ok());
+    FUZZ_CHECK(sameArray(alone.zeroArea, c.zeroArea) && sameArray(alone.duplicateTriangles, c.duplicateTriangles) &&
+               sameArray(alone.duplicateOffsets, c.duplicateOffsets) &&
+               sameArray(alone.duplicateOrientation, c.duplicateOrientation));
+  }
   const Intersections& x = g.intersections;
   FUZZ_CHECK(x.nCrossing + x.nTouching + x.nCoplanar == x.nPairs());
   FUZZ_CHECK(x.nPairs() <= io.maxPairs);
@@ -207,7 +216,6 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
   }
 }
 
-using gen::sameArray;
 
 inline bool sameStatus(const Status& a, const Status& b) {
   return a.code == b.code && a.message == b.message && a.offset == b.offset && a.line == b.line &&
