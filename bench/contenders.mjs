@@ -1,0 +1,104 @@
+// The contenders: the generated meshes they read, and one measurement of each (a child
+// process per measurement; bench/child.mjs for the Node ones).
+import fs from 'node:fs';
+import path from 'node:path';
+import { root, rel, SIZES, HALFEDGE_SIZES, opt, BIN, DATA, CHILD, NODE_FLAGS } from './bench-options.mjs';
+import { log, median, run, lastJsonLine, procstat } from './bench-util.mjs';
+
+// ---------------------------------------------------------------------------
+// Meshes
+
+export function meshFile(size, { shuffle = false, holes = false, ascii = false } = {}) {
+  const name = `torus-${size}${ascii ? '-ascii' : ''}${shuffle ? '-shuffled' : ''}${holes ? '-holes' : ''}.stl`;
+  return path.join(DATA, name);
+}
+
+export function ensureMesh(file, triangles, flags) {
+  const src = path.join(root, 'bench/genmesh.cpp');
+  if (fs.existsSync(file) && fs.statSync(file).mtimeMs >= fs.statSync(src).mtimeMs) return;
+  log(`generating ${rel(file)}`);
+  const r = run(BIN.genmesh, [String(triangles), file + '.part', ...flags]);
+  if (r.status !== 0) throw new Error(`genmesh failed: ${r.stderr}`);
+  fs.renameSync(file + '.part', file);
+}
+
+export function contendersFor(c) {
+  return opt.contenders.filter((k) => k !== 'three-halfedge' || (c.format === 'binary' && HALFEDGE_SIZES.includes(c.size)));
+}
+
+// ---------------------------------------------------------------------------
+// One measurement per contender
+
+export const cliArgs = (file) => [BIN.cli, 'info', '--json', file];
+export const admeshArgs = (file) => [BIN.admesh, '-e', file];
+
+function parseAdmesh(text) {
+  const num = (re) => { const m = text.match(re); return m ? Number(m[1]) : null; };
+  const f1 = num(/Facets with 1 disconnected edge\s*:\s*\d+\s+(\d+)/);
+  const f2 = num(/Facets with 2 disconnected edges\s*:\s*\d+\s+(\d+)/);
+  const f3 = num(/Facets with 3 disconnected edges\s*:\s*\d+\s+(\d+)/);
+  return {
+    triangles: num(/Number of facets\s*:\s*\d+\s+(\d+)/),
+    disconnectedEdges: f1 === null ? null : f1 + 2 * f2 + 3 * f3,
+  };
+}
+
+// Small cases run in tens of milliseconds, where one busy moment of the machine decides
+// the figure: there, a whole-process sample is the median of 3 back-to-back runs (by wall
+// time) and the in-process harness makes at least 5 warm calls.
+const small = (c) => SIZES[c.size] <= SIZES['100k'];
+function procstatMedian(c, args) {
+  if (!small(c)) return procstat(args);
+  const xs = [procstat(args), procstat(args), procstat(args)].sort((a, b) => a.wallMs - b.wallMs);
+  return xs[1];
+}
+
+export const measure = {
+  native(c) {
+    const r = run(BIN.stages, [c.file, String(1 + (small(c) ? Math.max(opt.warm, 5) : opt.warm)), '--json']);
+    if (r.status !== 0) throw new Error(`stltopo_stages: ${r.stderr}`);
+    // The full topology (prev and face included) with the input streamed in 1 MiB chunks,
+    // in a process of its own: its peak RSS above the RSS before the read.
+    const p = run(BIN.stages, [c.file, '--streamed-peak']);
+    if (p.status !== 0) throw new Error(`stltopo_stages --streamed-peak: ${p.stderr}`);
+    return { ...lastJsonLine(r.stdout), streamed: lastJsonLine(p.stdout) };
+  },
+  'native-cli'(c) {
+    const p = procstatMedian(c, cliArgs(c.file));
+    if (p.status !== 0) throw new Error(`stltopo info exited ${p.status} (signal ${p.signal})`);
+    const j = lastJsonLine(p.stdout);
+    return { wallMs: p.wallMs, cpuMs: p.userMs + p.sysMs, maxRssKiB: p.maxRssKiB, triangles: j.triangles, vertices: j.vertices, holes: j.holes, boundaryEdges: j.boundaryEdges };
+  },
+  admesh(c) {
+    const p = procstatMedian(c, admeshArgs(c.file));
+    if (p.status !== 0) throw new Error(`admesh exited ${p.status} (signal ${p.signal})`);
+    return { wallMs: p.wallMs, cpuMs: p.userMs + p.sysMs, maxRssKiB: p.maxRssKiB, ...parseAdmesh(p.stdout) };
+  },
+  'wasm-read': (c) => nodeChild('wasm-read', c),
+  'wasm-full': (c) => nodeChild('wasm-full', c),
+  'wasm-view': (c) => nodeChild('wasm-view', c),
+  three: (c) => nodeChild('three', c, { warm: opt.quick ? 1 : opt.warm }),
+  'three-halfedge': (c) => nodeChild('three-halfedge', c, { warm: 0, capSec: opt.halfedgeCap }),
+};
+
+export function nodeChild(mode, c, { warm = opt.warm, capSec = opt.childCap } = {}) {
+  const budgetMs = opt.tiny ? 2000 : 10000;
+  const r = run(process.execPath, [...NODE_FLAGS, CHILD, mode, c.file, String(warm), String(budgetMs)], { timeoutSec: capSec });
+  if (r.timedOut) return { timedOut: true, capMs: capSec * 1000 };
+  if (r.status !== 0) throw new Error(`${mode} child exited ${r.status} (${r.signal || ''}): ${r.stderr.slice(-600)}`);
+  return lastJsonLine(r.stdout);
+}
+
+// Idle processes: the baseline of "peak RSS above an idle process".
+export function idleRss(args) {
+  const xs = [];
+  for (let i = 0; i < 3; ++i) xs.push(procstat(args).maxRssKiB);
+  return median(xs);
+}
+
+export function describeSample(k, s) {
+  if (s.timedOut) return `> ${s.capMs / 1000} s (time cap)`;
+  if (k === 'native') return `first ${s.first.totalMs.toFixed(1)} ms, warm ${s.warm ? s.warm.totalMs.toFixed(1) : '-'} ms`;
+  if (k === 'native-cli' || k === 'admesh') return `${s.wallMs.toFixed(1)} ms, ${(s.maxRssKiB / 1024).toFixed(1)} MiB`;
+  return `first ${s.firstMs.toFixed(1)} ms, warm ${s.warmMs.length ? s.warmMs.map((x) => x.toFixed(1)).join('/') : '-'} ms`;
+}

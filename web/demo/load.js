@@ -1,0 +1,169 @@
+// The demo's loading: one source (a File, bytes or { url }) parsed in the worker with progress
+// and cancel, then shown; the samples (fetched, or generated in a worker); "Download STL".
+import { loadStl, toStl } from 'stltopo/worker';
+import { samples } from './samples.js';
+import { $, viewer } from './page.js';
+import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels } from './panels.js';
+import { stopEditing, setLoaded } from './edit-panel.js';
+
+export let current = null; // { seq, controller, name } of the load in flight
+let loadSeq = 0;
+let hasModel = false;
+
+function setState(state) {
+  document.body.dataset.state = state;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading
+
+/**
+ * Loads one source and shows it. `source` is a File/Blob, an ArrayBuffer, or { url }.
+ * A newer load cancels an older one; errors land in the error box and the page stays usable.
+ */
+export async function load(source, { name, credit = '' } = {}) {
+  current?.controller.abort();
+  const seq = ++loadSeq;
+  const controller = new AbortController();
+  current = { seq, controller, name, userCancelled: false };
+  setState('loading');
+  document.body.dataset.loadCount = String(seq);
+  hideError();
+  showProgress(name, NaN, 0);
+  const t0 = performance.now();
+  try {
+    let input = source;
+    let total = source.size ?? source.byteLength;
+    if (source.url) {
+      const response = await fetch(source.url, { signal: controller.signal });
+      if (!response.ok) {
+        throw Object.assign(new Error(`the server answered ${response.status} ${response.statusText} for ${source.url}`), { code: 'http' });
+      }
+      total = Number(response.headers.get('content-length')) || NaN;
+      input = response;
+    }
+    const mesh = await loadStl(input, {
+      topology: true,
+      shells: true,
+      intersections: true, // exact self-intersections, nesting and the solid badge (issue 21)
+      signal: controller.signal,
+      onProgress: (fraction, bytesRead) => {
+        if (seq === loadSeq) showProgress(name, Number.isFinite(fraction) ? fraction : bytesRead / total, bytesRead);
+      },
+    });
+    if (seq !== loadSeq) return;
+    const tParsed = performance.now();
+    showProgress(name, 1, total, 'building the view…');
+    await nextFrame();
+    if (seq !== loadSeq) return;
+    await stopEditing();
+    const sceneMs = viewer.setMesh(mesh);
+    hasModel = true;
+    shown = { mesh, name };
+    $('#download').hidden = false;
+    setLoaded({ mesh, name });
+    showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
+    hideProgress();
+    current = null;
+    setState('ready');
+  } catch (error) {
+    if (seq !== loadSeq) return;
+    hideProgress();
+    const cancelled = current?.userCancelled;
+    current = null;
+    if (cancelled && hasModel) {
+      setState('ready'); // the previous model is still on screen
+      return;
+    }
+    showError(name, error);
+    viewer.clear();
+    clearPanels();
+    hasModel = false;
+    shown = null;
+    $('#download').hidden = true;
+    setState('error');
+  }
+}
+
+// The mesh on screen, for "Download STL": written as STL in the worker (the mesh came from
+// one), then handed to the browser as a download.
+let shown = null;
+$('#download-button').addEventListener('click', async () => {
+  if (!shown) return;
+  const button = $('#download-button');
+  const format = $('#download-format').value;
+  button.disabled = true;
+  try {
+    const blob = await toStl(shown.mesh, { format });
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `${shown.name.replace(/\.stl$/i, '')}${format === 'ascii' ? '-ascii' : ''}.stl`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
+  } catch (error) {
+    showError(shown.name, error);
+  } finally {
+    button.disabled = false;
+  }
+});
+
+/** Lets the page paint (progress text) before a long step; does not hang in a hidden tab. */
+function nextFrame() {
+  return new Promise((resolve) => {
+    requestAnimationFrame(() => resolve());
+    setTimeout(resolve, 100);
+  });
+}
+
+export async function loadSample(id) {
+  const sample = samples.find((s) => s.id === id) ?? samples[0];
+  $('#sample-select').value = sample.id;
+  if (sample.generate) {
+    setState('loading');
+    showProgress(sample.label, NaN, 0, 'generating…');
+    const seq = loadSeq;
+    let buffer;
+    try {
+      buffer = await generate(sample.generate);
+    } catch (error) {
+      if (seq === loadSeq) {
+        hideProgress();
+        showError(sample.label, error);
+        setState('error');
+      }
+      return undefined;
+    }
+    if (seq !== loadSeq) return undefined; // another load started meanwhile
+    const name = `${sample.id}.stl`;
+    return load(new File([buffer], name), { name, credit: 'Generated in the page by web/demo/generate.js.' });
+  }
+  return load({ url: new URL(`samples/${sample.file}`, document.baseURI).href },
+    { name: sample.file, credit: `Sample from ${sample.credit}.` });
+}
+
+/** Runs a generator of generate.js in a worker (the 1M-triangle one takes a while). */
+function generate(name) {
+  return new Promise((resolve, reject) => {
+    const worker = new Worker(new URL('./generate-worker.js', import.meta.url), { type: 'module' });
+    worker.onmessage = ({ data }) => {
+      worker.terminate();
+      if (data.error) reject(new Error(data.error));
+      else resolve(data.buffer);
+    };
+    worker.onerror = (event) => {
+      worker.terminate();
+      reject(new Error(`generator worker: ${event.message}`));
+    };
+    worker.postMessage({ name });
+  });
+}
+
+export function loadUrl(url) {
+  let name = url;
+  try {
+    name = decodeURIComponent(new URL(url, document.baseURI).pathname.split('/').pop()) || url;
+  } catch { /* keep the raw text as the name */ }
+  return load({ url }, { name, credit: `Loaded from ${url}` });
+}
