@@ -8,8 +8,10 @@ import { randomBytes } from 'node:crypto';
 import path from 'node:path';
 import { api, fileSource } from '../dist/instance.node.js';
 import { DEFAULTS } from '../dist/options.js';
+import { cliCalls } from './cli-wasm.mjs';
 
 const _internal = api.internal;
+const wasm = cliCalls(_internal);
 
 const USAGE =
   "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
@@ -157,7 +159,7 @@ async function main(argv) {
       intersections: a.intersections, maxPairs: a.maxPairs };
     let r;
     if (file === '-') {
-      r = await _internal.report(stdinSource(), opts);
+      r = await wasm.report(stdinSource(), opts);
     } else {
       let source = null;
       try {
@@ -167,7 +169,7 @@ async function main(argv) {
       }
       if (source) {
         try {
-          r = await _internal.report(source, opts);
+          r = await wasm.report(source, opts);
         } catch (e) {
           if (!e || !e.code || !String(e.code).startsWith('E')) throw e;
           r = await failed(file, a.json, `invalid-argument: read error on ${file}: ${strerror(e)}`);
@@ -241,7 +243,7 @@ async function convert(argv) {
   if (!source) return;
   const out = outputFile(output, fail);
   try {
-    for await (const chunk of _internal.convert(source, w)) {
+    for await (const chunk of wasm.convert(source, w)) {
       if (!(await out.write(chunk))) return;
     }
     await out.finish();
@@ -332,7 +334,7 @@ async function split(argv) {
   let file = null;
   let line = null;
   try {
-    for await (const item of _internal.split(source, w)) {
+    for await (const item of wasm.split(source, w)) {
       if (item.shells !== undefined) { // the input is read: OUTDIR next
         try {
           await mkdir(dir);

@@ -20,14 +20,11 @@ export async function toStl(mesh, options) {
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
-export const EditableMesh = createEditableMesh(api.internal.getFull);
+export const EditableMesh = createEditableMesh(api.internal.editModule);
 
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {
   throw stlError('invalid-argument', 'loadStlFile() needs Node; use loadStl(file) with a File/Blob');
 }
 
-export { init } from './wasm-load.js';
-export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
-export { extractShell } from './extract-shell.js';
+export * from './exports.js';

@@ -15,7 +15,7 @@ export async function toStl(mesh, options) {
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
-export const EditableMesh = createEditableMesh(api.internal.getFull);
+export const EditableMesh = createEditableMesh(api.internal.editModule);
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {
@@ -30,7 +30,4 @@ export async function loadStlFile(path, options) {
   return api.loadFromSource(source, o);
 }
 
-export { init } from './wasm-load.js';
-export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
-export { extractShell } from './extract-shell.js';
+export * from './exports.js';

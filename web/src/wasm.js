@@ -1,7 +1,7 @@
 // The wasm lifecycle: one instance per thread (re-created after a wasm abort), the read
 // loop that feeds a session, and the raw results that become meshes (mesh.js).
 import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, FROM_CORE } from './errors.js';
-import { DEFAULTS, normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
+import { normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
 import { toSource } from './sources.js';
 import { lazyModule } from './wasm-load.js';
 import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput,
@@ -25,10 +25,21 @@ const yieldToEventLoop = (() => {
   return () => new Promise((r) => setTimeout(r, 0));
 })();
 
-// Two modules (bindings/CMakeLists.txt): getModule() resolves to the core (stltopo-wasm:
-// loads, the report, validate()), getFull() to the full module (stltopo-full: also shells
-// and defects, fromIndexed(), writing, EditableMesh). Each is instantiated on first use, so
-// a page that only loads files never fetches the full one.
+// Which wasm module each call needs: the one table of it (what each module is built from:
+// bindings/CMakeLists.txt). 'core' is stltopo-wasm (loads, the report, validate(), the error
+// JSON), 'full' is stltopo-full (also shells and defects, the exact geometry, fromIndexed(),
+// writing, EditableMesh). A row that is a function decides from the call's options. Each
+// module is instantiated on first use, so a page that only loads files never fetches the
+// full one.
+export const MODULE_OF = Object.freeze({
+  load: (o) => (o.topology && (o.shells || o.intersections) ? 'full' : 'core'),
+  fromIndexed: 'full',
+  write: 'full',
+  edit: 'full',
+  errorJson: 'core',
+  heap: 'core',
+});
+
 export function createStltopo({ instantiate, instantiateFull, loadWorker = null }) {
   const setup = (entry, m) => {
     entry.heapMax = m._heapMax();
@@ -38,8 +49,12 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   };
   const getModule = lazyModule(instantiate, setup);
   const getFull = lazyModule(instantiateFull, setup);
-  // The module a read with these options needs: shells and defects are in the full one.
-  const moduleFor = (o) => (o.topology && (o.shells || o.intersections) ? getFull() : getModule());
+  const getters = { core: getModule, full: getFull };
+  /** The entry (instantiated module) that `call` (a row of MODULE_OF) needs with options o. */
+  const moduleFor = (call, o) => {
+    const row = MODULE_OF[call];
+    return getters[typeof row === 'function' ? row(o) : row]();
+  };
 
   // The exact geometry (self-intersections, nesting, solid) of a session loaded with shells,
   // when the options ask for it.
@@ -70,10 +85,42 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     return e;
   }
 
-  // Reads a source into a new session; returns it (finished) or throws.
-  async function readSession(entry, source, o) {
-    const M = entry.module;
-    const session = new M._Session(o.maxTriangles, o.maxBytes, source.total || 0, o.normals);
+  // The one shape of a call into wasm: make(M) creates a session (nothing that can fail
+  // between), use(session, entry) works on it, an async generator function whose yields
+  // are streamed to the caller (the session lives until the caller stops iterating) and
+  // whose return value is the result. Whatever escapes becomes wasmFailure(entry, e),
+  // handed to fail(err, entry), which throws it (the default) or returns a result. The
+  // session is deleted at the end (unless the instance died), or kept when use succeeded
+  // and keep is set (a view mesh owns it then).
+  async function* sessionCall(entry, make, use, { keep = false, fail = null } = {}) {
+    let session = null;
+    let kept = false;
+    try {
+      session = make(entry.module);
+      const result = yield* use(session, entry);
+      kept = keep;
+      return result;
+    } catch (e) {
+      const err = wasmFailure(entry, e);
+      if (!fail) throw err;
+      return await fail(err, entry);
+    } finally {
+      if (session && !kept && !entry.dead) session.delete();
+    }
+  }
+
+  // sessionCall() for a call with one result (use: an async function); resolves to it.
+  async function withSession(entry, make, use, options) {
+    const only = async function* once(session, e) { return await use(session, e); };
+    return (await sessionCall(entry, make, only, options).next()).value;
+  }
+
+  // A session that a source is read into (readInto), and one that arrays are uploaded to.
+  const readerOf = (source, o) => (M) => new M._Session(o.maxTriangles, o.maxBytes, source.total || 0, o.normals);
+  const blankSession = (M) => new M._Session(0, 0, 0, false);
+
+  // Reads a source into a session (readerOf's) and finishes it, or throws.
+  async function readInto(session, entry, source, o) {
     const signal = o.signal;
     const onAbort = () => source.cancel(abortError());
     if (signal) signal.addEventListener('abort', onAbort, { once: true });
@@ -115,13 +162,9 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       if (st) throw fromStatus(st);
       intersectIfAsked(session, o);
       progress(true);
-      return session;
     } catch (e) {
       source.cancel(e);
-      if (!entry.dead) {
-        if (e instanceof StlError && e[FROM_CORE] && o.keepMessageBytes) e[MESSAGE_BYTES] = session.messageBytes();
-        session.delete();
-      }
+      if (!entry.dead && e instanceof StlError && e[FROM_CORE] && o.keepMessageBytes) e[MESSAGE_BYTES] = session.messageBytes();
       throw e;
     } finally {
       if (signal) signal.removeEventListener('abort', onAbort);
@@ -173,57 +216,38 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   // Reads into JS-owned copies. { validate: true } also runs validate() on the
   // wasm-side arrays and stores the result in raw.validation (worker threads).
   async function loadRaw(source, o, { validate = false } = {}) {
-    const entry = await moduleFor(o);
-    let session = null;
-    try {
-      session = await readSession(entry, source, validate ? { ...o, validate } : o);
+    const ro = validate ? { ...o, validate } : o;
+    return withSession(await moduleFor('load', o), readerOf(source, ro), async (session, entry) => {
+      await readInto(session, entry, source, ro);
       return extractRaw(entry, session, true, { validate });
-    } catch (e) {
-      throw wasmFailure(entry, e);
-    } finally {
-      if (session && !entry.dead) session.delete();
-    }
+    });
   }
 
   async function loadFromSource(source, o) {
     if (!o.view) return new Mesh(await loadRaw(source, o), { entry: null, getEntry: currentEntry });
-    const entry = await moduleFor(o);
-    let session = null;
-    try {
-      session = await readSession(entry, source, o);
-      const raw = extractRaw(entry, session, false);
-      return new Mesh(raw, { entry, session, getEntry: currentEntry });
-    } catch (e) {
-      if (session && !entry.dead) session.delete();
-      throw wasmFailure(entry, e);
-    }
+    return withSession(await moduleFor('load', o), readerOf(source, o), async (session, entry) => {
+      await readInto(session, entry, source, o);
+      return new Mesh(extractRaw(entry, session, false), { entry, session, getEntry: currentEntry });
+    }, { keep: true });
   }
 
-  // A session holding the mesh of fromIndexed(): the caller's arrays uploaded, then built.
-  function indexedSession(entry, positions, triangles, o) {
-    const M = entry.module;
-    const session = new M._Session(0, 0, 0, false);
-    try {
-      const put = (name, src) => {
-        if (!src) return;
-        const view = session.upload(name, src.length);
-        if (view === null) throw stlError('out-of-memory', `could not allocate ${name}`);
-        view.set(src);
-      };
-      put('positions', positions);
-      put('triangles', triangles);
-      put('attributes', o.attributes);
-      put('colors', o.colors);
-      put('colorValid', o.colorValid);
-      session.setMeta('none', o.solids);
-      const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
-      if (st) throw fromStatus(st);
-      intersectIfAsked(session, o);
-      return session;
-    } catch (e) {
-      if (!entry.dead) session.delete();
-      throw e;
-    }
+  // Builds the mesh of fromIndexed() in a blank session: the caller's arrays uploaded, then built.
+  function buildIndexed(session, positions, triangles, o) {
+    const put = (name, src) => {
+      if (!src) return;
+      const view = session.upload(name, src.length);
+      if (view === null) throw stlError('out-of-memory', `could not allocate ${name}`);
+      view.set(src);
+    };
+    put('positions', positions);
+    put('triangles', triangles);
+    put('attributes', o.attributes);
+    put('colors', o.colors);
+    put('colorValid', o.colorValid);
+    session.setMeta('none', o.solids);
+    const st = session.fromIndexed(o.weldNone, o.topology, o.tolerance, o.view || !!o.validate, o.topology && !!o.shells);
+    if (st) throw fromStatus(st);
+    intersectIfAsked(session, o);
   }
 
   const typedInput = (v, Type, name) => {
@@ -234,16 +258,10 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
 
   // fromIndexed() on this thread: plain data as loadRaw() gives it, or a view mesh.
   async function indexedRaw(positions, triangles, o, { validate = false } = {}) {
-    const entry = await getFull();
-    let session = null;
-    try {
-      session = indexedSession(entry, positions, triangles, validate ? { ...o, validate } : o);
+    return withSession(await moduleFor('fromIndexed', o), blankSession, async (session, entry) => {
+      buildIndexed(session, positions, triangles, validate ? { ...o, validate } : o);
       return extractRaw(entry, session, true, { validate });
-    } catch (e) {
-      throw wasmFailure(entry, e);
-    } finally {
-      if (session && !entry.dead) session.delete();
-    }
+    });
   }
 
   async function fromIndexed(positions, triangles, options) {
@@ -255,15 +273,10 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     const pos = typedInput(positions, Float32Array, 'positions');
     const tri = typedInput(triangles, Uint32Array, 'triangles');
     if (!o.view) return new Mesh(await indexedRaw(pos, tri, o), { entry: null, getEntry: currentEntry });
-    const entry = await getFull();
-    let session = null;
-    try {
-      session = indexedSession(entry, pos, tri, o);
+    return withSession(await moduleFor('fromIndexed', o), blankSession, async (session, entry) => {
+      buildIndexed(session, pos, tri, o);
       return new Mesh(extractRaw(entry, session, false), { entry, session, getEntry: currentEntry });
-    } catch (e) {
-      if (session && !entry.dead) session.delete();
-      throw wasmFailure(entry, e);
-    }
+    }, { keep: true });
   }
 
   // The chunks of the STL file of a session's mesh, each copied out of wasm memory.
@@ -288,15 +301,14 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   // in this thread: through the mesh's own session for a live view of the full module, else
   // through a session of the full module its arrays are uploaded to.
   async function* writeHere(mesh, o) {
-    const entry = await getFull();
+    const entry = await moduleFor('write', o);
     const live = mesh instanceof Mesh ? liveSession.get(mesh) : null;
     if (live && live.entry === entry) {
       yield* sessionChunks(entry, live.session, o);
       return;
     }
     const input = mesh instanceof Mesh ? writeInput(mesh) : mesh;
-    const session = new entry.module._Session(0, 0, 0, false);
-    try {
+    yield* sessionCall(entry, blankSession, async function* upload(session) {
       for (const d of entry.layout) {
         const src = isMeshArray(d) && !d.group ? meshArray(input, d) : null;
         if (!src) continue;
@@ -306,11 +318,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       }
       session.setMeta(input.colorConvention, input.solids);
       yield* sessionChunks(entry, session, o);
-    } catch (e) {
-      throw wasmFailure(entry, e);
-    } finally {
-      if (!entry.dead) session.delete();
-    }
+    });
   }
 
   /** The STL file of a mesh as an async iterator of Uint8Array chunks. */
@@ -325,53 +333,6 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       })();
     }
     return writeHere(mesh, o);
-  }
-
-  // For the npm CLI's convert: reads a source as the native CLI does (default options, no
-  // normals, no topology) and yields the chunks of its STL file (format: the input's unless
-  // writeOptions.format says). Throws the StlError of the read or of the write.
-  async function* convert(source, writeOptions) {
-    const entry = await getFull();
-    const o = { ...normalizeOptions({ topology: false }), tolerance: 0 };
-    const w = normalizeWriteOptions(writeOptions);
-    let session = null;
-    try {
-      session = await readSession(entry, source, o);
-      if (writeOptions.format === undefined) w.format = session.meta().format === 'ascii' ? 'ascii' : 'binary';
-      yield* sessionChunks(entry, session, w);
-    } catch (e) {
-      throw wasmFailure(entry, e);
-    } finally {
-      if (session && !entry.dead) session.delete();
-    }
-  }
-
-  // For the npm CLI's split: reads a source as the native CLI does (default options, the
-  // report-only topology with shells) and yields { shells: n } once it is read, then per
-  // shell k { k, line(file) } followed by the chunks of its STL file (format: the input's
-  // unless writeOptions.format says).
-  async function* split(source, writeOptions) {
-    const entry = await getFull();
-    const o = { ...normalizeOptions({ topology: true, shells: true }), tolerance: 0 };
-    const w = normalizeWriteOptions(writeOptions);
-    let session = null;
-    try {
-      session = await readSession(entry, source, o);
-      if (writeOptions.format === undefined) w.format = session.meta().format === 'ascii' ? 'ascii' : 'binary';
-      const n = JSON.parse(session.shellListJson()).length;
-      yield { shells: n };
-      for (let k = 0; k < n; ++k) {
-        const s = session;
-        yield { k, line: (file) => s.splitLine(file, k) };
-        const st = session.selectShell(k);
-        if (st) throw fromStatus(st);
-        yield* sessionChunks(entry, session, w);
-      }
-    } catch (e) {
-      throw wasmFailure(entry, e);
-    } finally {
-      if (session && !entry.dead) session.delete();
-    }
   }
 
   /** All chunks of writeStl(), in order (toStl() makes a Blob or one array of them). */
@@ -400,57 +361,37 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     return loadFromSource(toSource(input), o);
   }
 
-  // For the npm CLI: the native CLI's JSON line or text for one input (the text report
-  // always lists the first defects of each kind, as the native one does).
-  async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
-    maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
-    maxDefects = -1, intersections = false, maxPairs = DEFAULTS.maxPairs }) {
-    const withDefects = defects || !json;
-    const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects, intersections,
-      maxPairs }), tolerance, keepMessageBytes: !json };
-    const entry = await moduleFor(o);
-    const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
-    let session = null;
-    try {
-      session = await readSession(entry, source, o);
-      return {
-        ok: true,
-        text: json ? `${session.infoJson(file, shells, withDefects, max)}\n` : session.infoText(file, shells, withDefects, max),
-      };
-    } catch (e) {
-      const err = wasmFailure(entry, e);
-      if (!(err instanceof StlError)) throw err;
-      if (json) return { ok: false, error: err, text: `${errorJson(entry.dead ? await getModule() : entry, file, err)}\n` };
-      const bytes = err[MESSAGE_BYTES];
-      if (!bytes) return { ok: false, error: err, text: `${file}: ${err.message}\n` };
-      return { ok: false, error: err, text: concatBytes(new TextEncoder().encode(`${file}: `), bytes, new Uint8Array([10])) };
-    } finally {
-      if (session && !entry.dead) session.delete();
-    }
-  }
-
   function errorJson(entry, file, err) {
     const M = entry.module;
     const num = (x) => (x === undefined ? -1 : x);
     return M._errorJson(file, err.code, err.message, num(err.offset), num(err.line), num(err.triangle));
   }
 
-  // Test and diagnostics hooks (not part of the public API).
+  // The hooks that are not public API: the tests', the worker thread's (worker-handler.js)
+  // and the npm CLI's (bin/cli-wasm.mjs builds its calls on the session helpers).
   const internal = {
     getModule,
     getFull,
-    report,
-    async errorJson(file, err) { return errorJson(await getModule(), file, err); },
+    moduleFor,
+    /** The module EditableMesh needs (its row of MODULE_OF). */
+    editModule: () => moduleFor('edit'),
+    /** The error JSON line of the native CLI for err, written by `entry` when it is alive. */
+    async errorJson(file, err, entry = null) {
+      return errorJson(entry && !entry.dead ? entry : await moduleFor('errorJson'), file, err);
+    },
     async heap() {
-      const { module: M } = await getModule();
+      const { module: M } = await moduleFor('heap');
       return { inUse: M._heapInUse(), size: M._heapSize(), max: M._heapMax() };
     },
+    sessionCall,
+    withSession,
+    readerOf,
+    readInto,
+    sessionChunks,
     loadRaw,
     loadFromSource,
     indexedRaw,
     writeHere,
-    convert,
-    split,
     normalizeWriteOptions,
     normalizeIndexedOptions,
   };

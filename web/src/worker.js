@@ -55,7 +55,4 @@ export async function toStl(mesh, options) {
   for await (const c of loader.writeStl(mesh, options)) chunks.push(c);
   return new Blob(chunks, { type: 'model/stl' });
 }
-export { init } from './wasm-load.js';
-export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
-export { extractShell } from './extract-shell.js';
+export * from './exports.js';

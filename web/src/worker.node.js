@@ -58,7 +58,4 @@ export async function loadStlFile(path, options) {
   }
   return loader.loadStlFile(p, options);
 }
-export { init } from './wasm-load.js';
-export { StlError } from './errors.js';
-export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
-export { extractShell } from './extract-shell.js';
+export * from './exports.js';
