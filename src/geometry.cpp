@@ -12,6 +12,7 @@
 
 namespace stltopo {
 using geometry_detail::checkWeld;
+using geometry_detail::weldOf;
 using geometry_detail::oom;
 using geometry_detail::Welded;
 
@@ -429,7 +430,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   out = Intersections{};
   if (Status s = checkWeld(mesh, &topo); !s.ok()) return s;
   const uint32_t nt = mesh.nTriangles();
-  const Welded w{mesh, topo.vertexWeld.data()};
+  const Welded w{mesh, weldOf(&topo)};
   Array<uint8_t> valid;
   if (!valid.assign(nt, 1) || !out.triangleIntersects.assign(nt, 0)) return oom("the intersection flags");
   for (uint32_t t = 0; t < nt; ++t) {
@@ -600,7 +601,7 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
   const uint32_t nt = mesh.nTriangles(), ns = uint32_t(shells.size());
   if (topo.triangleShell.size() != nt || ns != topo.nShells || found.triangleIntersects.size() != nt)
     return Status::error(Code::InvalidArgument, "shell nesting needs the shells and the intersections of this mesh");
-  const Welded w{mesh, topo.vertexWeld.data()};
+  const Welded w{mesh, weldOf(&topo)};
   // What each shell intersects.
   Array<uint64_t> links;  // s << 32 | k for shells s != k that intersect
   if (!out.selfIntersects.assign(ns, 0)) return oom("the shell nesting");

@@ -19,6 +19,12 @@ struct Welded {
   const float* p(uint32_t vertex) const { return mesh.positions.data() + 3 * size_t(vertex); }
 };
 
+// The weld array a Welded needs: none for the exact weld (vertexWeld is the identity there,
+// and skipping it saves a random read per corner).
+inline const uint32_t* weldOf(const Topology* topo) {
+  return topo && topo->tolerance > 0 ? topo->vertexWeld.data() : nullptr;
+}
+
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
                topo->vertexWeld.size() != mesh.nVertices()))

@@ -7,6 +7,7 @@
 
 namespace stltopo {
 using geometry_detail::checkWeld;
+using geometry_detail::weldOf;
 using geometry_detail::oom;
 using geometry_detail::Welded;
 
@@ -55,7 +56,8 @@ bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
   if (e == kInvalid) return false;
   switch (EdgeKind(topo.pairKind[e >> 1])) {
     case EdgeKind::Boundary: return false;
-    case EdgeKind::Interior: return topo.vert[topo.next[topo.next[e ^ 1u]]] == thirdCorner;
+    // The other triangle's side leaving this edge's origin runs to its third corner.
+    case EdgeKind::Interior: return topo.vert[topo.next[e ^ 1u] ^ 1u] == thirdCorner;
     default: return true;
   }
 }
@@ -63,7 +65,7 @@ bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
 Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out) {
   out = TriangleChecks{};
   if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
-  const Welded w{mesh, topo ? topo->vertexWeld.data() : nullptr};
+  const Welded w{mesh, weldOf(topo)};
   const uint32_t nt = mesh.nTriangles();
   const bool useTopology = topo && topo->triangleHalfedge.size() == nt && !topo->next.empty() && !topo->vert.empty();
   // Pass 1: zero-area triangles, and the candidates for a duplicate group (with a topology,
