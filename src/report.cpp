@@ -113,7 +113,8 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     }
   }
   j.key("degenerateTriangles"); j.u(degenerate);
-  // The cheap geometric checks, always: computed here unless the caller has them.
+  // The cheap geometric checks, always: computed here unless the caller has them, and then
+  // handed to the extras' defect lists too (which list them), so they run once.
   TriangleChecks own;
   const TriangleChecks* checks = extras ? extras->extras.checks : nullptr;
   if (!checks && checkTriangles(mesh, topo, own).ok()) checks = &own;
@@ -121,7 +122,6 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
   if (checks) j.u(checks->zeroArea.size()); else j.null();
   j.key("duplicateTriangles");
   if (checks) j.u(checks->nDuplicateTriangles); else j.null();
-  own = TriangleChecks{};
   j.key("colors"); j.str(colorConventionName(mesh.colorConvention));
   j.key("normalMismatches"); j.u(mesh.normalMismatches);
   j.key("bbox");
@@ -182,7 +182,11 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
         j.null();
       }
     }
-    if (extras) extras->json(j, mesh, t, extras->extras);
+    if (extras) {
+      ReportExtras withChecks = extras->extras;
+      withChecks.checks = checks;
+      extras->json(j, mesh, t, withChecks);
+    }
   }
   j.close('}');
   return j.s;

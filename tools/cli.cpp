@@ -357,8 +357,10 @@ int main(int argc, char** argv) {
     stltopo::Array<stltopo::Shell> shells;
     stltopo::Defects found;
     stltopo::GeometryReport geo;
-    if (s.ok() && a.topology && to.triangleShell)
-      s = stltopo::findShellsAndDefects(mesh, topo, a.shells ? &shells : nullptr, defects ? &found : nullptr);
+    // With --intersections, analyzeGeometry builds the shell list: it is not built twice.
+    if (s.ok() && a.topology && to.triangleShell && (defects || (a.shells && !a.intersections)))
+      s = stltopo::findShellsAndDefects(mesh, topo, a.shells && !a.intersections ? &shells : nullptr,
+                                        defects ? &found : nullptr);
     if (s.ok() && a.topology && a.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, io);
     if (!s.ok()) {
       rc = 1;
@@ -367,7 +369,7 @@ int main(int argc, char** argv) {
       continue;
     }
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
-    extras.shells = a.shells && t ? &shells : nullptr;
+    extras.shells = a.shells && t ? (a.intersections ? &geo.shells : &shells) : nullptr;
     extras.defects = defects && t ? &found : nullptr;
     extras.checks = a.intersections && t ? &geo.checks : nullptr;
     extras.intersections = a.intersections && t ? &geo.intersections : nullptr;
