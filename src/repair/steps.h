@@ -1,0 +1,54 @@
+// The repair steps' common frame (private). The runner (src/repair/repair.cpp) compacts the
+// EditableMesh before each step, hands the step a StepContext, and turns what the step did
+// into the step's plan entry and change log. A step:
+//   1. finds its candidate items on ctx.em (ids dense: the mesh is compacted);
+//   2. for each item in order: ctx.begin(...) it; when ctx.excluded() says the user left it
+//      out, ctx.skip("left out"); otherwise it tries the edits (each edit is all or
+//      nothing) and calls ctx.skip(reason) when a precondition fails or an edit is refused
+//      (having undone nothing: a refused edit changed nothing, and a step must check
+//      before it edits, or take back its own partial edits of that item with edits);
+//   3. returns Ok, or an error (out of memory, an edit failing for a reason it did not
+//      expect): the runner then restores the mesh as it was before the step.
+// Steps never print and never allocate without checking (detail::oom for failures).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "stltopo/edit.h"
+#include "stltopo/repair.h"
+
+namespace stltopo {
+namespace repair_detail {
+
+struct StepContext {
+  EditableMesh& em;
+  const RepairOptions& options;
+  RepairStepPlan& plan;
+  // Index the next item gets.
+  uint32_t nextItem() const { return uint32_t(plan.items.size()); }
+  // Starts item `action`, touching these elements (ids of em now); bbox from their
+  // positions (a loop's bbox is its vertices'). Returns the item, to fill further.
+  RepairItem& begin(std::string action, std::vector<uint32_t> triangles = {}, std::vector<uint32_t> vertices = {},
+                    std::vector<uint32_t> loops = {});
+  // True when the user left the current (last begun) item out; marks it skipped.
+  bool excluded();
+  void skip(std::string reason) {
+    plan.items.back().skipped = true;
+    plan.items.back().reason = std::move(reason);
+  }
+};
+
+Status runDuplicates(StepContext& ctx);
+Status runZeroArea(StepContext& ctx);
+Status runStitch(StepContext& ctx);
+Status runSplitNonManifold(StepContext& ctx);
+Status runFillHoles(StepContext& ctx);
+Status runOrient(StepContext& ctx);
+Status runSmallShells(StepContext& ctx);
+
+// The compacted mesh and topology of em (for steps that read Topology, shells, checks).
+Status snapshot(const EditableMesh& em, Mesh& mesh, Topology& topo);
+
+}  // namespace repair_detail
+}  // namespace stltopo
