@@ -9,6 +9,7 @@
 #endif
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -37,7 +38,16 @@ const char* kUsage =
     "usage: stltopo split IN OUTDIR [--ascii|--binary]\n"
     "  Writes each shell of IN to OUTDIR/<stem>-shell-<k>.stl (OUTDIR is created when\n"
     "  missing), in IN's format unless told, and prints a JSON line per file with its shell\n"
-    "  report. A failure prints the error JSON on stderr (exit 1).\n";
+    "  report. A failure prints the error JSON on stderr (exit 1).\n"
+    "usage: stltopo repair IN OUT [--plan] [--steps a,b,...] [--stitch-tolerance D] [--max-hole-edges N]\n"
+    "                      [--max-hole-area A] [--max-hole-perimeter P] [--fill refine,fair|none]\n"
+    "                      [--min-shell-triangles N] [--min-shell-volume V] [--remove-walls]\n"
+    "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--ascii|--binary]\n"
+    "  Plans the chosen repair steps (default duplicates,zero-area,stitch,fill-holes,orient; also\n"
+    "  split-nonmanifold, small-shells) and prints the plan as JSON (--plan: nothing is written),\n"
+    "  or carries it out, writes OUT and prints the change log as JSON. OUT appears only when\n"
+    "  complete. Exit status: 0 when the result is watertight, manifold and solid, 3 when it\n"
+    "  is not (the JSON says which), 1 on failure (error JSON on stderr), 2 on usage errors.\n";
 
 struct Args {
   bool json = false, topology = true, shells = false, defects = false, intersections = false;
@@ -259,6 +269,140 @@ int split(int argc, char** argv) {
 
 }  // namespace
 
+// Parses a number option's value: a finite double >= 0 (integer: a whole number <= max).
+bool numberArg(const std::string& v, double& out, bool integer, double max) {
+  char* end = nullptr;
+  errno = 0;
+  double d = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end || errno || !(d >= 0) || d > max || (integer && d != std::floor(d))) return false;
+  out = d;
+  return true;
+}
+
+std::vector<std::string> splitList(const std::string& v) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  for (;;) {
+    size_t j = v.find(',', i);
+    out.push_back(v.substr(i, j == std::string::npos ? std::string::npos : j - i));
+    if (j == std::string::npos) return out;
+    i = j + 1;
+  }
+}
+
+int repair(int argc, char** argv) {
+  std::vector<std::string> files;
+  stltopo::RepairOptions ro;
+  stltopo::WriteOptions wo;
+  bool formatGiven = false, planOnly = false;
+  auto usage = [](const std::string& msg) {
+    std::fprintf(stderr, "stltopo: %s\n%s", msg.c_str(), kUsage);
+    return 2;
+  };
+  for (int i = 2; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s == "--") {
+      files.insert(files.end(), argv + i + 1, argv + argc);
+      break;
+    }
+    if (s.size() < 2 || s[0] != '-') {
+      files.push_back(s);
+      continue;
+    }
+    if (s == "--plan") { planOnly = true; continue; }
+    if (s == "--remove-walls") { ro.removeOppositeDuplicates = true; continue; }
+    if (s == "--no-intersections") { ro.intersections = false; continue; }
+    if (s == "--ascii" || s == "--binary") {
+      wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
+      formatGiven = true;
+      continue;
+    }
+    const bool takes = s == "--steps" || s == "--stitch-tolerance" || s == "--max-hole-edges" || s == "--max-hole-area" ||
+                       s == "--max-hole-perimeter" || s == "--fill" || s == "--min-shell-triangles" ||
+                       s == "--min-shell-volume" || s == "--exclude" || s == "--max-pairs";
+    if (!takes) return usage("unknown option '" + s + "'");
+    if (i + 1 >= argc) return usage(s + " needs a value");
+    std::string v = argv[++i];
+    double d = 0;
+    if (s == "--steps") {
+      ro.steps = 0;
+      for (const std::string& n : splitList(v)) {
+        stltopo::RepairStepKind k;
+        if (!stltopo::repairStepFromName(n, k)) return usage("unknown repair step '" + n + "'");
+        ro.steps |= stltopo::repairStepBit(k);
+      }
+    } else if (s == "--fill") {
+      ro.fillRefine = ro.fillFair = false;
+      for (const std::string& n : splitList(v)) {
+        if (n == "refine") ro.fillRefine = true;
+        else if (n == "fair") ro.fillFair = true;
+        else if (n != "none") return usage("bad --fill '" + n + "' (refine, fair or none)");
+      }
+    } else if (s == "--exclude") {
+      for (const std::string& n : splitList(v)) {
+        size_t colon = n.rfind(':');
+        stltopo::RepairStepKind k;
+        if (colon == std::string::npos || !stltopo::repairStepFromName(n.substr(0, colon), k) ||
+            !numberArg(n.substr(colon + 1), d, true, 4294967295.0))
+          return usage("bad --exclude '" + n + "' (step:item, e.g. fill-holes:2)");
+        ro.exclude.push_back({k, uint32_t(d)});
+      }
+    } else if (s == "--max-hole-edges" || s == "--min-shell-triangles") {
+      if (!numberArg(v, d, true, 4294967295.0)) return usage("bad " + s + " '" + v + "' (a whole number)");
+      (s == "--max-hole-edges" ? ro.maxHoleEdges : ro.minShellTriangles) = uint32_t(d);
+    } else if (s == "--max-pairs") {
+      if (!numberArg(v, d, true, 1099511627776.0) || d < 1) return usage("bad --max-pairs '" + v + "' (1 to 2^40)");
+      ro.maxPairs = uint64_t(d);
+    } else {
+      if (!numberArg(v, d, false, 1e300)) return usage("bad " + s + " '" + v + "' (a number >= 0)");
+      if (s == "--stitch-tolerance") ro.stitchTolerance = d;
+      else if (s == "--max-hole-area") ro.maxHoleArea = d;
+      else if (s == "--max-hole-perimeter") ro.maxHolePerimeter = d;
+      else ro.minShellVolume = d;
+    }
+  }
+  if (files.size() != (planOnly ? 1u : 2u) && files.size() != 2)
+    return usage(planOnly ? "repair --plan needs IN" : "repair needs IN and OUT");
+  auto fail = [](const std::string& file, const stltopo::Status& s) {
+    std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
+    return 1;
+  };
+  const std::string& in = files[0];
+  stltopo::Mesh mesh;
+  stltopo::Status s = readFile(in, stltopo::ReadOptions{}, mesh);
+  if (!s.ok()) return fail(in, s);
+  stltopo::RepairPlan plan;
+  s = stltopo::planRepair(mesh, ro, plan);
+  if (!s.ok()) return fail(in, s);
+  auto verdict = [](const stltopo::RepairFigures& f) {
+    return f.stats.watertight && f.stats.manifold && f.selfIntersections != stltopo::kInvalid && f.solid ? 0 : 3;
+  };
+  auto withFile = [&](const std::string& json, const std::string& out) {
+    std::string head = "{\"file\":" + stltopo::jsonString(in);
+    if (!out.empty()) head += ",\"out\":" + stltopo::jsonString(out);
+    return head + (json.size() > 2 ? "," + json.substr(1) : "}");
+  };
+  if (planOnly) {
+    std::printf("%s\n", withFile(stltopo::repairPlanJson(plan), "").c_str());
+    return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
+  }
+  stltopo::EditableMesh em;
+  s = em.init(mesh);
+  stltopo::RepairLog log;
+  if (s.ok()) s = stltopo::applyRepair(em, plan, log);
+  stltopo::Mesh result;
+  if (s.ok()) s = em.toMesh(result, nullptr, nullptr);
+  if (!s.ok()) return fail(in, s);
+  if (!formatGiven) wo.format = mesh.format;
+  std::signal(SIGXFSZ, SIG_IGN);
+  Output out;
+  s = out.open(files[1]);
+  if (s.ok()) s = out.close(stltopo::writeStl(result, Output::sink, &out, wo));
+  if (!s.ok()) return fail(files[1], s);
+  std::printf("%s\n", withFile(stltopo::repairLogJson(log), files[1]).c_str());
+  return verdict(log.after);
+}
+
 int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Large arrays from the heap, and freed blocks kept there: a later array then reuses
@@ -275,6 +419,7 @@ int main(int argc, char** argv) {
   if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
   if (cmd == "convert") return convert(argc, argv);
   if (cmd == "split") return split(argc, argv);
+  if (cmd == "repair") return repair(argc, argv);
   if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
   bool endOfOptions = false;
   for (int i = 2; i < argc; ++i) {

@@ -35,6 +35,7 @@
 #include "stltopo/edit.h"
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
+#include "stltopo/topology.h"
 
 namespace stltopo {
 
@@ -99,6 +100,7 @@ struct RepairItem {
   std::string reason;             // why it is skipped
   std::vector<uint32_t> triangles, vertices, loops;  // ids as the step finds the mesh
   float bbox[6] = {0, 0, 0, 0, 0, 0};  // min xyz, max xyz of the elements it touches
+  double moved = 0;               // how far it moves geometry (a collapse: the merged vertex)
 };
 
 // The figures of a mesh: EditStats plus the geometry counts.
@@ -133,6 +135,7 @@ struct RepairStepLog {
   RepairStepKind kind = RepairStepKind::Duplicates;
   Status status;                    // Ok, or why the step failed (the mesh is then as before it)
   uint32_t trianglesBefore = 0, verticesBefore = 0, trianglesAfter = 0, verticesAfter = 0;
+  std::vector<Solid> solidsBefore;       // names and triangle ranges before
   Array<uint32_t> removedTriangles;      // ascending ids before
   Array<uint32_t> removedCorners;        // 3 per removed triangle (vertex ids before)
   Array<uint32_t> changedTriangles;      // ascending ids before
@@ -147,7 +150,8 @@ struct RepairStepLog {
   // for the removed then the changed elements, stride bytes each.
   std::vector<std::string> attributeNames;
   std::vector<Array<uint8_t>> attributeBefore;
-  double maxMoved = 0;                   // largest distance a surviving vertex moved
+  double maxMoved = 0;                   // largest distance geometry moved (a surviving vertex,
+                                         // or a vertex merged into another)
   double areaRemoved = 0, areaAdded = 0;
   uint32_t itemsDone = 0, itemsSkipped = 0;
   uint64_t fingerprintAfter = 0;         // repairFingerprint of the mesh after the step
@@ -166,6 +170,10 @@ uint64_t repairFingerprint(const EditableMesh& em);
 // Plans the repair of `mesh`. Changes nothing. Errors: InvalidArgument (bad options),
 // OutOfMemory, Aborted.
 Status planRepair(const Mesh& mesh, const RepairOptions& options, RepairPlan& out);
+// The same with the topology an EditableMesh of this mesh is (or will be) made from
+// (EditableMesh::init(mesh, topo)): a tolerance weld's representatives, for example. The
+// plan then fits that EditableMesh.
+Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& options, RepairPlan& out);
 
 // Carries out `plan` on `em`, which must hold the mesh the plan was made for (same
 // fingerprint; InvalidArgument otherwise, and nothing changes). The mesh is compacted first

@@ -23,3 +23,4 @@
 #include "stltopo/indexed.h"
 #include "stltopo/write.h"
 #include "stltopo/edit.h"
+#include "stltopo/repair.h"

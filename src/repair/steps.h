@@ -18,6 +18,18 @@
 #include "stltopo/edit.h"
 #include "stltopo/repair.h"
 
+// std containers' allocation failures: caught where exceptions exist (the wasm build has
+// none; an allocation failure there aborts, as for every std container of the core).
+#if defined(__cpp_exceptions)
+#define STLTOPO_TRY_BEGIN try {
+#define STLTOPO_TRY_END(onFail) \
+  }                             \
+  catch (...) { onFail; }
+#else
+#define STLTOPO_TRY_BEGIN {
+#define STLTOPO_TRY_END(onFail) }
+#endif
+
 namespace stltopo {
 namespace repair_detail {
 
@@ -25,6 +37,10 @@ struct StepContext {
   EditableMesh& em;
   const RepairOptions& options;
   RepairStepPlan& plan;
+  // The mesh as the step found it (compacted: its ids are em's at the start of the step),
+  // with its topology; null when the caller (a test) gives none: snapshot() makes them.
+  const Mesh* mesh = nullptr;
+  const Topology* topo = nullptr;
   // Index the next item gets.
   uint32_t nextItem() const { return uint32_t(plan.items.size()); }
   // Starts item `action`, touching these elements (ids of em now); bbox from their

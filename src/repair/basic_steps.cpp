@@ -1,0 +1,414 @@
+// The repair steps that remove or turn whole triangles: duplicates, zero-area, orient,
+// small-shells. The frame is in steps.h.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "predicates.h"
+#include "repair/steps.h"
+#include "stltopo/geometry.h"
+#include "stltopo/shells.h"
+#include "stltopo/topology.h"
+#include "text_format.h"
+#include "try_alloc.h"
+
+namespace stltopo {
+namespace repair_detail {
+
+namespace {
+
+constexpr const char* kStepArrays = "the repair step's arrays";
+
+// The mesh and topology the step found (the context's, or a fresh snapshot).
+struct Found {
+  Mesh mesh;
+  Topology topo;
+  const Mesh* m = nullptr;
+  const Topology* t = nullptr;
+  Status get(const StepContext& ctx) {
+    if (ctx.mesh && ctx.topo) {
+      m = ctx.mesh;
+      t = ctx.topo;
+      return Status{};
+    }
+    Status s = snapshot(ctx.em, mesh, topo);
+    m = &mesh;
+    t = &topo;
+    return s;
+  }
+};
+
+// The mesh now held by em, with the shells (topology with triangleShell).
+Status shellsNow(const EditableMesh& em, Mesh& mesh, Topology& topo, Array<Shell>& shells) {
+  Status s = em.toMesh(mesh, nullptr, nullptr);
+  if (!s.ok()) return s;
+  TopologyOptions o;
+  o.triangleShell = true;
+  s = buildTopology(mesh, topo, o);
+  if (!s.ok()) return s;
+  return findShellsAndDefects(mesh, topo, &shells, nullptr);
+}
+
+std::string idText(const std::vector<uint32_t>& ids, size_t from, size_t maxShown = 8) {
+  std::string s;
+  for (size_t i = from; i < ids.size() && i < from + maxShown; ++i) detail::appendf(s, "%s%u", i > from ? ", " : "", ids[i]);
+  if (ids.size() > from + maxShown) detail::appendf(s, " and %zu more", ids.size() - from - maxShown);
+  return s;
+}
+
+const float* pos(const EditableMesh& em, uint32_t v) { return em.positions().data() + 3 * size_t(v); }
+
+double dist(const float* a, const float* b) {
+  double d = 0;
+  for (int k = 0; k < 3; ++k) d += (double(a[k]) - b[k]) * (double(a[k]) - b[k]);
+  return std::sqrt(d);
+}
+
+// The half-edge of triangle t from vertex u to vertex w, or kInvalid.
+uint32_t sideOf(const EditableMesh& em, uint32_t t, uint32_t u, uint32_t w) {
+  uint32_t e = em.triangleHalfedge()[t];
+  if (e == kInvalid) return kInvalid;
+  for (int i = 0; i < 3; ++i, e = em.next()[e])
+    if (em.vert()[e] == u && em.vert()[em.next()[e]] == w) return e;
+  return kInvalid;
+}
+
+}  // namespace
+
+// ============================================================================ duplicates
+
+Status runDuplicates(StepContext& ctx) {
+  Found f;
+  Status s = f.get(ctx);
+  if (!s.ok()) return s;
+  TriangleChecks checks;
+  s = checkTriangles(*f.m, f.t, checks);
+  if (!s.ok()) return s;
+  ctx.plan.note = ctx.options.removeOppositeDuplicates
+                      ? "keeps the lowest id of each group; groups that face both ways are removed whole"
+                      : "keeps the lowest id of each group; groups that face both ways (zero-thickness walls) stay";
+  for (uint32_t g = 0; g < checks.nDuplicateGroups(); ++g) {
+    std::vector<uint32_t> members(checks.duplicateTriangles.data() + checks.duplicateOffsets[g],
+                                  checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
+    const bool wall = DuplicateOrientation(checks.duplicateOrientation[g]) != DuplicateOrientation::Same;
+    std::string action = wall ? detail::format("remove the %zu triangles of a zero-thickness wall (%s)", members.size(),
+                                               idText(members, 0).c_str())
+                              : detail::format("remove triangle%s %s, a copy of %u", members.size() > 2 ? "s" : "",
+                                               idText(members, 1).c_str(), members[0]);
+    ctx.begin(std::move(action), members);
+    if (ctx.excluded()) continue;
+    if (wall && !ctx.options.removeOppositeDuplicates) {
+      ctx.skip("its members face both ways: a zero-thickness wall (removeOppositeDuplicates removes the whole group)");
+      continue;
+    }
+    for (size_t i = wall ? 0 : 1; i < members.size(); ++i) {
+      s = ctx.em.removeTriangle(members[i]);
+      if (!s.ok()) return s;
+    }
+  }
+  return Status{};
+}
+
+// ============================================================================ zero-area
+
+Status runZeroArea(StepContext& ctx) {
+  Found f;
+  Status s = f.get(ctx);
+  if (!s.ok()) return s;
+  TriangleChecks checks;
+  s = checkTriangles(*f.m, f.t, checks);
+  if (!s.ok()) return s;
+  EditableMesh& em = ctx.em;
+  ctx.plan.note =
+      "flips the longest edge (the neighbour is cut at the middle corner: nothing moves), else collapses the shortest "
+      "edge (the middle corner moves onto its nearer end)";
+  for (uint32_t z : checks.zeroArea) {
+    // An earlier item may have changed it (a flip rewrites the neighbour).
+    if (!em.triangleAlive(z)) continue;
+    const uint32_t* c = em.triangles().data() + 3 * size_t(z);
+    uint32_t v[3] = {c[0], c[1], c[2]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+    if (!pred::collinear(pos(em, v[0]), pos(em, v[1]), pos(em, v[2]))) continue;
+    // The middle corner, along the axis of the largest extent (where the three
+    // projections are distinct, as the points are distinct and collinear).
+    int axis = 0;
+    float best = -1;
+    for (int k = 0; k < 3; ++k) {
+      float lo = std::min({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
+      float hi = std::max({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
+      if (hi - lo > best) {
+        best = hi - lo;
+        axis = k;
+      }
+    }
+    uint32_t sorted[3] = {v[0], v[1], v[2]};
+    std::sort(sorted, sorted + 3, [&](uint32_t a, uint32_t b) { return pos(em, a)[axis] < pos(em, b)[axis]; });
+    const uint32_t m = sorted[1], p = sorted[0], q = sorted[2];
+    ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z}, {m, p, q});
+    if (ctx.excluded()) continue;
+    std::string why;
+    // 1. Flip the longest edge p-q: the neighbour (q, p, d) becomes (m, p, d) + (d, q, m),
+    //    its two halves cut at m. Valid when d is off the line.
+    uint32_t e = sideOf(em, z, p, q);
+    if (e == kInvalid) e = sideOf(em, z, q, p);
+    if (e != kInvalid && !em.isBoundary(e ^ 1u)) {
+      uint32_t d = em.vert()[em.next()[em.next()[e ^ 1u]]];
+      if (pred::collinear(pos(em, p), pos(em, q), pos(em, d))) {
+        why = "the neighbour across the longest edge is zero-area too";
+      } else {
+        s = em.flipEdge(e);
+        if (s.ok()) {
+          ctx.plan.items.back().action += detail::format(": flip edge %u-%u", p, q);
+          continue;
+        }
+        if (s.code != Code::EditRefused) return s;
+        why = "flip: " + s.message;
+      }
+    } else {
+      why = "the longest edge is on a boundary";
+    }
+    // 2. Collapse the middle corner onto its nearer end, else the farther one.
+    bool done = false;
+    uint32_t ends[2] = {p, q};
+    if (dist(pos(em, m), pos(em, q)) < dist(pos(em, m), pos(em, p))) std::swap(ends[0], ends[1]);
+    for (uint32_t end : ends) {
+      double moved = dist(pos(em, m), pos(em, end));
+      uint32_t h = sideOf(em, z, end, m);
+      double t = 0;  // end -> m: m merges into end, which stays
+      if (h == kInvalid) {
+        h = sideOf(em, z, m, end);
+        t = 1;  // m -> end: m moves onto end
+      }
+      if (h == kInvalid) continue;
+      s = em.collapseEdge(h, t);
+      if (s.ok()) {
+        RepairItem& it = ctx.plan.items.back();
+        it.action += detail::format(": collapse edge %u-%u (moves %g)", m, end, moved);
+        it.moved = moved;
+        done = true;
+        break;
+      }
+      if (s.code != Code::EditRefused) return s;
+      why += "; collapse " + detail::format("%u-%u: ", m, end) + s.message;
+    }
+    if (!done) ctx.skip(why);
+  }
+  return Status{};
+}
+
+// ============================================================================ orient
+
+Status runOrient(StepContext& ctx) {
+  Found f;
+  Status s = f.get(ctx);
+  if (!s.ok()) return s;
+  EditableMesh& em = ctx.em;
+  const Topology& T = *f.t;
+  const uint32_t nt = T.nTriangles;
+  // 1. Consistency. Parity per triangle (flip or not) so that every paired side runs
+  //    against its partner: across a pair whose sides run the same way (a cut, inconsistent
+  //    edge) the parities differ, across an ordinary pair they are equal. A component
+  //    whose constraints conflict cannot be oriented (a Moebius strip).
+  Array<uint8_t> parity;
+  Array<uint32_t> comp, queue, adjOff, adj;
+  if (!parity.assign(nt, 0) || !comp.assign(nt, kInvalid) || !queue.reserve(nt) || !adjOff.assign(size_t(nt) + 1, 0))
+    return detail::oom(kStepArrays);
+  // Links: every pair of two triangle sides (they run opposite ways: equal parity), and
+  // the cut sides of each inconsistent edge (two sides running the same way, each paired
+  // with a seam half-edge: different parity), found by sorting the few cut sides by edge.
+  const uint32_t nPairs = uint32_t(T.next.size() / 2);
+  struct Cut {
+    uint64_t key;
+    uint32_t t, from;
+  };
+  std::vector<Cut> cuts;
+  STLTOPO_TRY_BEGIN
+  for (uint32_t e = 0; e < 2 * nPairs; ++e) {
+    if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
+    uint32_t u = T.vert[e], v = T.vert[T.next[e]];
+    cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+  }
+  STLTOPO_TRY_END(return detail::oom(kStepArrays));
+  std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
+  auto eachLink = [&](auto&& f) {
+    for (uint32_t k = 0; k < nPairs; ++k) {
+      uint32_t a = T.face[2 * k], b = T.face[2 * k + 1];
+      if (a < nt && b < nt && a != b) f(a, b, 0u);
+    }
+    for (size_t i = 0; i + 1 < cuts.size(); ++i)
+      if (cuts[i].key == cuts[i + 1].key && (i + 2 >= cuts.size() || cuts[i + 2].key != cuts[i].key) &&
+          (i == 0 || cuts[i - 1].key != cuts[i].key) && cuts[i].t != cuts[i + 1].t)
+        f(cuts[i].t, cuts[i + 1].t, cuts[i].from == cuts[i + 1].from ? 1u : 0u);
+  };
+  eachLink([&](uint32_t a, uint32_t b, uint32_t) {
+    ++adjOff[a + 1];
+    ++adjOff[b + 1];
+  });
+  for (uint32_t t = 0; t < nt; ++t) adjOff[t + 1] += adjOff[t];
+  if (!adj.resize(adjOff[nt])) return detail::oom(kStepArrays);
+  {
+    Array<uint32_t> fill;
+    if (!fill.resize(nt)) return detail::oom(kStepArrays);
+    for (uint32_t t = 0; t < nt; ++t) fill[t] = adjOff[t];
+    // The neighbour, with the low bit: 1 when the two sides run the same way.
+    eachLink([&](uint32_t a, uint32_t b, uint32_t same) {
+      adj[fill[a]++] = (b << 1) | same;
+      adj[fill[b]++] = (a << 1) | same;
+    });
+  }
+  if (nt >= (1u << 31)) return Status::error(Code::InvalidArgument, "orient: too many triangles");
+  uint32_t nComp = 0;
+  for (uint32_t seed = 0; seed < nt; ++seed) {
+    if (comp[seed] != kInvalid || T.triangleDegenerate[seed]) continue;
+    const uint32_t id = nComp++;
+    queue.clear();
+    (void)queue.push_back(seed);
+    comp[seed] = id;
+    bool conflict = false, mixed = false;
+    uint32_t n1 = 0;
+    for (size_t i = 0; i < queue.size(); ++i) {
+      uint32_t t = queue[i];
+      n1 += parity[t];
+      for (uint32_t j = adjOff[t]; j < adjOff[t + 1]; ++j) {
+        uint32_t u = adj[j] >> 1;
+        uint8_t want = uint8_t(parity[t] ^ (adj[j] & 1u));
+        if (adj[j] & 1u) mixed = true;
+        if (comp[u] == kInvalid) {
+          comp[u] = id;
+          parity[u] = want;
+          (void)queue.push_back(u);
+        } else if (parity[u] != want) {
+          conflict = true;
+        }
+      }
+    }
+    if (!mixed) continue;  // already consistent
+    const uint32_t n = uint32_t(queue.size()), n0 = n - n1;
+    // Flip the smaller side; on a tie, the side without the component's lowest triangle.
+    const uint8_t flipParity = n1 < n0 ? 1 : n0 < n1 ? 0 : uint8_t(parity[seed] ^ 1u);
+    std::vector<uint32_t> flip;
+    if (!conflict) {
+      STLTOPO_TRY_BEGIN
+      for (uint32_t t : queue)
+        if (parity[t] == flipParity) flip.push_back(t);
+      STLTOPO_TRY_END(return detail::oom(kStepArrays));
+      std::sort(flip.begin(), flip.end());
+    }
+    const uint32_t kept = n - uint32_t(flip.size());
+    ctx.begin(conflict ? detail::format("orient the shell of triangle %u consistently", seed)
+                       : detail::format("flip %zu triangle%s of the shell of triangle %u to match the other %u", flip.size(),
+                                        flip.size() == 1 ? "" : "s", seed, kept),
+              conflict ? std::vector<uint32_t>{seed} : flip);
+    if (ctx.excluded()) continue;
+    if (conflict) {
+      ctx.skip("it cannot be oriented consistently (a non-orientable surface, such as a Moebius strip)");
+      continue;
+    }
+    for (uint32_t t : flip) {
+      s = em.reverseTriangle(t);
+      if (!s.ok()) return s;
+    }
+  }
+  // 2. Closed shells outward, or inward at odd nesting depth (a cavity stays a cavity).
+  Mesh mesh;
+  Topology topo;
+  Array<Shell> shells;
+  s = shellsNow(em, mesh, topo, shells);
+  if (!s.ok()) return s;
+  // The compacted ids of em's live triangles are its slot ids (the step only reversed
+  // triangles, which keeps every id), so shell triangles are em's.
+  uint32_t closedShells = 0;
+  for (const Shell& sh : shells) closedShells += sh.closed() && sh.manifold();
+  ShellNesting nesting;
+  bool nested = false;
+  if (ctx.options.intersections && closedShells >= 2) {
+    TriangleChecks checks;
+    Intersections found;
+    IntersectionOptions io;
+    io.maxPairs = ctx.options.maxPairs;
+    s = checkTriangles(mesh, &topo, checks);
+    if (s.ok()) s = findIntersections(mesh, topo, checks, found, io);
+    if (s.ok()) s = findShellNesting(mesh, topo, shells, found, nesting);
+    if (!s.ok()) return s;
+    nested = true;
+  }
+  ctx.plan.note = !ctx.options.intersections
+                      ? "closed shells are oriented by volume sign only (outward): the intersection pass is off"
+                      : "closed shells outward, inward at odd nesting depth (a cavity stays a cavity); shells that overlap "
+                        "others are oriented by volume sign only";
+  for (uint32_t k = 0; k < shells.size(); ++k) {
+    const Shell& sh = shells[k];
+    if (!sh.closed() || !sh.manifold()) continue;
+    uint32_t depth = nested ? nesting.depth[k] : kInvalid;
+    const bool inward = depth != kInvalid && (depth & 1u);
+    if (sh.volume == 0 || (sh.volume < 0) == inward) continue;
+    std::vector<uint32_t> tris;
+    STLTOPO_TRY_BEGIN
+    for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
+      if (topo.triangleShell[t] == k) tris.push_back(t);
+    STLTOPO_TRY_END(return detail::oom(kStepArrays));
+    std::string why = depth == kInvalid ? (nested ? "it overlaps another shell; by volume sign" : "by volume sign")
+                                        : detail::format("at nesting depth %u", depth);
+    ctx.begin(detail::format("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
+                             sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
+              std::move(tris));
+    if (ctx.excluded()) continue;
+    s = em.reverseShell(sh.firstTriangle);
+    if (!s.ok()) return s;
+  }
+  return Status{};
+}
+
+// ============================================================================ small shells
+
+Status runSmallShells(StepContext& ctx) {
+  Mesh mesh;
+  Topology topo;
+  Array<Shell> shells;
+  Status s = shellsNow(ctx.em, mesh, topo, shells);
+  if (!s.ok()) return s;
+  const RepairOptions& o = ctx.options;
+  ctx.plan.note = detail::format("removes shells of fewer than %u triangles", o.minShellTriangles);
+  if (o.minShellVolume > 0) ctx.plan.note += detail::format(" or less than %g volume", o.minShellVolume);
+  ctx.plan.note += "; the largest shell always stays";
+  uint32_t largest = kInvalid;
+  for (uint32_t k = 0; k < shells.size(); ++k)
+    if (largest == kInvalid || shells[k].triangles > shells[largest].triangles) largest = k;
+  Array<uint32_t> offsets, members;
+  if (!offsets.assign(shells.size() + 1, 0)) return detail::oom(kStepArrays);
+  for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
+    if (topo.triangleShell[t] != kInvalid) ++offsets[topo.triangleShell[t] + 1];
+  for (size_t k = 0; k < shells.size(); ++k) offsets[k + 1] += offsets[k];
+  if (!members.resize(offsets[shells.size()])) return detail::oom(kStepArrays);
+  {
+    Array<uint32_t> fill;
+    if (!fill.resize(shells.size())) return detail::oom(kStepArrays);
+    for (size_t k = 0; k < shells.size(); ++k) fill[k] = offsets[k];
+    for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
+      if (topo.triangleShell[t] != kInvalid) members[fill[topo.triangleShell[t]]++] = t;
+  }
+  for (uint32_t k = 0; k < shells.size(); ++k) {
+    const Shell& sh = shells[k];
+    const bool fewTriangles = sh.triangles < o.minShellTriangles;
+    const bool smallVolume = o.minShellVolume > 0 && std::fabs(sh.volume) < o.minShellVolume;
+    if (!fewTriangles && !smallVolume) continue;
+    std::vector<uint32_t> tris;
+    STLTOPO_TRY_BEGIN
+    tris.assign(members.data() + offsets[k], members.data() + offsets[k + 1]);
+    STLTOPO_TRY_END(return detail::oom(kStepArrays));
+    ctx.begin(detail::format("remove shell %u (%u triangles, volume %g)", k, sh.triangles, sh.volume), std::move(tris));
+    if (ctx.excluded()) continue;
+    if (k == largest) {
+      ctx.skip("it is the largest shell");
+      continue;
+    }
+    for (uint32_t i = offsets[k]; i < offsets[k + 1]; ++i) {
+      s = ctx.em.removeTriangle(members[i]);
+      if (!s.ok()) return s;
+    }
+  }
+  return Status{};
+}
+
+}  // namespace repair_detail
+}  // namespace stltopo

@@ -1,0 +1,637 @@
+// The repair runner: plan (on a scratch copy), apply (with the change log), undo, and the
+// plan and log as JSON. See include/stltopo/repair.h; the steps are in src/repair/*.cpp.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "report_json.h"
+#include "text_format.h"
+#include "repair/steps.h"
+#include "stltopo/geometry.h"
+#include "stltopo/report.h"
+#include "stltopo/shells.h"
+#include "stltopo/topology.h"
+#include "triangle_figures.h"
+#include "try_alloc.h"
+
+// Allocation failures of std containers are caught where exceptions exist (as in src/edit/).
+#if defined(__cpp_exceptions)
+#define STLTOPO_TRY try
+#define STLTOPO_CATCH catch (...)
+#else
+#define STLTOPO_TRY if (true)
+#define STLTOPO_CATCH else
+#endif
+
+namespace stltopo {
+
+namespace {
+
+constexpr const char* kStepNames[kRepairStepCount] = {"duplicates",  "zero-area", "stitch",      "split-nonmanifold",
+                                                      "fill-holes", "orient",    "small-shells"};
+constexpr const char* kRepairArrays = "the repair's arrays";
+
+// The attributes repair carries: the file's (the ones init() makes from a Mesh).
+bool fileAttribute(const std::string& n) {
+  return n == kAttrWord || n == kAttrColor || n == kAttrColorValid || n == kAttrNormal;
+}
+
+uint64_t mix(uint64_t h, uint64_t x) {
+  h ^= x + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  return h * 0xFF51AFD7ED558CCDull;
+}
+
+uint64_t fingerprintOf(const Mesh& m) {
+  uint64_t h = mix(0x5354'4C54'4F50'4F21ull, m.nVertices());
+  h = mix(h, m.nTriangles());
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    uint32_t u;
+    float f = m.positions[i] + 0.0f;  // -0 and 0 are one position
+    std::memcpy(&u, &f, 4);
+    h = mix(h, u);
+  }
+  for (size_t i = 0; i < m.triangles.size(); ++i) h = mix(h, m.triangles[i]);
+  return h;
+}
+
+double triangleArea(const float* a, const float* b, const float* c) {
+  double u[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = double(b[k]) - a[k];
+    w[k] = double(c[k]) - a[k];
+  }
+  double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2], z = u[0] * w[1] - u[1] * w[0];
+  return 0.5 * std::sqrt(x * x + y * y + z * z);
+}
+double meshTriangleArea(const Mesh& m, uint32_t t) {
+  const uint32_t* c = m.triangles.data() + 3 * size_t(t);
+  return triangleArea(&m.positions[3 * size_t(c[0])], &m.positions[3 * size_t(c[1])], &m.positions[3 * size_t(c[2])]);
+}
+
+Status checkOptions(const RepairOptions& o) {
+  auto bad = [](const char* what) { return Status::error(Code::InvalidArgument, std::string("repair options: ") + what); };
+  if (o.steps >> kRepairStepCount) return bad("steps has bits of no step");
+  if (!std::isfinite(o.stitchTolerance) || o.stitchTolerance < 0) return bad("stitchTolerance must be a finite number >= 0");
+  if (!std::isfinite(o.maxHoleArea) || o.maxHoleArea < 0) return bad("maxHoleArea must be a finite number >= 0");
+  if (!std::isfinite(o.maxHolePerimeter) || o.maxHolePerimeter < 0)
+    return bad("maxHolePerimeter must be a finite number >= 0");
+  if (!std::isfinite(o.minShellVolume) || o.minShellVolume < 0) return bad("minShellVolume must be a finite number >= 0");
+  if (o.maxPairs == 0) return bad("maxPairs must be at least 1");
+  for (const RepairOptions::Exclusion& x : o.exclude)
+    if (int(x.step) >= kRepairStepCount) return bad("an exclusion names no step");
+  return Status{};
+}
+
+// Only the file's attributes are carried (repair rebuilds the mesh between steps).
+Status checkAttributes(const EditableMesh& em) {
+  for (const std::string& n : em.attributeNames())
+    if (!fileAttribute(n))
+      return Status::error(Code::InvalidArgument,
+                           "repair carries only the file's attributes (attribute, color, colorValid, normal); remove \"" + n +
+                               "\" first");
+  return Status{};
+}
+
+Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
+  switch (k) {
+    case RepairStepKind::Duplicates: return repair_detail::runDuplicates(ctx);
+    case RepairStepKind::ZeroArea: return repair_detail::runZeroArea(ctx);
+    case RepairStepKind::Stitch: return repair_detail::runStitch(ctx);
+    case RepairStepKind::SplitNonManifold: return repair_detail::runSplitNonManifold(ctx);
+    case RepairStepKind::FillHoles: return repair_detail::runFillHoles(ctx);
+    case RepairStepKind::Orient: return repair_detail::runOrient(ctx);
+    case RepairStepKind::SmallShells: return repair_detail::runSmallShells(ctx);
+  }
+  return Status::error(Code::InvalidArgument, "no such repair step");
+}
+
+// The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
+// too (self-intersections and solid).
+Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
+                 RepairFigures& f) {
+  f = RepairFigures{};
+  f.stats = em.stats();
+  if (!geometry || !o.intersections) {
+    TriangleChecks checks;
+    Status s = checkTriangles(mesh, &topo, checks);
+    if (!s.ok()) return s;
+    f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
+    f.duplicateTriangles = checks.nDuplicateTriangles;
+    return Status{};
+  }
+  Topology t;
+  TopologyOptions to;
+  to.prevAndFace = false;
+  to.triangleShell = true;
+  Status s = buildTopology(mesh, t, to);
+  if (!s.ok()) return s;
+  GeometryReport g;
+  IntersectionOptions io;
+  io.maxPairs = o.maxPairs;
+  s = analyzeGeometry(mesh, t, g, io);
+  if (!s.ok()) return s;
+  f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
+  f.duplicateTriangles = g.checks.nDuplicateTriangles;
+  f.selfIntersections = uint32_t(std::min<uint64_t>(g.intersections.nPairs(), kInvalid - 1));
+  f.solid = g.solid;
+  return Status{};
+}
+
+// The attribute values of triangle t of a Mesh, in the order `names` lists them.
+struct AttrLayout {
+  std::vector<std::string> names;
+  std::vector<size_t> strides;
+};
+AttrLayout layoutOf(const Mesh& m) {
+  AttrLayout l;
+  if (!m.attributes.empty()) { l.names.push_back(kAttrWord); l.strides.push_back(2); }
+  if (!m.colors.empty()) {
+    l.names.push_back(kAttrColor); l.strides.push_back(3);
+    l.names.push_back(kAttrColorValid); l.strides.push_back(1);
+  }
+  if (!m.normals.empty()) { l.names.push_back(kAttrNormal); l.strides.push_back(12); }
+  return l;
+}
+const uint8_t* meshAttr(const Mesh& m, const std::string& n, uint32_t t) {
+  if (n == kAttrWord) return reinterpret_cast<const uint8_t*>(m.attributes.data() + t);
+  if (n == kAttrColor) return m.colors.data() + 3 * size_t(t);
+  if (n == kAttrColorValid) return m.colorValid.data() + t;
+  return reinterpret_cast<const uint8_t*>(m.normals.data() + 3 * size_t(t));
+}
+uint8_t* meshAttrW(Mesh& m, const std::string& n, uint32_t t) { return const_cast<uint8_t*>(meshAttr(m, n, t)); }
+
+template <class T>
+bool append(Array<T>& a, const T* p, size_t n) {
+  size_t o = a.size();
+  if (!a.resize(o + n)) return false;
+  std::memcpy(a.data() + o, p, n * sizeof(T));
+  return true;
+}
+
+// What the step changed: `before` is the mesh as the step found it (em then held exactly
+// it), em the mesh after the step (slots: survivors keep ids, removed ones dead, new ones
+// appended), `maps` and `after` toMesh's compaction of em.
+Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& maps, const Mesh& after,
+                RepairStepLog& L) {
+  const uint32_t nTb = before.nTriangles(), nVb = before.nVertices();
+  L.trianglesBefore = nTb;
+  L.verticesBefore = nVb;
+  L.trianglesAfter = after.nTriangles();
+  L.verticesAfter = after.nVertices();
+  const AttrLayout lay = layoutOf(before);
+  L.attributeNames = lay.names;
+  L.attributeBefore.clear();
+  L.attributeBefore.resize(lay.names.size());
+  std::vector<const AttributeView*> views;
+  for (const std::string& n : lay.names) views.push_back(em.attribute(n));
+  const Array<uint32_t>& T = em.triangles();
+  const Array<float>& P = em.positions();
+  auto oom = [] { return detail::oom(kRepairArrays); };
+  // Triangles: removed first, then changed, attribute bytes in the same order.
+  for (uint32_t t = 0; t < nTb; ++t) {
+    if (maps.triangles[t] != kInvalid) continue;
+    if (!L.removedTriangles.push_back(t) || !append(L.removedCorners, before.triangles.data() + 3 * size_t(t), 3)) return oom();
+    for (size_t a = 0; a < lay.names.size(); ++a)
+      if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
+    L.areaRemoved += meshTriangleArea(before, t);
+  }
+  for (uint32_t t = 0; t < nTb; ++t) {
+    uint32_t w = maps.triangles[t];
+    if (w == kInvalid) continue;
+    bool changed = std::memcmp(T.data() + 3 * size_t(t), before.triangles.data() + 3 * size_t(t), 12) != 0;
+    for (size_t a = 0; a < lay.names.size() && !changed; ++a) {
+      const AttributeView* v = views[a];
+      if (!v) continue;
+      changed = std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t) * lay.strides[a], meshAttr(before, lay.names[a], t),
+                            lay.strides[a]) != 0;
+    }
+    if (!changed) continue;
+    if (!L.changedTriangles.push_back(t) || !append(L.changedCorners, before.triangles.data() + 3 * size_t(t), 3)) return oom();
+    for (size_t a = 0; a < lay.names.size(); ++a)
+      if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
+    L.areaRemoved += meshTriangleArea(before, t);
+    L.areaAdded += meshTriangleArea(after, w);
+  }
+  for (uint32_t t = nTb; t < em.nTriangles(); ++t)
+    if (maps.triangles[t] != kInvalid) {
+      ++L.addedTriangles;
+      L.areaAdded += meshTriangleArea(after, maps.triangles[t]);
+    }
+  for (uint32_t v = 0; v < nVb; ++v) {
+    const float* b = before.positions.data() + 3 * size_t(v);
+    if (maps.vertices[v] == kInvalid) {
+      if (!L.removedVertices.push_back(v) || !append(L.removedPositions, b, 3)) return oom();
+      continue;
+    }
+    const float* p = P.data() + 3 * size_t(v);
+    if (std::memcmp(p, b, 12) != 0) {
+      if (!L.changedVertices.push_back(v) || !append(L.changedPositions, b, 3)) return oom();
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - b[k]) * (double(p[k]) - b[k]);
+      L.maxMoved = std::max(L.maxMoved, std::sqrt(d2));
+    }
+  }
+  for (uint32_t v = nVb; v < em.nVertices(); ++v)
+    if (maps.vertices[v] != kInvalid) ++L.addedVertices;
+  STLTOPO_TRY {
+    L.solidsBefore = before.solids;
+  } STLTOPO_CATCH {
+    return oom();
+  }
+  return Status{};
+}
+
+// The mesh before step L, from the mesh after it. InvalidArgument when they do not fit.
+Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
+  auto mismatch = [] { return Status::error(Code::InvalidArgument, "the change log does not fit this mesh"); };
+  const uint32_t nTb = L.trianglesBefore, nVb = L.verticesBefore;
+  if (after.nTriangles() != L.trianglesAfter || after.nVertices() != L.verticesAfter) return mismatch();
+  if (L.removedTriangles.size() > nTb || L.removedVertices.size() > nVb ||
+      nTb - L.removedTriangles.size() + L.addedTriangles != L.trianglesAfter ||
+      nVb - L.removedVertices.size() + L.addedVertices != L.verticesAfter)
+    return mismatch();
+  b = Mesh{};
+  b.format = after.format;
+  b.colorConvention = after.colorConvention;
+  STLTOPO_TRY {
+    b.warnings = after.warnings;
+    b.solids = L.solidsBefore;
+  } STLTOPO_CATCH {
+    return detail::oom(kRepairArrays);
+  }
+  Array<uint32_t> afterToBefore;
+  if (!b.positions.resize(size_t(nVb) * 3) || !b.triangles.resize(size_t(nTb) * 3) ||
+      !afterToBefore.assign(after.nVertices(), kInvalid))
+    return detail::oom(kRepairArrays);
+  size_t r = 0, c = 0;
+  uint32_t k = 0;
+  for (uint32_t v = 0; v < nVb; ++v) {
+    float* p = b.positions.data() + 3 * size_t(v);
+    if (r < L.removedVertices.size() && L.removedVertices[r] == v) {
+      std::memcpy(p, L.removedPositions.data() + 3 * r, 12);
+      ++r;
+      continue;
+    }
+    afterToBefore[k] = v;
+    if (c < L.changedVertices.size() && L.changedVertices[c] == v) {
+      std::memcpy(p, L.changedPositions.data() + 3 * c, 12);
+      ++c;
+    } else {
+      std::memcpy(p, after.positions.data() + 3 * size_t(k), 12);
+    }
+    ++k;
+  }
+  const AttrLayout lay = layoutOf(after);
+  if (lay.names != L.attributeNames) return mismatch();
+  const size_t nRemoved = L.removedTriangles.size();
+  for (size_t a = 0; a < lay.names.size(); ++a) {
+    if (L.attributeBefore[a].size() != (nRemoved + L.changedTriangles.size()) * lay.strides[a]) return mismatch();
+    if (lay.names[a] == kAttrWord && !b.attributes.resize(nTb)) return detail::oom(kRepairArrays);
+    if (lay.names[a] == kAttrColor && !b.colors.resize(size_t(nTb) * 3)) return detail::oom(kRepairArrays);
+    if (lay.names[a] == kAttrColorValid && !b.colorValid.resize(nTb)) return detail::oom(kRepairArrays);
+    if (lay.names[a] == kAttrNormal && !b.normals.resize(size_t(nTb) * 3)) return detail::oom(kRepairArrays);
+  }
+  r = c = 0;
+  uint32_t j = 0;
+  for (uint32_t t = 0; t < nTb; ++t) {
+    uint32_t* out = b.triangles.data() + 3 * size_t(t);
+    const uint8_t* saved[4] = {nullptr, nullptr, nullptr, nullptr};
+    if (r < nRemoved && L.removedTriangles[r] == t) {
+      std::memcpy(out, L.removedCorners.data() + 3 * r, 12);
+      for (size_t a = 0; a < lay.names.size(); ++a) saved[a] = L.attributeBefore[a].data() + r * lay.strides[a];
+      ++r;
+    } else {
+      if (j >= after.nTriangles()) return mismatch();
+      if (c < L.changedTriangles.size() && L.changedTriangles[c] == t) {
+        std::memcpy(out, L.changedCorners.data() + 3 * c, 12);
+        for (size_t a = 0; a < lay.names.size(); ++a)
+          saved[a] = L.attributeBefore[a].data() + (nRemoved + c) * lay.strides[a];
+        ++c;
+      } else {
+        for (int q = 0; q < 3; ++q) {
+          uint32_t w = after.triangles[3 * size_t(j) + q];
+          if (afterToBefore[w] == kInvalid) return mismatch();
+          out[q] = afterToBefore[w];
+        }
+        for (size_t a = 0; a < lay.names.size(); ++a) saved[a] = meshAttr(after, lay.names[a], j);
+      }
+      ++j;
+    }
+    for (int q = 0; q < 3; ++q)
+      if (out[q] >= nVb) return mismatch();
+    for (size_t a = 0; a < lay.names.size(); ++a) std::memcpy(meshAttrW(b, lay.names[a], t), saved[a], lay.strides[a]);
+  }
+  if (r != nRemoved || c != L.changedTriangles.size()) return mismatch();
+  return Status{};
+}
+
+// Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`).
+Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log) {
+  Mesh cur;
+  Topology topo;
+  Status s = em.toMesh(cur, &topo, nullptr);
+  if (!s.ok()) return s;
+  // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
+  // failed step restores and what undo rebuilds.
+  s = em.init(cur, topo);
+  if (!s.ok()) return s;
+  RepairFigures before;
+  s = figuresOf(em, cur, topo, o, true, before);
+  if (!s.ok()) return s;
+  if (plan) {
+    plan->before = before;
+    plan->fingerprint = fingerprintOf(cur);
+  }
+  if (log) {
+    log->before = before;
+    log->fingerprintBefore = fingerprintOf(cur);
+    log->beforeReport = em.infoJson("");
+  }
+  int lastStep = -1;
+  for (int k = 0; k < kRepairStepCount; ++k)
+    if (o.steps & (1u << k)) lastStep = k;
+  for (int k = 0; k < kRepairStepCount; ++k) {
+    if (!(o.steps & (1u << k))) continue;
+    RepairStepPlan sp;
+    sp.kind = RepairStepKind(k);
+    repair_detail::StepContext ctx{em, o, sp, &cur, &topo};
+    s = runStep(sp.kind, ctx);
+    RepairStepLog L;
+    L.kind = sp.kind;
+    if (s.ok()) {
+      L.itemsDone = sp.nDone();
+      L.itemsSkipped = sp.nSkipped();
+      for (const RepairItem& it : sp.items)
+        if (!it.skipped) L.maxMoved = std::max(L.maxMoved, it.moved);
+      Mesh next;
+      Topology nextTopo;
+      CompactMaps maps;
+      s = em.toMesh(next, &nextTopo, &maps);
+      if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
+      if (s.ok()) s = em.init(next, nextTopo);
+      if (s.ok()) {
+        cur = std::move(next);
+        topo = std::move(nextTopo);
+        L.fingerprintAfter = fingerprintOf(cur);
+        s = figuresOf(em, cur, topo, o, k == lastStep, sp.after);
+      }
+    }
+    if (!s.ok()) {
+      // Back to the mesh as the step found it (init of a mesh already held cannot need more
+      // memory than it had; if even that fails, the error says so).
+      Status r = em.init(cur, topo);
+      if (log) {
+        L.status = s;
+        L.fingerprintAfter = fingerprintOf(cur);
+        STLTOPO_TRY {
+          log->steps.push_back(std::move(L));
+        } STLTOPO_CATCH {
+        }
+      }
+      return r.ok() ? s : r;
+    }
+    STLTOPO_TRY {
+      if (plan) plan->steps.push_back(std::move(sp));
+      if (log) log->steps.push_back(std::move(L));
+    } STLTOPO_CATCH {
+      return detail::oom(kRepairArrays);
+    }
+  }
+  RepairFigures after = before;
+  if (lastStep < 0) {
+    after = before;
+  } else if (plan) {
+    after = plan->steps.back().after;
+  } else {
+    s = figuresOf(em, cur, topo, o, true, after);
+    if (!s.ok()) return s;
+  }
+  if (plan) {
+    plan->afterReport = em.infoJson("");
+    if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
+      plan->remaining = detail::format(
+          "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
+          "merge them with a boolean union (for example manifold-3d's Manifold.union).",
+          after.selfIntersections);
+  }
+  if (log) {
+    log->after = after;
+    log->fingerprintAfter = fingerprintOf(cur);
+    log->afterReport = em.infoJson("");
+  }
+  return Status{};
+}
+
+void figuresJson(detail::Json& j, const RepairFigures& f) {
+  const EditStats& s = f.stats;
+  j.open('{');
+  j.key("triangles"); j.u(s.triangles);
+  j.key("vertices"); j.u(s.vertices);
+  j.key("degenerateTriangles"); j.u(s.degenerate);
+  j.key("zeroAreaTriangles"); j.u(f.zeroAreaTriangles);
+  j.key("duplicateTriangles"); j.u(f.duplicateTriangles);
+  j.key("edges"); j.u(s.edges);
+  j.key("boundaryEdges"); j.u(s.boundaryEdges);
+  j.key("nonManifoldEdges"); j.u(s.nonManifoldEdges);
+  j.key("inconsistentEdges"); j.u(s.inconsistentEdges);
+  j.key("nonManifoldVertices"); j.u(s.nonManifoldVertices);
+  j.key("holes"); j.u(s.holes);
+  j.key("seams"); j.u(s.seams);
+  j.key("shells"); j.u(s.shells);
+  j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic);
+  j.key("watertight"); j.b(s.watertight);
+  j.key("manifold"); j.b(s.manifold);
+  j.key("selfIntersections");
+  if (f.selfIntersections == kInvalid) j.null(); else j.u(f.selfIntersections);
+  j.key("solid");
+  if (f.selfIntersections == kInvalid) j.null(); else j.b(f.solid);
+  j.close('}');
+}
+
+template <class C>
+void idList(detail::Json& j, const char* k, const C& ids) {
+  j.key(k);
+  j.open('[');
+  for (uint32_t x : ids) {
+    j.sep();
+    j.u(x);
+  }
+  j.close(']');
+}
+
+}  // namespace
+
+const char* repairStepName(RepairStepKind k) {
+  return int(k) < kRepairStepCount ? kStepNames[int(k)] : "unknown";
+}
+
+bool repairStepFromName(const std::string& name, RepairStepKind& out) {
+  for (int k = 0; k < kRepairStepCount; ++k)
+    if (name == kStepNames[k]) {
+      out = RepairStepKind(k);
+      return true;
+    }
+  return false;
+}
+
+uint32_t RepairStepPlan::nDone() const {
+  uint32_t n = 0;
+  for (const RepairItem& i : items) n += !i.skipped;
+  return n;
+}
+uint32_t RepairStepPlan::nSkipped() const { return uint32_t(items.size()) - nDone(); }
+
+uint64_t repairFingerprint(const EditableMesh& em) {
+  Mesh m;
+  if (!em.toMesh(m, nullptr, nullptr).ok()) return 0;
+  return fingerprintOf(m);
+}
+
+Status planRepair(const Mesh& mesh, const RepairOptions& options, RepairPlan& out) {
+  return planRepair(mesh, nullptr, options, out);
+}
+
+Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& options, RepairPlan& out) {
+  out = RepairPlan{};
+  Status s = checkOptions(options);
+  if (!s.ok()) return s;
+  STLTOPO_TRY {
+    out.options = options;
+  } STLTOPO_CATCH {
+    return detail::oom(kRepairArrays);
+  }
+  EditableMesh scratch;
+  s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh);
+  if (!s.ok()) return s;
+  s = run(scratch, options, &out, nullptr);
+  if (!s.ok()) {
+    RepairPlan empty;
+    out = std::move(empty);
+  }
+  return s;
+}
+
+Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
+  log = RepairLog{};
+  Status s = checkOptions(plan.options);
+  if (!s.ok()) return s;
+  s = checkAttributes(em);
+  if (!s.ok()) return s;
+  if (repairFingerprint(em) != plan.fingerprint)
+    return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
+  return run(em, plan.options, nullptr, &log);
+}
+
+Status undoRepairStep(EditableMesh& em, RepairLog& log) {
+  if (log.steps.empty()) return Status::error(Code::InvalidArgument, "the change log has no step to undo");
+  const RepairStepLog& L = log.steps.back();
+  Mesh after;
+  Status s = em.toMesh(after, nullptr, nullptr);
+  if (!s.ok()) return s;
+  if (fingerprintOf(after) != L.fingerprintAfter)
+    return Status::error(Code::InvalidArgument, "the mesh is not in the state the step's log left (it changed since)");
+  s = checkAttributes(em);
+  if (!s.ok()) return s;
+  Mesh b;
+  if (L.status.ok()) {
+    s = meshBefore(after, L, b);
+    if (!s.ok()) return s;
+  } else {
+    // A failed step left the mesh as before it: nothing to undo but the entry.
+    log.steps.pop_back();
+    return Status{};
+  }
+  const uint64_t want = log.steps.size() >= 2 ? log.steps[log.steps.size() - 2].fingerprintAfter : log.fingerprintBefore;
+  if (fingerprintOf(b) != want) return Status::error(Code::InvalidArgument, "the change log does not fit this mesh");
+  s = em.init(b);
+  if (!s.ok()) {
+    // Back to the state it had (the same size as before the failed init).
+    Status r = em.init(after);
+    return r.ok() ? s : r;
+  }
+  log.steps.pop_back();
+  return Status{};
+}
+
+Status undoRepair(EditableMesh& em, RepairLog& log) {
+  while (!log.steps.empty()) {
+    Status s = undoRepairStep(em, log);
+    if (!s.ok()) return s;
+  }
+  return Status{};
+}
+
+std::string repairPlanJson(const RepairPlan& plan) {
+  detail::Json j;
+  j.open('{');
+  j.key("fingerprint"); j.str(detail::format("%016llx", (unsigned long long)plan.fingerprint));
+  j.key("before"); figuresJson(j, plan.before);
+  j.key("steps");
+  j.open('[');
+  for (const RepairStepPlan& sp : plan.steps) {
+    j.sep();
+    j.open('{');
+    j.key("step"); j.str(repairStepName(sp.kind));
+    j.key("note"); j.str(sp.note);
+    j.key("done"); j.u(sp.nDone());
+    j.key("skipped"); j.u(sp.nSkipped());
+    j.key("items");
+    j.open('[');
+    for (const RepairItem& it : sp.items) {
+      j.sep();
+      j.open('{');
+      j.key("action"); j.str(it.action);
+      j.key("skipped"); j.b(it.skipped);
+      if (it.skipped) { j.key("reason"); j.str(it.reason); }
+      idList(j, "triangles", it.triangles);
+      idList(j, "vertices", it.vertices);
+      idList(j, "loops", it.loops);
+      j.key("bbox"); j.bbox(it.bbox, it.bbox + 3);
+      j.key("moved"); j.f64(it.moved);
+      j.close('}');
+    }
+    j.close(']');
+    j.key("after"); figuresJson(j, sp.after);
+    j.close('}');
+  }
+  j.close(']');
+  j.key("after"); figuresJson(j, plan.steps.empty() ? plan.before : plan.steps.back().after);
+  j.key("remaining"); j.str(plan.remaining);
+  j.close('}');
+  return j.s;
+}
+
+std::string repairLogJson(const RepairLog& log) {
+  detail::Json j;
+  j.open('{');
+  j.key("before"); figuresJson(j, log.before);
+  j.key("after"); figuresJson(j, log.after);
+  j.key("steps");
+  j.open('[');
+  for (const RepairStepLog& L : log.steps) {
+    j.sep();
+    j.open('{');
+    j.key("step"); j.str(repairStepName(L.kind));
+    j.key("status"); j.str(L.status.ok() ? "ok" : codeName(L.status.code));
+    if (!L.status.ok()) { j.key("message"); j.str(L.status.message); }
+    j.key("done"); j.u(L.itemsDone);
+    j.key("skipped"); j.u(L.itemsSkipped);
+    idList(j, "removedTriangles", L.removedTriangles);
+    idList(j, "changedTriangles", L.changedTriangles);
+    j.key("addedTriangles"); j.u(L.addedTriangles);
+    idList(j, "removedVertices", L.removedVertices);
+    idList(j, "changedVertices", L.changedVertices);
+    j.key("addedVertices"); j.u(L.addedVertices);
+    j.key("maxMoved"); j.f64(L.maxMoved);
+    j.key("areaRemoved"); j.f64(L.areaRemoved);
+    j.key("areaAdded"); j.f64(L.areaAdded);
+    j.close('}');
+  }
+  j.close(']');
+  j.key("beforeReport"); j.s += log.beforeReport.empty() ? "null" : log.beforeReport; j.first = false;
+  j.key("afterReport"); j.s += log.afterReport.empty() ? "null" : log.afterReport; j.first = false;
+  j.close('}');
+  return j.s;
+}
+
+}  // namespace stltopo

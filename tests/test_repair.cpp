@@ -1,0 +1,398 @@
+// Repair as a plan (issue 23): plan, apply, the change log and undo, on generated damage
+// and on every fixture. The checks every case runs (checkRepair):
+//   - the plan changes nothing, and apply's result equals what the plan predicted (the
+//     after report, byte for byte, and the figures);
+//   - no figure gets worse;
+//   - after every step (undone one at a time, last first) the mesh passes validate() and
+//     its report equals a fresh build's;
+//   - undo gives back the input: the same arrays, the same STL bytes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+#include "stl_gen.h"
+#include "stltopo/stltopo.h"
+
+using namespace stltopo;
+
+namespace {
+
+#ifndef STLTOPO_FIXTURES
+#error "STLTOPO_FIXTURES must name the tests/fixtures directory"
+#endif
+
+Mesh meshOf(const gen::Soup& s) {
+  Mesh m;
+  EXPECT_TRUE(gen::read(gen::binary(s), m).ok());
+  return m;
+}
+
+std::string stlBytes(const Mesh& m) {
+  std::string out;
+  WriteOptions wo;
+  wo.format = Format::Binary;
+  Status s = writeStl(
+      m, [](void* u, const uint8_t* d, size_t n) { static_cast<std::string*>(u)->append(reinterpret_cast<const char*>(d), n); return true; },
+      &out, wo);
+  EXPECT_TRUE(s.ok()) << s.message;
+  return out;
+}
+
+// The report of a fresh build of what em holds.
+std::string freshReport(const EditableMesh& em) {
+  Mesh m;
+  EXPECT_TRUE(em.toMesh(m, nullptr, nullptr).ok());
+  Topology t;
+  EXPECT_TRUE(buildTopology(m, t).ok());
+  return infoJson("", m, &t);
+}
+
+bool sameMesh(const Mesh& a, const Mesh& b) {
+  auto same = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && (x.size() == 0 || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
+  };
+  return same(a.positions, b.positions) && same(a.triangles, b.triangles) && same(a.attributes, b.attributes) &&
+         same(a.colors, b.colors) && same(a.colorValid, b.colorValid) && same(a.normals, b.normals);
+}
+
+// Figures where a larger number is worse.
+void expectNotWorse(const RepairFigures& b, const RepairFigures& a, const std::string& what) {
+  EXPECT_LE(a.stats.degenerate, b.stats.degenerate) << what;
+  EXPECT_LE(a.zeroAreaTriangles, b.zeroAreaTriangles) << what;
+  EXPECT_LE(a.duplicateTriangles, b.duplicateTriangles) << what;
+  EXPECT_LE(a.stats.nonManifoldEdges, b.stats.nonManifoldEdges) << what;
+  EXPECT_LE(a.stats.inconsistentEdges, b.stats.inconsistentEdges) << what;
+  EXPECT_LE(a.stats.nonManifoldVertices, b.stats.nonManifoldVertices) << what;
+  EXPECT_LE(a.stats.holes + a.stats.seams, b.stats.holes + b.stats.seams) << what;
+  EXPECT_LE(a.stats.boundaryEdges + a.stats.nonManifoldEdges + a.stats.inconsistentEdges,
+            b.stats.boundaryEdges + b.stats.nonManifoldEdges + b.stats.inconsistentEdges)
+      << what;
+  if (b.stats.watertight) EXPECT_TRUE(a.stats.watertight) << what;
+  if (b.stats.manifold) EXPECT_TRUE(a.stats.manifold) << what;
+  if (b.selfIntersections != kInvalid && a.selfIntersections != kInvalid) {
+    EXPECT_LE(a.selfIntersections, b.selfIntersections) << what;
+    if (b.solid) EXPECT_TRUE(a.solid) << what;
+  }
+}
+
+struct Outcome {
+  RepairPlan plan;
+  RepairLog log;
+  Mesh result;
+};
+
+Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string& what) {
+  Outcome r;
+  const std::string inputBytes = stlBytes(input);
+  Status s = planRepair(input, o, r.plan);
+  EXPECT_TRUE(s.ok()) << what << ": " << s.message;
+  if (!s.ok()) return r;
+  EXPECT_EQ(stlBytes(input), inputBytes) << what << ": planning changed the mesh";
+  EditableMesh em;
+  EXPECT_TRUE(em.init(input).ok());
+  s = applyRepair(em, r.plan, r.log);
+  EXPECT_TRUE(s.ok()) << what << ": " << s.message;
+  if (!s.ok()) return r;
+  EXPECT_EQ(r.log.afterReport, r.plan.afterReport) << what << ": the result differs from the plan's prediction";
+  EXPECT_EQ(repairFingerprint(em), r.log.fingerprintAfter) << what;
+  const RepairFigures& predicted = r.plan.steps.empty() ? r.plan.before : r.plan.steps.back().after;
+  EXPECT_EQ(r.log.after.stats.triangles, predicted.stats.triangles) << what;
+  EXPECT_EQ(r.log.after.stats.holes, predicted.stats.holes) << what;
+  EXPECT_EQ(r.log.after.selfIntersections, predicted.selfIntersections) << what;
+  EXPECT_EQ(r.log.after.solid, predicted.solid) << what;
+  EXPECT_EQ(r.log.steps.size(), r.plan.steps.size()) << what;
+  for (size_t k = 0; k < r.log.steps.size() && k < r.plan.steps.size(); ++k) {
+    EXPECT_EQ(r.log.steps[k].itemsDone, r.plan.steps[k].nDone()) << what << " step " << k;
+    EXPECT_TRUE(r.log.steps[k].status.ok()) << what;
+  }
+  expectNotWorse(r.log.before, r.log.after, what);
+  EXPECT_TRUE(em.toMesh(r.result, nullptr, nullptr).ok());
+  // Every step's result, last first: valid, and the same report as a fresh build. (On a
+  // second application: undo consumes its log, and the caller reads r.log.)
+  EXPECT_TRUE(em.init(input).ok());
+  RepairLog log;
+  EXPECT_TRUE(applyRepair(em, r.plan, log).ok());
+  EXPECT_EQ(log.afterReport, r.log.afterReport) << what << ": a second application differs";
+  for (;;) {
+    Status v = em.validate();
+    EXPECT_TRUE(v.ok()) << what << " after " << log.steps.size() << " steps: " << v.message;
+    EXPECT_EQ(em.infoJson(""), freshReport(em)) << what << " after " << log.steps.size() << " steps";
+    if (log.steps.empty()) break;
+    s = undoRepairStep(em, log);
+    EXPECT_TRUE(s.ok()) << what << ": undo: " << s.message;
+    if (!s.ok()) return r;
+  }
+  Mesh back;
+  EXPECT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
+  EXPECT_TRUE(sameMesh(back, input)) << what << ": undo did not give back the input";
+  EXPECT_EQ(stlBytes(back), inputBytes) << what << ": undo did not give back the input bytes";
+  return r;
+}
+
+RepairOptions only(std::initializer_list<RepairStepKind> steps) {
+  RepairOptions o;
+  o.steps = 0;
+  for (RepairStepKind k : steps) o.steps |= repairStepBit(k);
+  return o;
+}
+
+const RepairItem* firstDone(const RepairPlan& p, RepairStepKind k) {
+  for (const RepairStepPlan& s : p.steps)
+    if (s.kind == k)
+      for (const RepairItem& i : s.items)
+        if (!i.skipped) return &i;
+  return nullptr;
+}
+
+}  // namespace
+
+TEST(Repair, StepNames) {
+  for (int k = 0; k < kRepairStepCount; ++k) {
+    RepairStepKind back;
+    ASSERT_TRUE(repairStepFromName(repairStepName(RepairStepKind(k)), back));
+    EXPECT_EQ(int(back), k);
+  }
+  RepairStepKind x;
+  EXPECT_FALSE(repairStepFromName("holes", x));
+  EXPECT_STREQ(repairStepName(RepairStepKind(99)), "unknown");
+}
+
+TEST(Repair, DuplicatesKeepTheLowestId) {
+  gen::Soup s = gen::cube();
+  s.f.push_back(s.f[3]);   // a copy, same orientation
+  s.f.push_back(s.f[3]);   // and another
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::Duplicates}), "cube + 2 copies");
+  ASSERT_EQ(r.plan.steps.size(), 1u);
+  ASSERT_EQ(r.plan.steps[0].items.size(), 1u);
+  EXPECT_EQ(r.plan.steps[0].items[0].triangles, (std::vector<uint32_t>{3, 12, 13}));
+  EXPECT_EQ(r.plan.before.duplicateTriangles, 2u);
+  EXPECT_EQ(r.log.after.duplicateTriangles, 0u);
+  EXPECT_TRUE(r.log.after.stats.watertight);
+  EXPECT_TRUE(r.log.after.solid);
+  ASSERT_EQ(r.log.steps[0].removedTriangles.size(), 2u);
+  EXPECT_EQ(r.log.steps[0].removedTriangles[0], 12u);
+  EXPECT_EQ(r.log.steps[0].removedTriangles[1], 13u);
+}
+
+TEST(Repair, OppositeDuplicatesAreAWallKeptUnlessAsked) {
+  gen::Soup s = gen::cube();
+  s.f.push_back({s.f[3][0], s.f[3][2], s.f[3][1]});  // the same triangle, facing the other way
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::Duplicates}), "cube + reversed copy");
+  ASSERT_EQ(r.plan.steps[0].items.size(), 1u);
+  EXPECT_TRUE(r.plan.steps[0].items[0].skipped);
+  EXPECT_NE(r.plan.steps[0].items[0].reason.find("zero-thickness"), std::string::npos);
+  EXPECT_EQ(r.log.after.stats.triangles, 13u);
+  RepairOptions o = only({RepairStepKind::Duplicates});
+  o.removeOppositeDuplicates = true;
+  Outcome w = checkRepair(m, o, "cube + reversed copy, walls removed");
+  EXPECT_EQ(w.log.after.stats.triangles, 11u);
+  EXPECT_EQ(w.log.after.duplicateTriangles, 0u);
+}
+
+TEST(Repair, ZeroAreaSliverIsFlippedAway) {
+  // A cube whose face (0, 2, 3, 1) has its diagonal 0-3 cut at the midpoint m by a sliver
+  // (0, m, 3): watertight, with one zero-area triangle.
+  gen::Soup s = gen::cube(0, 0, 0, 2);
+  uint32_t mid = uint32_t(s.v.size());
+  s.v.push_back({1, 1, 0});  // midpoint of vertices 0 (0,0,0) and 3 (2,2,0)
+  // Face 0 is triangles (0, 2, 3) and (0, 3, 1); replace (0, 2, 3) by (0, 2, m), (2, 3, m).
+  s.f[0] = {0, 2, mid};
+  s.f.push_back({2, 3, mid});
+  s.f.push_back({0, mid, 3});  // the sliver
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::ZeroArea}), "cube with a sliver");
+  EXPECT_EQ(r.plan.before.zeroAreaTriangles, 1u);
+  EXPECT_EQ(r.log.after.zeroAreaTriangles, 0u);
+  EXPECT_TRUE(r.log.after.stats.watertight);
+  EXPECT_TRUE(r.log.after.solid);
+  const RepairItem* it = firstDone(r.plan, RepairStepKind::ZeroArea);
+  ASSERT_NE(it, nullptr);
+  EXPECT_NE(it->action.find("flip"), std::string::npos) << it->action;
+  EXPECT_EQ(it->moved, 0);
+  EXPECT_EQ(r.log.steps[0].maxMoved, 0);
+}
+
+TEST(Repair, ZeroAreaOnABoundaryCollapses) {
+  // An open square (0,0)-(2,1) whose bottom side is cut at m = (0.75, 0) into three
+  // triangles, plus a sliver (0, 1, m) below: its longest edge 0-1 is on the boundary, so
+  // the middle corner collapses onto its nearer end (0, 0.75 away).
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0.75f, 0, 0}};
+  s.f = {{0, 4, 3}, {4, 1, 2}, {4, 2, 3}, {0, 1, 4}};
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::ZeroArea}), "strip with a boundary sliver");
+  EXPECT_EQ(r.plan.before.zeroAreaTriangles, 1u);
+  const RepairItem* it = firstDone(r.plan, RepairStepKind::ZeroArea);
+  if (it) {
+    EXPECT_NE(it->action.find("collapse"), std::string::npos) << it->action;
+    EXPECT_DOUBLE_EQ(it->moved, 0.75);
+    EXPECT_DOUBLE_EQ(r.log.steps[0].maxMoved, 0.75);
+    EXPECT_EQ(r.log.after.zeroAreaTriangles, 0u);
+  } else {
+    // Refused by the editor: listed with the reason, and nothing changed.
+    ASSERT_EQ(r.plan.steps[0].items.size(), 1u);
+    EXPECT_FALSE(r.plan.steps[0].items[0].reason.empty());
+  }
+}
+
+TEST(Repair, OrientFlipsTheSmallerSide) {
+  gen::Soup s = gen::torus(24, 12);
+  std::mt19937 rng(7);
+  std::vector<uint32_t> flipped;
+  for (uint32_t t = 0; t < s.f.size(); ++t)
+    if (rng() % 100 < 3) {
+      std::swap(s.f[t][1], s.f[t][2]);
+      flipped.push_back(t);
+    }
+  ASSERT_GT(flipped.size(), 5u);
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::Orient}), "torus with 3% flipped");
+  EXPECT_GT(r.plan.before.stats.inconsistentEdges, 0u);
+  EXPECT_EQ(r.log.after.stats.inconsistentEdges, 0u);
+  EXPECT_TRUE(r.log.after.stats.watertight);
+  EXPECT_TRUE(r.log.after.solid);
+  ASSERT_EQ(r.log.steps[0].changedTriangles.size(), flipped.size());
+  for (size_t i = 0; i < flipped.size(); ++i) EXPECT_EQ(r.log.steps[0].changedTriangles[i], flipped[i]);
+  EXPECT_GT(r.result.volume, 0);
+}
+
+TEST(Repair, OrientTurnsAnInsideOutShellAndKeepsACavity) {
+  gen::Soup outer = gen::cube(0, 0, 0, 10);
+  for (auto& f : outer.f) std::swap(f[1], f[2]);  // inside out
+  gen::Soup inner = gen::cube(4, 4, 4, 2);         // outward, inside: should become a cavity
+  gen::Soup s = outer;
+  gen::append(s, inner);
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::Orient}), "inside-out box with a body in it");
+  EXPECT_FALSE(r.plan.before.solid);
+  EXPECT_TRUE(r.log.after.solid);
+  EXPECT_EQ(r.plan.steps[0].nDone(), 2u);
+  EXPECT_DOUBLE_EQ(r.result.volume, 1000 - 8);
+  // Without the intersection pass: by volume sign only (both outward), and the note says so.
+  RepairOptions o = only({RepairStepKind::Orient});
+  o.intersections = false;
+  Outcome v = checkRepair(m, o, "inside-out box, volume sign only");
+  EXPECT_NE(v.plan.steps[0].note.find("volume sign only"), std::string::npos);
+  EXPECT_DOUBLE_EQ(v.result.volume, 1000 + 8);
+}
+
+TEST(Repair, SmallShellsKeepTheLargest) {
+  gen::Soup s = gen::torus(12, 8);
+  gen::append(s, gen::cube(20, 0, 0, 1));
+  gen::append(s, gen::cube(30, 0, 0, 1));
+  Mesh m = meshOf(s);
+  RepairOptions o = only({RepairStepKind::SmallShells});
+  o.minShellTriangles = 13;
+  Outcome r = checkRepair(m, o, "torus + 2 cubes");
+  EXPECT_EQ(r.plan.steps[0].nDone(), 2u);
+  EXPECT_EQ(r.log.after.stats.shells, 1u);
+  EXPECT_EQ(r.log.after.stats.triangles, 12u * 8 * 2);
+  o.minShellTriangles = 1000;  // every shell is small: the largest stays
+  Outcome k = checkRepair(m, o, "torus + 2 cubes, all small");
+  EXPECT_EQ(k.log.after.stats.shells, 1u);
+  EXPECT_EQ(k.plan.steps[0].nSkipped(), 1u);
+}
+
+TEST(Repair, ExcludedItemsAreSkippedAndPredicted) {
+  gen::Soup s = gen::cube();
+  s.f.push_back(s.f[3]);
+  s.f.push_back(s.f[7]);
+  Mesh m = meshOf(s);
+  RepairOptions o = only({RepairStepKind::Duplicates});
+  o.exclude.push_back({RepairStepKind::Duplicates, 1});
+  Outcome r = checkRepair(m, o, "two duplicate groups, one left out");
+  ASSERT_EQ(r.plan.steps[0].items.size(), 2u);
+  EXPECT_FALSE(r.plan.steps[0].items[0].skipped);
+  EXPECT_TRUE(r.plan.steps[0].items[1].skipped);
+  EXPECT_EQ(r.plan.steps[0].items[1].reason, "left out by the user");
+  EXPECT_EQ(r.log.after.duplicateTriangles, 1u);
+}
+
+TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {
+  Mesh a = meshOf(gen::cube()), b = meshOf(gen::cube(0, 0, 0, 2));
+  RepairPlan plan;
+  ASSERT_TRUE(planRepair(a, RepairOptions{}, plan).ok());
+  EditableMesh em;
+  ASSERT_TRUE(em.init(b).ok());
+  RepairLog log;
+  Status s = applyRepair(em, plan, log);
+  EXPECT_EQ(s.code, Code::InvalidArgument);
+  Mesh back;
+  ASSERT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
+  EXPECT_TRUE(sameMesh(back, b));
+  // And a custom attribute is refused, also without a change.
+  EditableMesh em2;
+  ASSERT_TRUE(em2.init(a).ok());
+  ASSERT_TRUE(em2.addAttribute("w", Element::Vertex, ValueType::F32, 1, nullptr).ok());
+  EXPECT_EQ(applyRepair(em2, plan, log).code, Code::InvalidArgument);
+  // Undo refuses a mesh that changed since.
+  EditableMesh em3;
+  ASSERT_TRUE(em3.init(meshOf([] { gen::Soup s = gen::cube(); s.f.push_back(s.f[0]); return s; }())).ok());
+  Mesh m3;
+  ASSERT_TRUE(em3.toMesh(m3, nullptr, nullptr).ok());
+  RepairPlan p3;
+  ASSERT_TRUE(planRepair(m3, only({RepairStepKind::Duplicates}), p3).ok());
+  RepairLog l3;
+  ASSERT_TRUE(applyRepair(em3, p3, l3).ok());
+  ASSERT_TRUE(em3.reverseTriangle(0).ok());
+  EXPECT_EQ(undoRepairStep(em3, l3).code, Code::InvalidArgument);
+  EXPECT_EQ(l3.steps.size(), 1u);
+}
+
+TEST(Repair, BadOptionsAreRefused) {
+  Mesh m = meshOf(gen::cube());
+  RepairPlan p;
+  RepairOptions o;
+  o.stitchTolerance = -1;
+  EXPECT_EQ(planRepair(m, o, p).code, Code::InvalidArgument);
+  o = RepairOptions{};
+  o.maxHoleArea = std::nan("");
+  EXPECT_EQ(planRepair(m, o, p).code, Code::InvalidArgument);
+  o = RepairOptions{};
+  o.steps = 1u << 20;
+  EXPECT_EQ(planRepair(m, o, p).code, Code::InvalidArgument);
+}
+
+TEST(Repair, GeneratedDamage) {
+  std::mt19937 rng(2026);
+  for (int round = 0; round < 12; ++round) {
+    gen::Soup s = gen::torus(16 + round, 10);
+    gen::Soup damaged;
+    damaged.v = s.v;
+    for (size_t t = 0; t < s.f.size(); ++t) {
+      uint32_t r = rng() % 100;
+      if (r < 2) continue;  // removed: a hole
+      auto f = s.f[t];
+      if (r < 5) std::swap(f[1], f[2]);  // flipped
+      damaged.f.push_back(f);
+      if (r >= 98) damaged.f.push_back(f);  // duplicated
+    }
+    if (round % 3 == 0) gen::append(damaged, gen::cube(20, 0, 0, 1));
+    Mesh m = meshOf(damaged);
+    RepairOptions o;
+    o.steps = (1u << kRepairStepCount) - 1;
+    checkRepair(m, o, "damaged torus " + std::to_string(round));
+  }
+}
+
+TEST(Repair, EveryFixture) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
+    if (e.is_regular_file() && e.path().extension() != ".md") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  int repaired = 0;
+  for (const std::string& f : files) {
+    Mesh m;
+    if (!gen::read(gen::readFile(f), m).ok() || m.nTriangles() == 0 || m.nTriangles() > 200000) continue;
+    RepairOptions o;
+    o.steps = (1u << kRepairStepCount) - 1;
+    o.maxPairs = 200000;
+    checkRepair(m, o, f);
+    ++repaired;
+  }
+  EXPECT_GT(repaired, 50);
+}
