@@ -7,7 +7,9 @@ import { mkdir, open, rename, stat, unlink } from 'node:fs/promises';
 import { randomBytes } from 'node:crypto';
 import path from 'node:path';
 import { api, fileSource } from '../dist/instance.node.js';
-import { DEFAULTS } from '../dist/options.js';
+import { DEFAULTS, REPAIR_DEFAULTS, REPAIR_STEPS, normalizeOptions } from '../dist/options.js';
+import { EditableMesh } from '../dist/node.js';
+import { RAW_JSON } from '../dist/edit.js';
 import { cliCalls } from './cli-wasm.mjs';
 
 const _internal = api.internal;
@@ -29,7 +31,16 @@ const USAGE =
   "usage: stltopo split IN OUTDIR [--ascii|--binary]\n" +
   "  Writes each shell of IN to OUTDIR/<stem>-shell-<k>.stl (OUTDIR is created when\n" +
   "  missing), in IN's format unless told, and prints a JSON line per file with its shell\n" +
-  "  report. A failure prints the error JSON on stderr (exit 1).\n";
+  "  report. A failure prints the error JSON on stderr (exit 1).\n" +
+  "usage: stltopo repair IN OUT [--plan] [--steps a,b,...] [--stitch-tolerance D] [--max-hole-edges N]\n" +
+  "                      [--max-hole-area A] [--max-hole-perimeter P] [--fill refine,fair|none]\n" +
+  "                      [--min-shell-triangles N] [--min-shell-volume V] [--remove-walls]\n" +
+  "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--ascii|--binary]\n" +
+  "  Plans the chosen repair steps (default duplicates,zero-area,stitch,fill-holes,orient; also\n" +
+  "  split-nonmanifold, small-shells) and prints the plan as JSON (--plan: nothing is written),\n" +
+  "  or carries it out, writes OUT and prints the change log as JSON. OUT appears only when\n" +
+  "  complete. Exit status: 0 when the result is watertight, manifold and solid, 3 when it\n" +
+  "  is not (the JSON says which), 1 on failure (error JSON on stderr), 2 on usage errors.\n";
 
 // strerror(3) texts (glibc) for the errors fopen/fread report most often.
 const STRERROR = {
@@ -86,6 +97,7 @@ async function main(argv) {
   if (cmd === '--version') return write(process.stdout, 'stltopo 0.1.0\n');
   if (cmd === 'convert') return convert(argv);
   if (cmd === 'split') return split(argv);
+  if (cmd === 'repair') return repair(argv);
   if (cmd !== 'info') return usageError(`stltopo: unknown command '${cmd}'\n${USAGE}`);
 
   const a = {
@@ -362,6 +374,114 @@ async function split(argv) {
     return await fail(out ? file : input, e.code, e.message, e);
   } finally {
     if (out) await out.abort();
+  }
+}
+
+// `stltopo repair`, as tools/cli.cpp: the same options, messages, JSON and exit codes.
+async function repair(argv) {
+  const files = [];
+  const o = { steps: [...REPAIR_DEFAULTS.steps], fill: [], exclude: [] };
+  const w = {};
+  let planOnly = false;
+  const usage = (m) => usageError(`stltopo: ${m}\n${USAGE}`);
+  // strtod, then the native numberArg() checks: finite, >= 0, <= max, whole when asked.
+  const number = (v, integer, max) => {
+    const d = parseCDouble(v);
+    return v !== '' && d !== null && d >= 0 && d <= max && (!integer || Number.isInteger(d)) ? d : null;
+  };
+  const takes = ['--steps', '--stitch-tolerance', '--max-hole-edges', '--max-hole-area', '--max-hole-perimeter', '--fill',
+    '--min-shell-triangles', '--min-shell-volume', '--exclude', '--max-pairs'];
+  for (let i = 1; i < argv.length; ++i) {
+    const s = argv[i];
+    if (s === '--') {
+      files.push(...argv.slice(i + 1));
+      break;
+    }
+    if (s.length < 2 || s[0] !== '-') {
+      files.push(s);
+      continue;
+    }
+    if (s === '--plan') { planOnly = true; continue; }
+    if (s === '--remove-walls') { o.removeWalls = true; continue; }
+    if (s === '--no-intersections') { o.intersections = false; continue; }
+    if (s === '--ascii' || s === '--binary') { w.format = s.slice(2); continue; }
+    if (!takes.includes(s)) return usage(`unknown option '${s}'`);
+    if (i + 1 >= argv.length) return usage(`${s} needs a value`);
+    const v = argv[++i];
+    if (s === '--steps') {
+      o.steps = [];
+      for (const n of v.split(',')) {
+        if (!REPAIR_STEPS.includes(n)) return usage(`unknown repair step '${n}'`);
+        o.steps.push(n);
+      }
+    } else if (s === '--fill') {
+      o.fill = [];
+      for (const n of v.split(',')) {
+        if (n === 'refine' || n === 'fair') o.fill.push(n);
+        else if (n !== 'none') return usage(`bad --fill '${n}' (refine, fair or none)`);
+      }
+    } else if (s === '--exclude') {
+      for (const n of v.split(',')) {
+        const colon = n.lastIndexOf(':');
+        const item = colon < 0 ? null : number(n.slice(colon + 1), true, 4294967295);
+        if (colon < 0 || !REPAIR_STEPS.includes(n.slice(0, colon)) || item === null) {
+          return usage(`bad --exclude '${n}' (step:item, e.g. fill-holes:2)`);
+        }
+        o.exclude.push({ step: n.slice(0, colon), item });
+      }
+    } else if (s === '--max-hole-edges' || s === '--min-shell-triangles') {
+      const d = number(v, true, 4294967295);
+      if (d === null) return usage(`bad ${s} '${v}' (a whole number)`);
+      o[s === '--max-hole-edges' ? 'maxHoleEdges' : 'minShellTriangles'] = d;
+    } else if (s === '--max-pairs') {
+      const d = number(v, true, 2 ** 40);
+      if (d === null || d < 1) return usage(`bad --max-pairs '${v}' (1 to 2^40)`);
+      o.maxPairs = d;
+    } else {
+      const d = number(v, false, 1e300);
+      if (d === null) return usage(`bad ${s} '${v}' (a number >= 0)`);
+      o[{ '--stitch-tolerance': 'stitchTolerance', '--max-hole-area': 'maxHoleArea', '--max-hole-perimeter': 'maxHolePerimeter',
+        '--min-shell-volume': 'minShellVolume' }[s]] = d;
+    }
+  }
+  if (files.length !== 2 && !(planOnly && files.length === 1)) return usage(planOnly ? 'repair --plan needs IN' : 'repair needs IN and OUT');
+  const [input, output] = files;
+  const source = await openInput(input);
+  if (!source) return;
+  let em = null;
+  try {
+    const mesh = await api.loadFromSource(source, normalizeOptions({ topology: false }));
+    em = await EditableMesh.from(mesh);
+    const plan = em.planRepair(o);
+    // {"file":..., ("out":...,) then the plan's or log's keys: the file name as the native
+    // CLI's jsonString() writes it (taken from the error JSON, which starts with it).
+    const quoted = async (f) => {
+      const e = await _internal.errorJson(f, { code: 'invalid-argument', message: '' });
+      return e.slice('{"file":'.length, e.indexOf(',"error":'));
+    };
+    const head = `{"file":${await quoted(input)}` + (planOnly ? '' : `,"out":${await quoted(output)}`);
+    const line = (json) => `${head}${json.length > 2 ? `,${json.slice(1)}` : '}'}\n`;
+    const verdict = (f) => (f.watertight && f.manifold && f.solid === true ? 0 : 3);
+    if (planOnly) {
+      await write(process.stdout, line(plan[RAW_JSON]));
+      process.exitCode = verdict(plan.after);
+      return;
+    }
+    const log = em.applyRepair(plan);
+    const bytes = em.toStl({ format: w.format || (mesh.format === 'ascii' ? 'ascii' : 'binary') });
+    const out = outputFile(output, fail);
+    try {
+      if (!(await out.write(bytes)) || !(await out.finish())) return;
+    } finally {
+      await out.abort();
+    }
+    await write(process.stdout, line(log[RAW_JSON]));
+    process.exitCode = verdict(log.after);
+  } catch (e) {
+    if (!e || !e.code || String(e.code).startsWith('E')) throw e;
+    return await fail(input, e.code, e.message, e);
+  } finally {
+    if (em) em.dispose();
   }
 }
 

@@ -5,7 +5,9 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <vector>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -231,12 +233,89 @@ class EditSession {
     return out;
   }
 
+  // Repair (include/stltopo/repair.h). opts, as web/src/edit.js normalizes them: { steps:
+  // [names], removeOppositeDuplicates, stitchTolerance, maxHoleEdges, maxHoleArea,
+  // maxHolePerimeter, fillRefine, fillFair, minShellTriangles, minShellVolume,
+  // intersections, maxPairs, exclude: [{ step, item }] }. The plan and the change log come
+  // back as the CLI's JSON; the logs stay here for undo.
+  val planRepair(val opts) {
+    stltopo::RepairOptions o;
+    Status s = repairOptions(opts, o);
+    stltopo::RepairPlan p;
+    if (s.ok()) s = stltopo::planRepair(em_, o, p);
+    return s.ok() ? val(stltopo::repairPlanJson(p)) : js::status(s);
+  }
+  val applyRepair(val opts, const std::string& fingerprint) {
+    stltopo::RepairPlan p;
+    Status s = repairOptions(opts, p.options);
+    if (!s.ok()) return js::status(s);
+    char* end = nullptr;
+    p.fingerprint = std::strtoull(fingerprint.c_str(), &end, 16);
+    if (fingerprint.size() != 16 || *end) return js::status(Status::error(Code::InvalidArgument, "the plan has no fingerprint"));
+    stltopo::RepairLog log;
+    s = stltopo::applyRepair(em_, p, log);
+    std::string json = stltopo::repairLogJson(log);
+    if (!log.steps.empty()) logs_.push_back(std::move(log));
+    while (!logs_.empty() && logs_.back().steps.empty()) logs_.pop_back();
+    return s.ok() ? val(json) : js::status(s);
+  }
+  // Undoes the last repair step (of the last repair that has one): its name, null when
+  // there is none, or a status.
+  val undoRepairStep() {
+    while (!logs_.empty() && logs_.back().steps.empty()) logs_.pop_back();
+    if (logs_.empty()) return val::null();
+    std::string name = stltopo::repairStepName(logs_.back().steps.back().kind);
+    Status s = stltopo::undoRepairStep(em_, logs_.back());
+    if (!s.ok()) return js::status(s);
+    if (logs_.back().steps.empty()) logs_.pop_back();
+    return val(name);
+  }
+  double undoableRepairSteps() const {
+    size_t n = 0;
+    for (const stltopo::RepairLog& l : logs_) n += l.steps.size();
+    return double(n);
+  }
+
   EditableMesh& em() { return em_; }
 
  private:
   stltopo::Mesh staged_;
   EditableMesh em_;
   Array<uint32_t> faceIds_;  // faceIds()
+  std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
+
+  static Status repairOptions(val v, stltopo::RepairOptions& o) {
+    auto bad = [](const std::string& m) { return Status::error(Code::InvalidArgument, "repair options: " + m); };
+    o.steps = 0;
+    val steps = v["steps"];
+    const uint32_t n = steps["length"].as<uint32_t>();
+    for (uint32_t i = 0; i < n; ++i) {
+      stltopo::RepairStepKind k;
+      std::string name = steps[i].as<std::string>();
+      if (!stltopo::repairStepFromName(name, k)) return bad("unknown step " + name);
+      o.steps |= stltopo::repairStepBit(k);
+    }
+    o.removeOppositeDuplicates = v["removeOppositeDuplicates"].as<bool>();
+    o.stitchTolerance = v["stitchTolerance"].as<double>();
+    o.maxHoleEdges = u32(v["maxHoleEdges"].as<double>());
+    o.maxHoleArea = v["maxHoleArea"].as<double>();
+    o.maxHolePerimeter = v["maxHolePerimeter"].as<double>();
+    o.fillRefine = v["fillRefine"].as<bool>();
+    o.fillFair = v["fillFair"].as<bool>();
+    o.minShellTriangles = u32(v["minShellTriangles"].as<double>());
+    o.minShellVolume = v["minShellVolume"].as<double>();
+    o.intersections = v["intersections"].as<bool>();
+    o.maxPairs = uint64_t(v["maxPairs"].as<double>());
+    val ex = v["exclude"];
+    const uint32_t m = ex["length"].as<uint32_t>();
+    for (uint32_t i = 0; i < m; ++i) {
+      stltopo::RepairStepKind k;
+      std::string name = ex[i]["step"].as<std::string>();
+      if (!stltopo::repairStepFromName(name, k)) return bad("unknown step " + name);
+      o.exclude.push_back({k, u32(ex[i]["item"].as<double>())});
+    }
+    return Status{};
+  }
 };
 
 // The table as JS objects, as _arrayLayout gives the mesh's: [{ name, group, key, element,
@@ -288,6 +367,10 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("addAttribute", &EditSession::addAttribute)
       .function("attribute", &EditSession::attribute)
       .function("attributeInfo", &EditSession::attributeInfo)
-      .function("attributeNames", &EditSession::attributeNames);
+      .function("attributeNames", &EditSession::attributeNames)
+      .function("planRepair", &EditSession::planRepair)
+      .function("applyRepair", &EditSession::applyRepair)
+      .function("undoRepairStep", &EditSession::undoRepairStep)
+      .function("undoableRepairSteps", &EditSession::undoableRepairSteps);
   emscripten::function("_editArrayLayout", &editArrayLayout);
 }

@@ -174,6 +174,8 @@ Status planRepair(const Mesh& mesh, const RepairOptions& options, RepairPlan& ou
 // (EditableMesh::init(mesh, topo)): a tolerance weld's representatives, for example. The
 // plan then fits that EditableMesh.
 Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& options, RepairPlan& out);
+// The plan for what `em` holds (as compacted): applyRepair(em, plan) then fits.
+Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPlan& out);
 
 // Carries out `plan` on `em`, which must hold the mesh the plan was made for (same
 // fingerprint; InvalidArgument otherwise, and nothing changes). The mesh is compacted first

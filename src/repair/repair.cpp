@@ -511,6 +511,15 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   return s;
 }
 
+Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPlan& out) {
+  out = RepairPlan{};
+  Mesh m;
+  Topology t;
+  Status s = em.toMesh(m, &t, nullptr);
+  if (!s.ok()) return s;
+  return planRepair(m, &t, options, out);
+}
+
 Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   log = RepairLog{};
   Status s = checkOptions(plan.options);

@@ -5,7 +5,7 @@
 // getter per row, as a Mesh's follow STLTOPO_JS_ARRAYS.
 import { stlError, invalid, fromStatus } from './errors.js';
 import { Mesh, kInvalid, buildLoops, trackSession, untrackSession } from './mesh.js';
-import { normalizeWriteOptions } from './options.js';
+import { normalizeWriteOptions, normalizeRepairOptions } from './options.js';
 
 const ELEMENTS = { vertex: 0, triangle: 1, edge: 2 };
 const RULES = { keepFirst: 0, average: 1, fail: 2 };
@@ -36,6 +36,41 @@ function rule(r, what) {
 function id(x, what) {
   if (!Number.isInteger(x) || x < 0 || x > 0xfffffffe) throw invalid(`${what} must be an id, not ${String(x)}`);
   return x;
+}
+
+// The id lists of a plan's items and a log's steps, as Uint32Arrays (compact, and
+// transferable from a worker).
+const ITEM_LISTS = ['triangles', 'vertices', 'loops'];
+const LOG_LISTS = ['removedTriangles', 'changedTriangles', 'removedVertices', 'changedVertices'];
+/** The plan's or log's JSON text, as the CLI prints it (bin/stltopo.mjs). */
+export const RAW_JSON = Symbol('stltopo.rawJson');
+function repairPlanFrom(json, options) {
+  const p = JSON.parse(json);
+  Object.defineProperty(p, RAW_JSON, { value: json });
+  for (const s of p.steps) for (const it of s.items) for (const k of ITEM_LISTS) it[k] = Uint32Array.from(it[k]);
+  p.options = options;
+  return p;
+}
+function repairLogFrom(json) {
+  const l = JSON.parse(json);
+  Object.defineProperty(l, RAW_JSON, { value: json });
+  for (const s of l.steps) for (const k of LOG_LISTS) s[k] = Uint32Array.from(s[k]);
+  return l;
+}
+
+/** planRepair(mesh, options) of an entry: a Mesh is planned on a temporary EditableMesh. */
+export function createPlanRepair(EditableMesh) {
+  return async function planRepair(mesh, options = {}) {
+    if (mesh instanceof EditableMesh) return mesh.planRepair(options);
+    if (!mesh || !mesh.positions || !mesh.triangles) throw invalid('planRepair() needs a Mesh or an EditableMesh');
+    normalizeRepairOptions(options);
+    const em = await EditableMesh.from(mesh);
+    try {
+      return em.planRepair(options);
+    } finally {
+      em.dispose();
+    }
+  };
 }
 
 /**
@@ -230,6 +265,30 @@ export function createEditableMesh(getModule) {
     /** A copy of the attribute's values (slot order), or null. */
     attribute(name) { return this.#live().attribute(String(name), true); }
     attributeNames() { return this.#live().attributeNames(); }
+
+    /**
+     * Plans a repair of this mesh (docs/REPAIR.md): changes nothing. options: { steps,
+     * removeWalls, stitchTolerance, maxHoleEdges, maxHoleArea, maxHolePerimeter, fill,
+     * minShellTriangles, minShellVolume, intersections, maxPairs, exclude }.
+     */
+    planRepair(options = {}) {
+      const o = normalizeRepairOptions(options);
+      return repairPlanFrom(check(this.#live().planRepair(o)), o);
+    }
+    /**
+     * Carries out a plan made for this mesh (by planRepair() on it, or on the Mesh it was
+     * made from) and returns the change log. The log's steps can be undone with undo().
+     */
+    applyRepair(plan) {
+      if (!plan || typeof plan !== 'object' || !plan.options || typeof plan.fingerprint !== 'string') {
+        throw invalid('applyRepair() needs a plan from planRepair()');
+      }
+      return repairLogFrom(this.#edit(this.#live().applyRepair(plan.options, plan.fingerprint)));
+    }
+    /** Undoes the last repair step still applied: its name, or null when there is none. */
+    undo() { return this.#edit(this.#live().undoRepairStep()); }
+    /** How many repair steps undo() can still take back. */
+    get undoableSteps() { return this.#live().undoableRepairSteps(); }
 
     /** Frees the wasm memory; the object is unusable afterwards. */
     dispose() {

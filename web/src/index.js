@@ -1,7 +1,7 @@
 // stltopo, browser (and default) entry. See index.d.ts and docs/JS-API.md.
 import { createInstance } from './instance.js';
 import { stlError } from './errors.js';
-import { createEditableMesh } from './edit.js';
+import { createEditableMesh, createPlanRepair } from './edit.js';
 
 const api = createInstance({ importFull: () => import('./stltopo-full.js'), loadWorker: () => import('./worker.js') });
 
@@ -21,6 +21,9 @@ export async function toStl(mesh, options) {
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
 export const EditableMesh = createEditableMesh(api.internal.editModule);
+
+/** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
+export const planRepair = createPlanRepair(EditableMesh);
 
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {

@@ -1,7 +1,7 @@
 // stltopo, Node entry: the same API as index.js, plus loadStlFile(path).
 import { api, fileSource } from './instance.node.js';
 import { stlError } from './errors.js';
-import { createEditableMesh } from './edit.js';
+import { createEditableMesh, createPlanRepair } from './edit.js';
 import { normalizeOptions } from './options.js';
 import { concatBytes } from './wasm.js';
 
@@ -16,6 +16,9 @@ export async function toStl(mesh, options) {
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
 export const EditableMesh = createEditableMesh(api.internal.editModule);
+
+/** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
+export const planRepair = createPlanRepair(EditableMesh);
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {

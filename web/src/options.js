@@ -138,3 +138,68 @@ export function normalizeIndexedOptions(options) {
   });
   return o;
 }
+
+/** The repair steps, in the order they run (include/stltopo/repair.h). */
+export const REPAIR_STEPS = Object.freeze(['duplicates', 'zero-area', 'stitch', 'split-nonmanifold', 'fill-holes', 'orient',
+  'small-shells']);
+/** The defaults of planRepair() and of `stltopo repair` (RepairOptions). */
+export const REPAIR_DEFAULTS = Object.freeze({
+  steps: Object.freeze(['duplicates', 'zero-area', 'stitch', 'fill-holes', 'orient']),
+  removeWalls: false,
+  stitchTolerance: 0,
+  maxHoleEdges: 1000,
+  maxHoleArea: 0, // no limit
+  maxHolePerimeter: 0, // no limit
+  fill: Object.freeze([]), // 'refine', 'fair'
+  minShellTriangles: 10,
+  minShellVolume: 0,
+  intersections: true,
+  maxPairs: 4000000,
+});
+
+/**
+ * The checked, complete options of planRepair(), in the form the bindings read
+ * (EditSession::repairOptions). Throws invalid-argument on a bad value.
+ */
+export function normalizeRepairOptions(options) {
+  if (options == null) options = {};
+  if (typeof options !== 'object') throw invalid('repair options must be an object');
+  const d = REPAIR_DEFAULTS;
+  const pick = (k) => (options[k] === undefined ? d[k] : options[k]);
+  const num = (k, integer, max) => {
+    const v = pick(k);
+    if (typeof v !== 'number' || !(v >= 0) || v > max || (integer && !Number.isInteger(v))) {
+      throw invalid(`${k} must be ${integer ? 'an integer' : 'a number'} in [0, ${max}]`);
+    }
+    return v;
+  };
+  const steps = pick('steps');
+  if (!Array.isArray(steps)) throw invalid(`steps must be an array of step names (${REPAIR_STEPS.join(', ')})`);
+  for (const s of steps) if (!REPAIR_STEPS.includes(s)) throw invalid(`unknown repair step ${String(s)} (${REPAIR_STEPS.join(', ')})`);
+  const fill = pick('fill');
+  if (!Array.isArray(fill) || fill.some((f) => f !== 'refine' && f !== 'fair')) throw invalid("fill must be an array of 'refine', 'fair'");
+  const exclude = options.exclude === undefined ? [] : options.exclude;
+  if (!Array.isArray(exclude)) throw invalid('exclude must be an array of { step, item }');
+  const maxPairs = pick('maxPairs');
+  if (!Number.isInteger(maxPairs) || maxPairs < 1 || maxPairs > 2 ** 40) throw invalid('maxPairs must be an integer in [1, 2^40]');
+  return {
+    steps: REPAIR_STEPS.filter((s) => steps.includes(s)),
+    removeOppositeDuplicates: !!pick('removeWalls'),
+    stitchTolerance: num('stitchTolerance', false, Number.MAX_VALUE),
+    maxHoleEdges: num('maxHoleEdges', true, 0xffffffff),
+    maxHoleArea: num('maxHoleArea', false, Number.MAX_VALUE),
+    maxHolePerimeter: num('maxHolePerimeter', false, Number.MAX_VALUE),
+    fillRefine: fill.includes('refine'),
+    fillFair: fill.includes('fair'),
+    minShellTriangles: num('minShellTriangles', true, 0xffffffff),
+    minShellVolume: num('minShellVolume', false, Number.MAX_VALUE),
+    intersections: !!pick('intersections'),
+    maxPairs,
+    exclude: exclude.map((x) => {
+      if (!x || !REPAIR_STEPS.includes(x.step) || !Number.isInteger(x.item) || x.item < 0 || x.item > 0xffffffff) {
+        throw invalid('exclude items must be { step: a step name, item: an item index }');
+      }
+      return { step: x.step, item: x.item };
+    }),
+  };
+}
