@@ -1,0 +1,207 @@
+// Repair as a plan (issue 23) through the package: planRepair / applyRepair / undo on the
+// main thread, the plan's prediction against the result, undo back to the input bytes,
+// manifold-3d as the judge of every repaired closed shell (it builds it, with the same
+// volume), the CLI pair (native and npm print the same bytes), and bad options.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync, mkdtempSync, rmSync } from 'node:fs';
+import { execFileSync, spawnSync } from 'node:child_process';
+import os from 'node:os';
+import path from 'node:path';
+import { loadStl, fromIndexed, toStl, planRepair, EditableMesh, extractShell } from 'stltopo';
+import Module from 'manifold-3d';
+import { fixtures, root, nativeCli, haveNativeCli } from './helpers.mjs';
+
+const wasm = await Module();
+wasm.setup();
+
+const admesh = (model, kase) => path.join(root, 'tests/judge/admesh', model, `${kase}-bad.stl`);
+
+// A torus grid (n x m quads), some triangles flipped, some removed, some duplicated.
+function damagedTorus(n, m, seed) {
+  const positions = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
+      positions.push((3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v));
+    }
+  }
+  let s = seed;
+  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
+  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
+  const tris = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
+        const r = rnd();
+        if (r < 0.02) continue;
+        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
+        tris.push(...t);
+        if (r > 0.98) tris.push(...t);
+      }
+    }
+  }
+  return { positions: new Float32Array(positions), triangles: new Uint32Array(tris) };
+}
+
+async function bytesOf(x) {
+  return new Uint8Array(await toStl(x));
+}
+
+test('plan, apply, undo: the result is the plan\'s prediction, and undo gives back the input bytes', async () => {
+  const t = damagedTorus(30, 12, 5);
+  const mesh = await fromIndexed(t.positions, t.triangles);
+  const before = await bytesOf(mesh);
+  const plan = await planRepair(mesh, { steps: ['duplicates', 'zero-area', 'stitch', 'split-nonmanifold', 'fill-holes', 'orient'] });
+  assert.ok(plan.steps.length === 6 && typeof plan.fingerprint === 'string');
+  assert.ok(plan.before.duplicateTriangles > 0 && plan.before.inconsistentEdges > 0, JSON.stringify(plan.before));
+  for (const s of plan.steps) for (const it of s.items) assert.ok(it.triangles instanceof Uint32Array);
+  const em = await EditableMesh.from(mesh);
+  try {
+    const log = em.applyRepair(plan);
+    assert.deepEqual(log.after, plan.after);
+    const { file, ...afterReport } = log.afterReport;
+    assert.equal(file, '');
+    assert.deepEqual(afterReport, em.stats);
+    assert.equal(log.after.duplicateTriangles, 0);
+    assert.equal(log.after.inconsistentEdges, 0);
+    assert.ok(log.steps.every((s) => s.status === 'ok'));
+    assert.ok(log.steps[0].removedTriangles instanceof Uint32Array && log.steps[0].removedTriangles.length > 0);
+    assert.deepEqual(em.validate(), { ok: true });
+    assert.equal(em.undoableSteps, 6);
+    const undone = [];
+    for (let name; (name = em.undo()) !== null;) {
+      undone.push(name);
+      assert.deepEqual(em.validate(), { ok: true });
+    }
+    assert.deepEqual(undone, plan.steps.map((s) => s.step).reverse());
+    assert.deepEqual(new Uint8Array(em.toStl()), before);
+  } finally {
+    em.dispose();
+  }
+});
+
+test('a plan made for another mesh, a custom attribute and bad options are refused without a change', async () => {
+  const a = await fromIndexed(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]), new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
+  const b = await fromIndexed(new Float32Array([0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2]), new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
+  const plan = await planRepair(a);
+  const em = await EditableMesh.from(b);
+  try {
+    const stl = em.toStl();
+    assert.throws(() => em.applyRepair(plan), (e) => e.code === 'invalid-argument' && /another mesh/.test(e.message));
+    assert.deepEqual(em.toStl(), stl);
+    assert.throws(() => em.applyRepair({}), (e) => e.code === 'invalid-argument');
+    assert.equal(em.undo(), null);
+  } finally {
+    em.dispose();
+  }
+  await assert.rejects(planRepair(a, { steps: ['holes'] }), (e) => e.code === 'invalid-argument' && /unknown repair step/.test(e.message));
+  await assert.rejects(planRepair(a, { stitchTolerance: -1 }), (e) => e.code === 'invalid-argument');
+  await assert.rejects(planRepair(a, { maxHoleEdges: 1.5 }), (e) => e.code === 'invalid-argument');
+  await assert.rejects(planRepair(a, { exclude: [{ step: 'orient' }] }), (e) => e.code === 'invalid-argument');
+  await assert.rejects(planRepair(null), (e) => e.code === 'invalid-argument');
+});
+
+// manifold-3d builds every closed shell of the repaired mesh, with the same volume.
+function judgeShells(repaired, where) {
+  let built = 0;
+  for (const sh of repaired.shells) {
+    if (!(sh.closed && sh.manifold)) continue;
+    const part = extractShell(repaired, sh.id);
+    let status, volume = NaN;
+    try {
+      const m = new wasm.Manifold(new wasm.Mesh({ numProp: 3, vertProperties: part.positions, triVerts: part.triangles }));
+      status = m.status();
+      if (status === 'NoError') volume = m.volume();
+      m.delete();
+    } catch (e) {
+      status = e.code || String(e.message);
+    }
+    if (sh.orientation === 'outward') {
+      assert.equal(status, 'NoError', `${where} shell ${sh.id}`);
+      assert.ok(Math.abs(volume - sh.volume) <= 1e-6 * Math.max(1, Math.abs(sh.volume)), `${where} shell ${sh.id}: ${volume} vs ${sh.volume}`);
+      ++built;
+    }
+  }
+  return built;
+}
+
+test('manifold-3d accepts every repaired closed shell, with the same volume (fixtures, admesh pairs, generated damage)', async () => {
+  const inputs = [...fixtures().filter((f) => readFileSync(f).length < 4e6), admesh('block', 'normal-directions'),
+    admesh('conveyor', 'fill-holes'), admesh('hourglass', 'remove-unconnected')];
+  let built = 0, repaired = 0;
+  for (const f of inputs) {
+    let mesh;
+    try {
+      mesh = await loadStl(readFileSync(f));
+    } catch {
+      continue;
+    }
+    const plan = await planRepair(mesh, { maxPairs: 200000 });
+    const em = await EditableMesh.from(mesh);
+    try {
+      em.applyRepair(plan);
+      const out = await loadStl(em.toStl(), { shells: true });
+      built += judgeShells(out, f);
+      ++repaired;
+    } finally {
+      em.dispose();
+    }
+  }
+  for (let seed = 1; seed <= 4; ++seed) {
+    const t = damagedTorus(20 + seed, 10, seed);
+    const em = await EditableMesh.from(await fromIndexed(t.positions, t.triangles));
+    try {
+      em.applyRepair(em.planRepair({ steps: ['duplicates', 'zero-area', 'stitch', 'fill-holes', 'orient'] }));
+      built += judgeShells(await loadStl(em.toStl(), { shells: true }), `torus ${seed}`);
+    } finally {
+      em.dispose();
+    }
+  }
+  assert.ok(repaired > 50 && built > 60, `repaired ${repaired}, built ${built}`);
+});
+
+test('stltopo repair: the npm CLI prints the native CLI\'s bytes and writes the same file', { skip: !haveNativeCli }, () => {
+  const dir = mkdtempSync(path.join(os.tmpdir(), 'stltopo-repair-'));
+  try {
+    const cases = [
+      [admesh('block', 'remove-unconnected'), []],
+      [admesh('conveyor', 'normal-directions'), ['--steps', 'orient,small-shells', '--no-intersections']],
+      [admesh('block', 'fill-holes'), ['--plan']],
+      [admesh('hourglass', 'fill-holes'), ['--exclude', 'fill-holes:0', '--max-hole-edges', '2']],
+    ];
+    for (const [f, args] of cases) {
+      const out = path.join(dir, 'out.stl');
+      const run = (cmd, pre) => {
+        const r = spawnSync(cmd, [...pre, 'repair', f, out, ...args], { encoding: 'buffer' });
+        const bytes = args.includes('--plan') ? null : readFileSync(out);
+        rmSync(out, { force: true });
+        return { status: r.status, stdout: r.stdout.toString(), stderr: r.stderr.toString(), bytes };
+      };
+      const n = run(nativeCli, []);
+      const j = run(process.execPath, [path.join(root, 'bin/stltopo.mjs')]);
+      assert.equal(j.stdout, n.stdout, `${f} ${args}`);
+      assert.equal(j.status, n.status);
+      assert.ok(n.status === 0 || n.status === 3, n.stderr);
+      if (n.bytes) assert.deepEqual(j.bytes, n.bytes);
+      const parsed = JSON.parse(n.stdout);
+      assert.equal(parsed.file, f);
+    }
+    // Usage errors: the same message and status 2.
+    for (const bad of [['--steps', 'holes'], ['--stitch-tolerance', '-1'], ['--exclude', 'orient'], ['--bogus']]) {
+      const n = spawnSync(nativeCli, ['repair', admesh('block', 'exact'), path.join(dir, 'x.stl'), ...bad]);
+      const j = spawnSync(process.execPath, [path.join(root, 'bin/stltopo.mjs'), 'repair', admesh('block', 'exact'), path.join(dir, 'x.stl'), ...bad]);
+      assert.equal(n.status, 2);
+      assert.equal(j.status, 2);
+      assert.equal(j.stderr.toString(), n.stderr.toString());
+    }
+    // A missing input: error JSON on stderr, status 1, nothing written.
+    const n = spawnSync(nativeCli, ['repair', path.join(dir, 'none.stl'), path.join(dir, 'x.stl')]);
+    const j = spawnSync(process.execPath, [path.join(root, 'bin/stltopo.mjs'), 'repair', path.join(dir, 'none.stl'), path.join(dir, 'x.stl')]);
+    assert.equal(n.status, 1);
+    assert.equal(j.status, 1);
+    assert.equal(j.stderr.toString(), n.stderr.toString());
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
+});
