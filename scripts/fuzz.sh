@@ -22,7 +22,7 @@ while [ $# -gt 0 ]; do
     *) echo "fuzz.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_whole fuzz_stream fuzz_tolerance fuzz_number fuzz_write fuzz_edit)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_whole fuzz_stream fuzz_tolerance fuzz_number fuzz_write fuzz_edit fuzz_repair)
 case "$minutes" in ''|*[!0-9]*) echo "fuzz.sh: --minutes needs a whole number" >&2; exit 2 ;; esac
 
 bash scripts/deps.sh native fuzz

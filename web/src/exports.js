@@ -5,3 +5,4 @@ export { init } from './wasm-load.js';
 export { StlError } from './errors.js';
 export { Mesh, kInvalid, EdgeKind, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS } from './mesh.js';
 export { extractShell } from './extract-shell.js';
+export { REPAIR_STEPS, REPAIR_DEFAULTS } from './options.js';

@@ -524,6 +524,113 @@ export interface IndexedMeshInput {
   format?: 'binary' | 'ascii' | 'unknown';
 }
 
+/** The repair steps, in the order they run (docs/REPAIR.md). */
+export type RepairStep = 'duplicates' | 'zero-area' | 'stitch' | 'split-nonmanifold' | 'fill-holes' | 'orient' | 'small-shells';
+
+/** planRepair() options; the defaults are REPAIR_DEFAULTS (and `stltopo repair`'s). */
+export interface RepairOptions {
+  /** Default ['duplicates', 'zero-area', 'stitch', 'fill-holes', 'orient']. */
+  steps?: RepairStep[];
+  /** duplicates: also remove groups whose members face both ways (zero-thickness walls). */
+  removeWalls?: boolean;
+  /** stitch: merge boundary vertices closer than this (0: exact T-junctions only). */
+  stitchTolerance?: number;
+  /** fill-holes: skip holes with more edges (default 1000), more area or a longer perimeter (0: no limit). */
+  maxHoleEdges?: number;
+  maxHoleArea?: number;
+  maxHolePerimeter?: number;
+  /** fill-holes: refine the patch to the surrounding edge length, and fair its new vertices. */
+  fill?: Array<'refine' | 'fair'>;
+  /** small-shells: remove shells with fewer triangles (default 10) or less |volume| (0: no limit). */
+  minShellTriangles?: number;
+  minShellVolume?: number;
+  /** Run the exact intersection pass (default true): nesting for orient, what remains. */
+  intersections?: boolean;
+  maxPairs?: number;
+  /** Items to leave out: their step and their index in that step's items of an earlier plan. */
+  exclude?: Array<{ step: RepairStep; item: number }>;
+}
+
+/** The figures a plan predicts and a log reports. */
+export interface RepairFigures {
+  triangles: number;
+  vertices: number;
+  degenerateTriangles: number;
+  zeroAreaTriangles: number;
+  duplicateTriangles: number;
+  edges: number;
+  boundaryEdges: number;
+  nonManifoldEdges: number;
+  inconsistentEdges: number;
+  nonManifoldVertices: number;
+  holes: number;
+  seams: number;
+  shells: number;
+  eulerCharacteristic: number;
+  watertight: boolean;
+  manifold: boolean;
+  /** null without the intersection pass. */
+  selfIntersections: number | null;
+  solid: boolean | null;
+}
+
+/** One thing a step does (or would do). Ids: of the mesh as the step finds it. */
+export interface RepairItem {
+  action: string;
+  skipped: boolean;
+  reason?: string;
+  triangles: Uint32Array;
+  vertices: Uint32Array;
+  loops: Uint32Array;
+  bbox: { min: [number, number, number]; max: [number, number, number] };
+  /** How far it moves geometry. */
+  moved: number;
+}
+
+export interface RepairPlan {
+  fingerprint: string;
+  before: RepairFigures;
+  steps: Array<{ step: RepairStep; note: string; done: number; skipped: number; items: RepairItem[]; after: RepairFigures }>;
+  after: RepairFigures;
+  /** What the steps leave (self-intersections), with advice. */
+  remaining: string;
+  /** The checked options the plan was made with (applyRepair uses them). */
+  options: object;
+}
+
+export interface RepairStepLog {
+  step: RepairStep;
+  status: 'ok' | ErrorCode;
+  message?: string;
+  done: number;
+  skipped: number;
+  /** Ids before the step. */
+  removedTriangles: Uint32Array;
+  changedTriangles: Uint32Array;
+  /** Added triangles take the last ids after the step. */
+  addedTriangles: number;
+  removedVertices: Uint32Array;
+  changedVertices: Uint32Array;
+  addedVertices: number;
+  maxMoved: number;
+  areaRemoved: number;
+  areaAdded: number;
+}
+
+export interface RepairLog {
+  before: RepairFigures;
+  after: RepairFigures;
+  steps: RepairStepLog[];
+  /** `info --json` of the mesh before and after (fresh builds). */
+  beforeReport: Record<string, unknown>;
+  afterReport: Record<string, unknown>;
+}
+
+/** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
+export declare function planRepair(mesh: Mesh | EditableMesh, options?: RepairOptions): Promise<RepairPlan>;
+export declare const REPAIR_STEPS: readonly RepairStep[];
+export declare const REPAIR_DEFAULTS: Readonly<Required<Omit<RepairOptions, 'exclude'>>>;
+
 /** @deprecated An EditableMesh's loops are BoundaryLoops (face id nTriangles + id), as a Mesh's. */
 export type EditableLoop = BoundaryLoop;
 
@@ -613,6 +720,14 @@ export declare class EditableMesh {
     options?: { components?: number; merge?: AttributeRule; split?: AttributeRule }): void;
   attribute(name: string): AttributeValues | null;
   attributeNames(): string[];
+  /** A repair plan for this mesh (docs/REPAIR.md); changes nothing. */
+  planRepair(options?: RepairOptions): RepairPlan;
+  /** Carries out a plan made for this mesh; returns the change log. */
+  applyRepair(plan: RepairPlan): RepairLog;
+  /** Undoes the last repair step still applied: its name, or null when there is none. */
+  undo(): RepairStep | null;
+  /** How many repair steps undo() can still take back. */
+  readonly undoableSteps: number;
   dispose(): void;
   sym(e: number): number;
   twin(e: number): number;

@@ -6,7 +6,7 @@
 // in Node.
 export {
   loadStl, loadStlFile, fromIndexed, writeStl, toStl,
-  StlError, Mesh, kInvalid, EdgeKind, init, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS, extractShell,
+  StlError, Mesh, kInvalid, EdgeKind, init, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS, extractShell, REPAIR_STEPS, REPAIR_DEFAULTS,
 } from './index.js';
 export type {
   StlInput, LoadOptions, WithTopology, WithoutTopology, IfTopology, InitOptions, IndexedOptions, WriteOptions, Stats, Solid,

@@ -2,8 +2,8 @@
 // of 'stltopo', 'stltopo/worker' and 'stltopo/three' through the package's
 // "exports" (self-reference), so the .d.ts files must match the package.
 import {
-  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh,
-  type IndexedOptions, type WriteOptions,
+  loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh, planRepair, REPAIR_STEPS,
+  type IndexedOptions, type WriteOptions, type RepairPlan, type RepairLog, type RepairStep, type RepairOptions,
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
 import * as worker from 'stltopo/worker';
@@ -165,3 +165,20 @@ export async function statsByTopology(input: StlInput): Promise<number> {
   const either: Stats = bare.stats;
   return holes + (watertight ? 1 : 0) + (genus ?? 0) + (either.holes ?? 0) + (none === undefined ? 0 : 1);
 }
+
+// Repair: the plan, the log and undo are typed; step names are a closed union.
+export async function repairing(mesh: Mesh): Promise<number> {
+  const plan: RepairPlan = await planRepair(mesh, { steps: ['duplicates', 'fill-holes'], fill: ['refine'], maxHoleEdges: 50 });
+  const em = await EditableMesh.from(mesh);
+  const again: RepairPlan = em.planRepair({ exclude: [{ step: 'fill-holes', item: 0 }] });
+  const log: RepairLog = em.applyRepair(plan);
+  const undone: RepairStep | null = em.undo();
+  const removed: Uint32Array = log.steps[0].removedTriangles;
+  const first: Uint32Array = plan.steps[0].items[0].triangles;
+  const solid: boolean | null = log.after.solid;
+  const steps: readonly RepairStep[] = REPAIR_STEPS;
+  em.dispose();
+  return removed.length + first.length + again.steps.length + (solid ? 1 : 0) + (undone ? 1 : 0) + steps.length + em.undoableSteps;
+}
+// @ts-expect-error: step names are a closed union
+export const badStep: RepairOptions = { steps: ['holes'] };
