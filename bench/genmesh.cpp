@@ -1,7 +1,9 @@
 // Benchmark mesh generator: a torus grid as binary or ASCII STL.
-//   genmesh TRIANGLES OUT.stl [--shuffle] [--holes] [--ascii] [--seed S]
+//   genmesh TRIANGLES OUT.stl [--shuffle] [--holes] [--hole-count K] [--flip-percent P] [--ascii] [--seed S]
 // The torus has n x m quads (2 triangles each) with n ~ 2m. --holes removes one quad in
-// every 97 (separate holes); --shuffle permutes the triangle order (and rotates corners).
+// every 97 (separate holes); --hole-count K removes K quads spread evenly (K separate
+// holes); --flip-percent P reverses P% of the triangles (every 100/P-th, deterministic);
+// --shuffle permutes the triangle order (and rotates corners).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,11 +21,15 @@ int main(int argc, char** argv) {
   long long want = std::atoll(argv[1]);
   const char* out = argv[2];
   bool shuffle = false, holes = false, ascii = false;
+  long long holeCount = 0;
+  double flipPercent = 0;
   unsigned seed = 1;
   for (int i = 3; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--shuffle")) shuffle = true;
     else if (!std::strcmp(argv[i], "--holes")) holes = true;
     else if (!std::strcmp(argv[i], "--ascii")) ascii = true;
+    else if (!std::strcmp(argv[i], "--hole-count") && i + 1 < argc) holeCount = std::atoll(argv[++i]);
+    else if (!std::strcmp(argv[i], "--flip-percent") && i + 1 < argc) flipPercent = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) seed = unsigned(std::atoi(argv[++i]));
   }
   int m = std::max(3, int(std::sqrt(double(want) / 4)));
@@ -44,10 +50,18 @@ int main(int argc, char** argv) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < m; ++j) {
       if (holes && (i * m + j) % 97 == 13 && i % 2 == 0) continue;
+      // K holes: the quads at rows spread evenly over n, a column that moves along.
+      if (holeCount > 0 && i % std::max(1, int(n / holeCount)) == 0 && i / std::max(1, int(n / holeCount)) < holeCount &&
+          j == (i * 7) % m)
+        continue;
       uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       f.insert(f.end(), {a, b, c, a, c, d});
     }
   size_t nt = f.size() / 3;
+  if (flipPercent > 0) {
+    size_t every = size_t(std::max(1.0, 100.0 / flipPercent));
+    for (size_t t = every / 2; t < nt; t += every) std::swap(f[3 * t + 1], f[3 * t + 2]);
+  }
   std::mt19937 rng(seed);
   if (shuffle) {
     for (size_t t = nt - 1; t > 0; --t) {

@@ -43,7 +43,7 @@ const char* kUsage =
     "                      [--max-hole-area A] [--max-hole-perimeter P] [--fill refine,fair|none]\n"
     "                      [--min-shell-triangles N] [--min-shell-volume V] [--remove-walls]\n"
     "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--ascii|--binary]\n"
-    "  Plans the chosen repair steps (default duplicates,zero-area,stitch,fill-holes,orient; also\n"
+    "  Plans the chosen repair steps (default duplicates,zero-area,stitch,orient,fill-holes; also\n"
     "  split-nonmanifold, small-shells) and prints the plan as JSON (--plan: nothing is written),\n"
     "  or carries it out, writes OUT and prints the change log as JSON. OUT appears only when\n"
     "  complete. Exit status: 0 when the result is watertight, manifold and solid, 3 when it\n"

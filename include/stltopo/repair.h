@@ -44,9 +44,9 @@ enum class RepairStepKind : uint8_t {
   Duplicates,        // "duplicates": remove duplicate triangles (keep the lowest id)
   ZeroArea,          // "zero-area": flip the longest edge of a zero-area triangle, or collapse its shortest
   Stitch,            // "stitch": merge boundary vertices within a tolerance, close T-junctions
+  Orient,            // "orient": consistent orientation per shell, closed shells outward
   SplitNonManifold,  // "split-nonmanifold": one vertex per fan at non-manifold vertices and edges
   FillHoles,         // "fill-holes": triangulate holes up to a size limit
-  Orient,            // "orient": consistent orientation per shell, closed shells outward
   SmallShells,       // "small-shells": remove shells below a size (off by default)
 };
 inline constexpr int kRepairStepCount = 7;
@@ -55,11 +55,11 @@ const char* repairStepName(RepairStepKind k);
 // The step named `name`; false when there is none.
 bool repairStepFromName(const std::string& name, RepairStepKind& out);
 inline constexpr uint32_t repairStepBit(RepairStepKind k) { return 1u << uint32_t(k); }
-// The default steps: duplicates, zero-area, stitch, fill-holes, orient (README, *Repair*).
+// The default steps: duplicates, zero-area, stitch, orient, fill-holes (README, *Repair*).
 inline constexpr uint32_t kDefaultRepairSteps =
     repairStepBit(RepairStepKind::Duplicates) | repairStepBit(RepairStepKind::ZeroArea) |
-    repairStepBit(RepairStepKind::Stitch) | repairStepBit(RepairStepKind::FillHoles) |
-    repairStepBit(RepairStepKind::Orient);
+    repairStepBit(RepairStepKind::Stitch) | repairStepBit(RepairStepKind::Orient) |
+    repairStepBit(RepairStepKind::FillHoles);
 
 struct RepairOptions {
   uint32_t steps = kDefaultRepairSteps;  // bits of repairStepBit
@@ -91,6 +91,10 @@ struct RepairOptions {
     uint32_t item;
   };
   std::vector<Exclusion> exclude;
+  // Called as each step starts (done = false) and ends (done = true), for progress and
+  // timing. Optional.
+  void (*onStep)(void* user, RepairStepKind step, bool done) = nullptr;
+  void* user = nullptr;
 };
 
 // One thing a step does (or would do).
@@ -125,6 +129,7 @@ struct RepairPlan {
   RepairOptions options;
   uint64_t fingerprint = 0;         // of the input (positions and triangles)
   RepairFigures before;
+  bool beforeKnown = false;         // planRepair computed `before` (apply then reuses it)
   std::vector<RepairStepPlan> steps;  // the chosen steps, in run order
   std::string remaining;            // what the steps leave (self-intersections: advice)
   std::string afterReport;          // infoJson("") of the predicted result

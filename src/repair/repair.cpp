@@ -27,8 +27,8 @@ namespace stltopo {
 
 namespace {
 
-constexpr const char* kStepNames[kRepairStepCount] = {"duplicates",  "zero-area", "stitch",      "split-nonmanifold",
-                                                      "fill-holes", "orient",    "small-shells"};
+constexpr const char* kStepNames[kRepairStepCount] = {"duplicates",        "zero-area",  "stitch",      "orient",
+                                                      "split-nonmanifold", "fill-holes", "small-shells"};
 constexpr const char* kRepairArrays = "the repair's arrays";
 
 // The attributes repair carries: the file's (the ones init() makes from a Mesh).
@@ -325,26 +325,39 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   return Status{};
 }
 
-// Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`).
-Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log) {
+// Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`). For apply,
+// `expect` is the plan's fingerprint (checked before anything changes) and `known` the
+// plan's figures of that same mesh.
+Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, uint64_t expect = 0,
+           const RepairFigures* known = nullptr) {
   Mesh cur;
   Topology topo;
   Status s = em.toMesh(cur, &topo, nullptr);
   if (!s.ok()) return s;
+  const uint64_t fingerprint = fingerprintOf(cur);
+  if (log && fingerprint != expect)
+    return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
   s = em.init(cur, topo);
   if (!s.ok()) return s;
   RepairFigures before;
-  s = figuresOf(em, cur, topo, o, true, before);
-  if (!s.ok()) return s;
+  if (known) {
+    before = *known;  // the same mesh (same fingerprint): the same figures
+  } else {
+    s = figuresOf(em, cur, topo, o, true, before);
+    if (!s.ok()) return s;
+  }
+  RepairFigures figures = before;  // of `cur`
+  bool changed = false;
   if (plan) {
     plan->before = before;
-    plan->fingerprint = fingerprintOf(cur);
+    plan->beforeKnown = true;
+    plan->fingerprint = fingerprint;
   }
   if (log) {
     log->before = before;
-    log->fingerprintBefore = fingerprintOf(cur);
+    log->fingerprintBefore = fingerprint;
     log->beforeReport = em.infoJson("");
   }
   int lastStep = -1;
@@ -355,14 +368,21 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     RepairStepPlan sp;
     sp.kind = RepairStepKind(k);
     repair_detail::StepContext ctx{em, o, sp, &cur, &topo};
+    if (o.onStep) o.onStep(o.user, sp.kind, false);
     s = runStep(sp.kind, ctx);
     RepairStepLog L;
     L.kind = sp.kind;
+    L.trianglesBefore = L.trianglesAfter = cur.nTriangles();
+    L.verticesBefore = L.verticesAfter = cur.nVertices();
+    L.fingerprintAfter = fingerprintOf(cur);
     if (s.ok()) {
       L.itemsDone = sp.nDone();
       L.itemsSkipped = sp.nSkipped();
       for (const RepairItem& it : sp.items)
         if (!it.skipped) L.maxMoved = std::max(L.maxMoved, it.moved);
+    }
+    // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
+    if (s.ok() && L.itemsDone > 0) {
       Mesh next;
       Topology nextTopo;
       CompactMaps maps;
@@ -373,8 +393,12 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         cur = std::move(next);
         topo = std::move(nextTopo);
         L.fingerprintAfter = fingerprintOf(cur);
-        s = figuresOf(em, cur, topo, o, k == lastStep, sp.after);
+        changed = true;
+        // The figures after each step are the plan's; the log needs only the last ones.
+        if (plan) s = figuresOf(em, cur, topo, o, k == lastStep, figures);
       }
+    } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
+      s = figuresOf(em, cur, topo, o, true, figures);
     }
     if (!s.ok()) {
       // Back to the mesh as the step found it (init of a mesh already held cannot need more
@@ -382,6 +406,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
       Status r = em.init(cur, topo);
       if (log) {
         L.status = s;
+        L.trianglesAfter = L.trianglesBefore;
+        L.verticesAfter = L.verticesBefore;
         L.fingerprintAfter = fingerprintOf(cur);
         STLTOPO_TRY {
           log->steps.push_back(std::move(L));
@@ -390,6 +416,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
       }
       return r.ok() ? s : r;
     }
+    sp.after = figures;
+    if (o.onStep) o.onStep(o.user, sp.kind, true);
     STLTOPO_TRY {
       if (plan) plan->steps.push_back(std::move(sp));
       if (log) log->steps.push_back(std::move(L));
@@ -398,12 +426,10 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
   }
   RepairFigures after = before;
-  if (lastStep < 0) {
-    after = before;
-  } else if (plan) {
+  if (plan && lastStep >= 0) {
     after = plan->steps.back().after;
-  } else {
-    s = figuresOf(em, cur, topo, o, true, after);
+  } else if (log && changed) {
+    s = figuresOf(em, cur, topo, o, true, after);  // a fresh build of the result
     if (!s.ok()) return s;
   }
   if (plan) {
@@ -417,7 +443,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->after = after;
     log->fingerprintAfter = fingerprintOf(cur);
-    log->afterReport = em.infoJson("");
+    log->afterReport = changed ? em.infoJson("") : log->beforeReport;
   }
   return Status{};
 }
@@ -526,9 +552,7 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   if (!s.ok()) return s;
   s = checkAttributes(em);
   if (!s.ok()) return s;
-  if (repairFingerprint(em) != plan.fingerprint)
-    return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
-  return run(em, plan.options, nullptr, &log);
+  return run(em, plan.options, nullptr, &log, plan.fingerprint, plan.beforeKnown ? &plan.before : nullptr);
 }
 
 Status undoRepairStep(EditableMesh& em, RepairLog& log) {

@@ -525,11 +525,11 @@ export interface IndexedMeshInput {
 }
 
 /** The repair steps, in the order they run (docs/REPAIR.md). */
-export type RepairStep = 'duplicates' | 'zero-area' | 'stitch' | 'split-nonmanifold' | 'fill-holes' | 'orient' | 'small-shells';
+export type RepairStep = 'duplicates' | 'zero-area' | 'stitch' | 'orient' | 'split-nonmanifold' | 'fill-holes' | 'small-shells';
 
 /** planRepair() options; the defaults are REPAIR_DEFAULTS (and `stltopo repair`'s). */
 export interface RepairOptions {
-  /** Default ['duplicates', 'zero-area', 'stitch', 'fill-holes', 'orient']. */
+  /** Default ['duplicates', 'zero-area', 'stitch', 'orient', 'fill-holes']. */
   steps?: RepairStep[];
   /** duplicates: also remove groups whose members face both ways (zero-thickness walls). */
   removeWalls?: boolean;

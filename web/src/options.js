@@ -140,11 +140,11 @@ export function normalizeIndexedOptions(options) {
 }
 
 /** The repair steps, in the order they run (include/stltopo/repair.h). */
-export const REPAIR_STEPS = Object.freeze(['duplicates', 'zero-area', 'stitch', 'split-nonmanifold', 'fill-holes', 'orient',
+export const REPAIR_STEPS = Object.freeze(['duplicates', 'zero-area', 'stitch', 'orient', 'split-nonmanifold', 'fill-holes',
   'small-shells']);
 /** The defaults of planRepair() and of `stltopo repair` (RepairOptions). */
 export const REPAIR_DEFAULTS = Object.freeze({
-  steps: Object.freeze(['duplicates', 'zero-area', 'stitch', 'fill-holes', 'orient']),
+  steps: Object.freeze(['duplicates', 'zero-area', 'stitch', 'orient', 'fill-holes']),
   removeWalls: false,
   stitchTolerance: 0,
   maxHoleEdges: 1000,

@@ -1,0 +1,101 @@
+// In-process timer of the repair (issue 23): a plain load (read + buildTopology, the
+// `info` path), planRepair, and applyRepair with the time of each step (RepairOptions::onStep),
+// medians of N runs. Prints one JSON object.
+//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "stltopo/stltopo.h"
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+struct StepTimes {
+  std::map<std::string, double> seconds;
+  Clock::time_point t0;
+};
+void onStep(void* user, stltopo::RepairStepKind k, bool done) {
+  auto* st = static_cast<StepTimes*>(user);
+  if (!done) st->t0 = Clock::now();
+  else st->seconds[stltopo::repairStepName(k)] += since(st->t0);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections]\n");
+    return 2;
+  }
+  int reps = 3;
+  stltopo::RepairOptions ro;
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--no-intersections")) ro.intersections = false;
+    else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
+      ro.steps = 0;
+      std::string list = argv[++i];
+      size_t a = 0;
+      while (a <= list.size()) {
+        size_t b = list.find(',', a);
+        if (b == std::string::npos) b = list.size();
+        stltopo::RepairStepKind k;
+        if (!stltopo::repairStepFromName(list.substr(a, b - a), k)) { std::fprintf(stderr, "unknown step\n"); return 2; }
+        ro.steps |= stltopo::repairStepBit(k);
+        a = b + 1;
+      }
+    }
+  }
+  std::ifstream f(argv[1], std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<double> load, plan, apply, init;
+  std::map<std::string, std::vector<double>> steps;
+  stltopo::RepairLog last;
+  for (int r = 0; r < reps; ++r) {
+    auto t0 = Clock::now();
+    stltopo::Mesh mesh;
+    stltopo::Topology topo;
+    if (!stltopo::readStl(bytes.data(), bytes.size(), mesh).ok()) return 1;
+    stltopo::TopologyOptions lean;
+    lean.prevAndFace = false;
+    if (!stltopo::buildTopology(mesh, topo, lean).ok()) return 1;
+    load.push_back(since(t0));
+    t0 = Clock::now();
+    stltopo::RepairPlan p;
+    if (!stltopo::planRepair(mesh, ro, p).ok()) return 1;
+    plan.push_back(since(t0));
+    t0 = Clock::now();
+    stltopo::EditableMesh em;
+    if (!em.init(mesh).ok()) return 1;
+    init.push_back(since(t0));
+    StepTimes st;
+    p.options.onStep = onStep;
+    p.options.user = &st;
+    t0 = Clock::now();
+    stltopo::RepairLog log;
+    if (!stltopo::applyRepair(em, p, log).ok()) return 1;
+    apply.push_back(since(t0));
+    for (auto& [k, v] : st.seconds) steps[k].push_back(v);
+    if (r + 1 == reps) last = std::move(log);
+  }
+  std::printf("{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"steps\":{", last.before.stats.triangles,
+              median(load), median(plan), median(init), median(apply));
+  bool first = true;
+  for (auto& [k, v] : steps) {
+    std::printf("%s\"%s\":%.4f", first ? "" : ",", k.c_str(), median(v));
+    first = false;
+  }
+  std::printf("},\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
+              last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
+              last.after.stats.inconsistentEdges, last.after.solid ? "true" : "false");
+  return 0;
+}
