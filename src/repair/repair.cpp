@@ -566,11 +566,12 @@ Status undoRepairStep(EditableMesh& em, RepairLog& log) {
   s = checkAttributes(em);
   if (!s.ok()) return s;
   Mesh b;
-  if (L.status.ok()) {
+  if (L.status.ok() && L.itemsDone > 0) {
     s = meshBefore(after, L, b);
     if (!s.ok()) return s;
   } else {
-    // A failed step left the mesh as before it: nothing to undo but the entry.
+    // A failed step left the mesh as before it, and a step that did no item changed
+    // nothing: nothing to undo but the entry.
     log.steps.pop_back();
     return Status{};
   }
