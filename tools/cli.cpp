@@ -1,4 +1,4 @@
-// stltopo command-line tool: `stltopo info [--json] FILE...`, `stltopo convert IN OUT`
+// stltopo command-line tool: `stltopo info [--json] [--jobs N] [--list LIST] FILE|DIR...`, `stltopo convert IN OUT`, `split`
 // The only part of the project that does file I/O and printing.
 #include <dirent.h>
 #include <fcntl.h>
