@@ -1,4 +1,5 @@
-// stltopo command-line tool: `stltopo info [--json] [--jobs N] [--list LIST] FILE|DIR...`, `stltopo convert IN OUT`, `split`
+// stltopo command-line tool: `stltopo info [--json] [--jobs N] [--list LIST] FILE|DIR...`,
+// `stltopo convert IN OUT`, `stltopo split IN OUTDIR`.
 // The only part of the project that does file I/O and printing.
 #include <dirent.h>
 #include <fcntl.h>
@@ -13,11 +14,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <condition_variable>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -584,11 +585,11 @@ int main(int argc, char** argv) {
   const bool defects = a.defects || !a.json;
 
   // Standard input is read once: by one --list, or as one file, not both.
-  bool listFromStdin = false, fileFromStdin = false;
-  for (const Args::Arg& in : a.inputs) (in.list ? listFromStdin : fileFromStdin) |= in.path == "-";
-  if (listFromStdin && (fileFromStdin || std::count_if(a.inputs.begin(), a.inputs.end(), [](const Args::Arg& in) {
-                                           return in.list && in.path == "-";
-                                         }) > 1)) {
+  size_t stdinLists = 0;
+  bool stdinFile = false;
+  for (const Args::Arg& in : a.inputs)
+    if (in.path == "-") (in.list ? void(++stdinLists) : void(stdinFile = true));
+  if (stdinLists > 1 || (stdinLists > 0 && stdinFile)) {
     std::fprintf(stderr, "stltopo: '--list -' reads standard input: no other input can\n");
     return 2;
   }
