@@ -160,8 +160,10 @@ def main(argv):
                 flags += [s, v]
         elif os.fsdecode(s) in BOOL_FLAGS:
             flags.append(s)
+        elif s == b"--jobs":
+            usage_error("--jobs is the cluster's: one task per worker thread (--local N, dask-worker --nworkers)")
         else:
-            usage_error("unknown option '%s' (--jobs too: the workers are the jobs)" % os.fsdecode(s))
+            usage_error("unknown option '%s'" % os.fsdecode(s))
     if not inputs:
         usage_error("no input files")
     if sum(1 for p, is_list in inputs if is_list and p == b"-") > 1:
