@@ -33,6 +33,9 @@ run t1 --shells tests/fixtures
 run t3 --shells --jobs 3 tests/fixtures
 same t1 t3
 grep -q ': truncated: ' "$tmp/t1.err" || fail "no failing file in the text run"
+run g1 --json --intersections --defects --tolerance 0.001 tests/judge/cases tests/fixtures
+run g3 --json --intersections --defects --tolerance 0.001 --jobs 3 tests/judge/cases tests/fixtures
+same g1 g3
 
 # The DIR, the files as arguments, the files in a list (CRLF and blank lines), mixed.
 # shellcheck disable=SC2086

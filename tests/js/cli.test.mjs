@@ -132,6 +132,8 @@ test('corpus: DIRs, --list and --jobs N print the same bytes in both CLIs, failu
   const text = assertSameRun(['info', '--shells', 'tests/fixtures']);
   const text3 = assertSameRun(['info', '--shells', '--jobs', '3', 'tests/fixtures']);
   assert.ok(text3.stdout.equals(text.stdout) && text3.stderr.equals(text.stderr) && text.stderr.length > 0);
+  const geo = ['info', '--json', '--intersections', '--defects', '--tolerance', '0.001', 'tests/judge/cases'];
+  assert.ok(assertSameRun([...geo, '--jobs', '2']).stdout.equals(assertSameRun(geo).stdout), '--intersections --jobs 2');
   // The DIR = its files as arguments (sorted bytewise) = the same files in a --list.
   assert.ok(assertSameRun(['info', '--json', ...stl]).stdout.equals(serial.stdout), 'DIR vs files');
   const list = path.join(tmp, 'list.txt');
