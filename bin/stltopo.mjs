@@ -1,5 +1,5 @@
 #!/usr/bin/env node
-// npm CLI: `npx stltopo info [--json] FILE...`, `convert IN OUT` and `split IN OUTDIR` on the wasm build.
+// npm CLI: `npx stltopo info [--json] [--jobs N] [--list LIST] FILE|DIR...`, `convert IN OUT` and `split IN OUTDIR` on the wasm build.
 // Mirrors the native CLI (tools/cli.cpp): the same usage text, options, exit codes
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
@@ -11,15 +11,22 @@ import { DEFAULTS, REPAIR_DEFAULTS, REPAIR_STEPS, normalizeOptions } from '../di
 import { EditableMesh } from '../dist/node.js';
 import { RAW_JSON } from '../dist/edit.js';
 import { cliCalls } from './cli-wasm.mjs';
+import { expand, readList, reportAll, stdinSource, strerror } from './cli-corpus.mjs';
 
 const _internal = api.internal;
 const wasm = cliCalls(_internal);
 
 const USAGE =
   "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
-  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
+  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N]\n" +
+  "                    [--jobs N] [--list LIST]... FILE|DIR...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
+  "  A DIR is searched recursively for *.stl files (any case), sorted bytewise by path\n" +
+  "  (links to directories are not followed); --list LIST reads FILE and DIR arguments\n" +
+  "  from LIST, one per line ('-': standard input). Files are reported in the order\n" +
+  "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n" +
+  "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
@@ -42,30 +49,6 @@ const USAGE =
   "  complete. Exit status: 0 when the result is watertight, manifold and solid, 3 when it\n" +
   "  is not (the JSON says which), 1 on failure (error JSON on stderr), 2 on usage errors.\n";
 
-// strerror(3) texts (glibc) for the errors fopen/fread report most often.
-const STRERROR = {
-  ENOENT: 'No such file or directory',
-  EEXIST: 'File exists',
-  EACCES: 'Permission denied',
-  EISDIR: 'Is a directory',
-  ENOTDIR: 'Not a directory',
-  ELOOP: 'Too many levels of symbolic links',
-  ENAMETOOLONG: 'File name too long',
-  EMFILE: 'Too many open files',
-  ENFILE: 'Too many open files in system',
-  EIO: 'Input/output error',
-  EPERM: 'Operation not permitted',
-  ENXIO: 'No such device or address',
-  ENODEV: 'No such device',
-  EINVAL: 'Invalid argument',
-  EROFS: 'Read-only file system',
-  EBUSY: 'Device or resource busy',
-  ETXTBSY: 'Text file busy',
-  EOVERFLOW: 'Value too large for defined data type',
-  ENOMEM: 'Cannot allocate memory',
-};
-const strerror = (e) => STRERROR[e && e.code] || (e && e.message) || String(e);
-
 function write(stream, text) {
   return new Promise((resolve) => {
     if (stream.write(text)) resolve();
@@ -76,18 +59,6 @@ function write(stream, text) {
 function usageError(message) {
   process.stderr.write(message);
   process.exitCode = 2;
-}
-
-function stdinSource() {
-  const it = process.stdin[Symbol.asyncIterator]();
-  return {
-    total: 0,
-    async next() {
-      const { done, value } = await it.next();
-      return done ? null : value;
-    },
-    cancel() {},
-  };
 }
 
 async function main(argv) {
@@ -103,7 +74,7 @@ async function main(argv) {
   const a = {
     json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
     maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, intersections: false,
-    maxPairs: DEFAULTS.maxPairs, files: [],
+    maxPairs: DEFAULTS.maxPairs, jobs: 1, inputs: [],
   };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
@@ -153,49 +124,45 @@ async function main(argv) {
       const n = parseCUnsigned(v);
       if (n === null || n === 0n) return usageError(`stltopo: bad --max-bytes '${v}'\n`);
       a.maxBytes = Number(n);
+    } else if (!endOfOptions && s === '--jobs') {
+      const v = value('--jobs');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n === 0n || n > 256n) return usageError(`stltopo: bad --jobs '${v}' (1 to 256)\n`);
+      a.jobs = Number(n);
+    } else if (!endOfOptions && s === '--list') {
+      const v = value('--list');
+      if (v === null) return;
+      a.inputs.push({ path: v, list: true });
     } else if (!endOfOptions && s.length > 1 && s[0] === '-') {
       return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
     } else {
-      a.files.push(s);
+      a.inputs.push({ path: s, list: false });
     }
   }
-  if (a.files.length === 0) return usageError(`stltopo: no input files\n${USAGE}`);
+  if (a.inputs.length === 0) return usageError(`stltopo: no input files\n${USAGE}`);
   if (!a.topology && (a.shells || a.defects || a.intersections)) {
     return usageError('stltopo: --shells, --defects and --intersections need the topology (not --no-topology)\n');
   }
 
-  let rc = 0;
-  for (const file of a.files) {
-    const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles,
-      maxBytes: a.maxBytes, shells: a.shells, defects: a.defects, maxDefects: a.maxDefects,
-      intersections: a.intersections, maxPairs: a.maxPairs };
-    let r;
-    if (file === '-') {
-      r = await wasm.report(stdinSource(), opts);
-    } else {
-      let source = null;
-      try {
-        source = await fileSource(file);
-      } catch (e) {
-        r = await failed(file, a.json, `invalid-argument: cannot open ${file}: ${strerror(e)}`);
-      }
-      if (source) {
-        try {
-          r = await wasm.report(source, opts);
-        } catch (e) {
-          if (!e || !e.code || !String(e.code).startsWith('E')) throw e;
-          r = await failed(file, a.json, `invalid-argument: read error on ${file}: ${strerror(e)}`);
-        }
-      }
-    }
-    if (r.ok) {
-      await write(process.stdout, r.text);
-    } else {
-      rc = 1;
-      await write(a.json ? process.stdout : process.stderr, r.text);
-    }
+  // Standard input is read once: by one --list, or as one file, not both.
+  const stdinLists = a.inputs.filter((x) => x.list && x.path === '-').length;
+  if (stdinLists > 0 && (stdinLists > 1 || a.inputs.some((x) => !x.list && x.path === '-'))) {
+    return usageError("stltopo: '--list -' reads standard input: no other input can\n");
   }
-  process.exitCode = rc;
+  const inputs = [];
+  for (const x of a.inputs) {
+    if (!x.list) {
+      expand(x.path, inputs);
+      continue;
+    }
+    const error = await readList(x.path, inputs);
+    if (error) return usageError(error);
+  }
+  // '-' more than once: each reads what the one before left, so in order, on one thread.
+  const jobs = inputs.filter((x) => x.path === '-').length > 1 ? 1 : a.jobs;
+  process.exitCode = await reportAll(inputs, a, jobs,
+    (r) => write(r.ok || a.json ? process.stdout : process.stderr, r.text));
 }
 
 // `stltopo convert`, as tools/cli.cpp: the same options, messages, exit codes and bytes
@@ -483,11 +450,6 @@ async function repair(argv) {
   } finally {
     if (em) em.dispose();
   }
-}
-
-async function failed(file, json, message) {
-  const err = { code: 'invalid-argument', message };
-  return { ok: false, text: json ? `${await _internal.errorJson(file, err)}\n` : `${file}: ${message}\n` };
 }
 
 // strtoull(3) base 10 on the whole string: leading space, a sign (a minus

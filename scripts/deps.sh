@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what a fresh Debian machine lacks. Usage: scripts/deps.sh native|wasm|browser|bench|fuzz ...
+# Installs what a fresh Debian machine lacks. Usage: scripts/deps.sh native|wasm|browser|bench|fuzz|dask ...
 # Each group is checked first and installed only when something is missing.
 # A top-level command (scripts/test.sh, start.sh, bench.sh, ...) installs the union of what it
 # needs once and exports STLTOPO_DEPS_INSTALLED=1; the scripts it runs then skip this check.
@@ -14,6 +14,7 @@ for group in "$@"; do
     browser) want chromium ;;
     bench) want admesh; want libbenchmark-dev ;;
     fuzz) want clang; want libclang-rt-14-dev ;;
+    dask) want python3-distributed ;;  # scripts/dask_corpus.py and its test (/usr/bin/python3)
     *) echo "deps.sh: unknown group $group" >&2; exit 2 ;;
   esac
 done

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Native build + GoogleTest + the independent reference check + CMake consumers.
+# Native build + GoogleTest (and the CLI's corpus tests, the Dask recipe among them) + the
+# independent reference check + CMake consumers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/deps.sh native
+bash scripts/deps.sh native dask
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_TESTS=ON >/dev/null
 cmake --build build -j2
 (cd build && ctest --output-on-failure --no-tests=error -j2)

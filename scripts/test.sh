@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Every system package of every suite, once; the suites' own deps.sh calls are then no-ops.
-bash scripts/deps.sh native wasm browser bench fuzz
+bash scripts/deps.sh native wasm browser bench fuzz dask
 export STLTOPO_DEPS_INSTALLED=1
 step() {
   local name=$1; shift

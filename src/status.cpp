@@ -79,18 +79,14 @@ Status Status::error(Code c, const std::string& msg, uint64_t offset, uint64_t l
   return s;
 }
 
-namespace {
-// The probe's block is stored here before it is freed, so that the compiler cannot drop
-// the malloc/free pair as unused.
-void* volatile probeSink = nullptr;
-}  // namespace
-
 bool detail::canAllocate(size_t bytes) {
   void* p = std::malloc(bytes);
   if (!p) return false;
-  probeSink = p;
-  std::free(probeSink);
-  probeSink = nullptr;
+  // The block goes through a volatile so that the compiler cannot drop the malloc/free pair
+  // as unused. A local one: threads that probe at once (info --jobs N) each free their own
+  // block (a shared global let one thread free another's block twice).
+  void* volatile sink = p;
+  std::free(sink);
   return true;
 }
 

@@ -1,6 +1,9 @@
-// stltopo command-line tool: `stltopo info [--json] FILE...`, `stltopo convert IN OUT`
+// stltopo command-line tool: `stltopo info [--json] [--jobs N] [--list LIST] FILE|DIR...`,
+// `stltopo convert IN OUT`, `stltopo split IN OUTDIR`.
 // The only part of the project that does file I/O and printing.
+#include <dirent.h>
 #include <fcntl.h>
+#include <strings.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -10,12 +13,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "stltopo/stltopo.h"
@@ -24,9 +31,15 @@ namespace {
 
 const char* kUsage =
     "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n"
-    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n"
+    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N]\n"
+    "                    [--jobs N] [--list LIST]... FILE|DIR...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
+    "  A DIR is searched recursively for *.stl files (any case), sorted bytewise by path\n"
+    "  (links to directories are not followed); --list LIST reads FILE and DIR arguments\n"
+    "  from LIST, one per line ('-': standard input). Files are reported in the order\n"
+    "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n"
+    "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
@@ -56,7 +69,13 @@ struct Args {
   double tolerance = 0;
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
-  std::vector<std::string> files;
+  unsigned jobs = 1;
+  // The inputs in the order given: a FILE or DIR argument, or (list true) a --list LIST.
+  struct Arg {
+    std::string path;
+    bool list;
+  };
+  std::vector<Arg> inputs;
 };
 
 // Reads one file (or stdin) through the streaming reader: a regular file is mapped
@@ -102,6 +121,226 @@ stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& ba
   if (f != stdin) std::fclose(f);
   if (s.ok()) s = reader.finish(mesh);
   return s;
+}
+
+// One file to report: a path ('-': standard input), or a directory that could not be
+// searched (err: its errno), reported as a failed file under its own path.
+struct Input {
+  std::string path;
+  int err = 0;
+};
+
+// A *.stl name, any case (bin/cli-corpus.mjs isStlName is the same rule).
+bool isStlName(const char* name) {
+  size_t n = std::strlen(name);
+  return n >= 4 && strcasecmp(name + n - 4, ".stl") == 0;
+}
+
+// Appends the *.stl files under the directory `root` to `out`, sorted bytewise by path:
+// regular files, and links to regular files or to nothing (a broken link is reported as a
+// file that cannot be opened). Links to directories are not followed, so a link loop
+// cannot make the walk endless; a directory that cannot be read is an Input with its errno.
+// bin/cli-corpus.mjs walk() is the same walk.
+void walk(const std::string& root, std::vector<Input>& out) {
+  std::vector<Input> found;
+  std::vector<std::string> dirs{root};
+  while (!dirs.empty()) {
+    std::string dir = std::move(dirs.back());
+    dirs.pop_back();
+    DIR* d = opendir(dir.c_str());
+    if (!d) {
+      found.push_back({dir, errno ? errno : EIO});
+      continue;
+    }
+    const std::string prefix = dir.back() == '/' ? dir : dir + "/";
+    while (const dirent* e = readdir(d)) {
+      if (std::strcmp(e->d_name, ".") == 0 || std::strcmp(e->d_name, "..") == 0) continue;
+      std::string p = prefix + e->d_name;
+      unsigned char type = e->d_type;
+      struct stat st;
+      if (type == DT_UNKNOWN) {
+        if (lstat(p.c_str(), &st) != 0) continue;  // gone since readdir
+        type = S_ISDIR(st.st_mode) ? DT_DIR : S_ISLNK(st.st_mode) ? DT_LNK : S_ISREG(st.st_mode) ? DT_REG : DT_UNKNOWN;
+      }
+      if (type == DT_DIR) {
+        dirs.push_back(std::move(p));
+      } else if (isStlName(e->d_name)) {
+        if (type == DT_REG || (type == DT_LNK && (stat(p.c_str(), &st) != 0 || S_ISREG(st.st_mode))))
+          found.push_back({std::move(p), 0});
+      }
+    }
+    closedir(d);
+  }
+  std::sort(found.begin(), found.end(), [](const Input& x, const Input& y) { return x.path < y.path; });
+  for (Input& f : found) out.push_back(std::move(f));
+}
+
+// A FILE or DIR argument (or a line of a list): a directory is walked, anything else
+// (standard input, a file, a path that does not exist) is one input.
+void expand(const std::string& arg, std::vector<Input>& out) {
+  struct stat st;
+  if (arg != "-" && stat(arg.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) walk(arg, out);
+  else out.push_back({arg, 0});
+}
+
+// Reads a --list: one FILE or DIR per line, '\r\n' or '\n', empty lines skipped.
+// Empty string on success, else the usage error to print.
+std::string readList(const std::string& list, std::vector<Input>& out) {
+  FILE* f = list == "-" ? stdin : std::fopen(list.c_str(), "rb");
+  if (!f) return "stltopo: cannot read the list " + list + ": " + std::strerror(errno) + "\n";
+  std::string text;
+  char buf[1 << 16];
+  int err = 0;
+  for (;;) {
+    size_t n = std::fread(buf, 1, sizeof buf, f);
+    text.append(buf, n);
+    if (n < sizeof buf) {
+      if (std::ferror(f)) err = errno ? errno : EIO;
+      break;
+    }
+  }
+  if (f != stdin) std::fclose(f);
+  if (err) return "stltopo: cannot read the list " + list + ": " + std::strerror(err) + "\n";
+  size_t line = 0;
+  for (size_t at = 0; at < text.size();) {
+    size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    std::string path = text.substr(at, end - at);
+    at = end + 1;
+    ++line;
+    if (!path.empty() && path.back() == '\r') path.pop_back();
+    if (path.find('\0') != std::string::npos)
+      return "stltopo: the list " + list + " has a NUL byte on line " + std::to_string(line) + "\n";
+    if (!path.empty()) expand(path, out);
+  }
+  return "";
+}
+
+// What `info` does to every file (from the options of the command line).
+struct InfoConfig {
+  bool json, topology, shells, defects, intersections;
+  stltopo::ReadOptions ro;
+  stltopo::TopologyOptions to;
+  stltopo::IntersectionOptions io;
+  uint32_t maxDefects;
+};
+
+// The report of one input: what goes to standard output and to standard error.
+struct Result {
+  bool ok = true;
+  std::string out, err;
+};
+
+Result reportOne(const Input& in, const InfoConfig& c) {
+  Result r;
+  const std::string& file = in.path;
+  stltopo::Mesh mesh;
+  stltopo::Topology topo;
+  stltopo::Status s = in.err ? stltopo::Status::error(stltopo::Code::InvalidArgument,
+                                                      "cannot open " + file + ": " + std::strerror(in.err))
+                             : readFile(file, c.ro, mesh);
+  if (s.ok() && c.topology) s = stltopo::buildTopology(mesh, topo, c.to);
+  stltopo::Array<stltopo::Shell> shells;
+  stltopo::Defects found;
+  stltopo::GeometryReport geo;
+  // With --intersections, analyzeGeometry builds the shell list: it is not built twice.
+  if (s.ok() && c.topology && c.to.triangleShell && (c.defects || (c.shells && !c.intersections)))
+    s = stltopo::findShellsAndDefects(mesh, topo, c.shells && !c.intersections ? &shells : nullptr,
+                                      c.defects ? &found : nullptr);
+  if (s.ok() && c.topology && c.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, c.io);
+  if (!s.ok()) {
+    r.ok = false;
+    if (c.json) r.out = stltopo::errorJson(file, s) + "\n";
+    else r.err = file + ": " + s.message + "\n";
+    return r;
+  }
+  const stltopo::Topology* t = c.topology ? &topo : nullptr;
+  stltopo::ReportExtras extras;
+  extras.maxDefects = c.maxDefects;
+  extras.shells = c.shells && t ? (c.intersections ? &geo.shells : &shells) : nullptr;
+  extras.defects = c.defects && t ? &found : nullptr;
+  extras.checks = c.intersections && t ? &geo.checks : nullptr;
+  extras.intersections = c.intersections && t ? &geo.intersections : nullptr;
+  extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
+  extras.solid = geo.solid;
+  r.out = c.json ? stltopo::infoJson(file, mesh, t, extras) + "\n" : stltopo::infoText(file, mesh, t, extras);
+  return r;
+}
+
+// Prints one report; false when the file failed.
+bool print(const Result& r) {
+  if (!r.out.empty()) std::fwrite(r.out.data(), 1, r.out.size(), stdout);
+  if (!r.err.empty()) {
+    std::fflush(stdout);
+    std::fwrite(r.err.data(), 1, r.err.size(), stderr);
+  }
+  return r.ok;
+}
+
+// Reports every input in order with `jobs` threads: each takes the next index, and the
+// main thread prints the reports in input order. A thread starts input i only when it is
+// fewer than `window` inputs after the first one not yet printed, so a slow file holds at
+// most `window` finished reports in memory. 0 when every file was read, else 1.
+int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jobs) {
+  const size_t n = inputs.size();
+  int rc = 0;
+  if (jobs > n) jobs = unsigned(n);
+  if (jobs <= 1) {
+    for (const Input& in : inputs)
+      if (!print(reportOne(in, c))) rc = 1;
+    return rc;
+  }
+  const size_t window = size_t(jobs) * 4;
+  std::vector<Result> slots(window);
+  std::vector<char> ready(window, 0);
+  std::atomic<size_t> next{0};
+  size_t head = 0;  // the first input not yet printed (under mu)
+  std::mutex mu;
+  std::condition_variable space, done;
+  auto work = [&] {
+    for (;;) {
+      const size_t i = next.fetch_add(1);
+      if (i >= n) return;
+      {
+        std::unique_lock<std::mutex> lock(mu);
+        space.wait(lock, [&] { return i < head + window; });
+      }
+      Result r = reportOne(inputs[i], c);
+      {
+        std::lock_guard<std::mutex> lock(mu);
+        slots[i % window] = std::move(r);
+        ready[i % window] = 1;
+      }
+      done.notify_one();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned k = 0; k < jobs; ++k) {
+    try {
+      threads.emplace_back(work);
+    } catch (const std::system_error&) {
+      break;  // fewer threads than asked: the ones running do the work
+    }
+  }
+  if (threads.empty()) {  // no thread could start: this one does everything, in order
+    for (const Input& in : inputs)
+      if (!print(reportOne(in, c))) rc = 1;
+    return rc;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    Result r;
+    {
+      std::unique_lock<std::mutex> lock(mu);
+      done.wait(lock, [&] { return ready[k % window] != 0; });
+      r = std::move(slots[k % window]);
+      ready[k % window] = 0;
+      head = k + 1;
+    }
+    space.notify_all();
+    if (!print(r)) rc = 1;
+  }
+  for (std::thread& t : threads) t.join();
+  return rc;
 }
 
 // The output of `convert`: standard output, or a temporary file next to OUT that is
@@ -466,14 +705,22 @@ int main(int argc, char** argv) {
       unsigned long long n = std::strtoull(v, &end, 10);
       if (*end || n == 0) { std::fprintf(stderr, "stltopo: bad --max-bytes '%s'\n", v); return 2; }
       a.maxBytes = n;
+    } else if (!endOfOptions && s == "--jobs") {
+      const char* v = value("--jobs");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-' || n == 0 || n > 256) { std::fprintf(stderr, "stltopo: bad --jobs '%s' (1 to 256)\n", v); return 2; }
+      a.jobs = unsigned(n);
+    } else if (!endOfOptions && s == "--list") {
+      a.inputs.push_back({value("--list"), true});
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
       return 2;
     } else {
-      a.files.push_back(s);
+      a.inputs.push_back({s, false});
     }
   }
-  if (a.files.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
+  if (a.inputs.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
   if (!a.topology && (a.shells || a.defects || a.intersections)) {
     std::fprintf(stderr, "stltopo: --shells, --defects and --intersections need the topology (not --no-topology)\n");
     return 2;
@@ -482,46 +729,43 @@ int main(int argc, char** argv) {
   // The text report always lists the first few defects of each kind.
   const bool defects = a.defects || !a.json;
 
-  int rc = 0;
-  stltopo::ReadOptions ro;
-  ro.maxTriangles = a.maxTriangles;
-  ro.maxBytes = a.maxBytes;
-  stltopo::TopologyOptions to;
-  to.tolerance = a.tolerance;
-  to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
-  to.triangleShell = a.topology && (a.shells || defects || a.intersections);
-  stltopo::IntersectionOptions io;
-  io.maxPairs = a.maxPairs;
-  stltopo::ReportExtras extras;
-  extras.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
-  for (const std::string& file : a.files) {
-    stltopo::Mesh mesh;
-    stltopo::Topology topo;
-    stltopo::Status s = readFile(file, ro, mesh);
-    if (s.ok() && a.topology) s = stltopo::buildTopology(mesh, topo, to);
-    stltopo::Array<stltopo::Shell> shells;
-    stltopo::Defects found;
-    stltopo::GeometryReport geo;
-    // With --intersections, analyzeGeometry builds the shell list: it is not built twice.
-    if (s.ok() && a.topology && to.triangleShell && (defects || (a.shells && !a.intersections)))
-      s = stltopo::findShellsAndDefects(mesh, topo, a.shells && !a.intersections ? &shells : nullptr,
-                                        defects ? &found : nullptr);
-    if (s.ok() && a.topology && a.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, io);
-    if (!s.ok()) {
-      rc = 1;
-      if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
-      else std::fprintf(stderr, "%s: %s\n", file.c_str(), s.message.c_str());
+  // Standard input is read once: by one --list, or as one file, not both.
+  size_t stdinLists = 0;
+  bool stdinFile = false;
+  for (const Args::Arg& in : a.inputs)
+    if (in.path == "-") (in.list ? void(++stdinLists) : void(stdinFile = true));
+  if (stdinLists > 1 || (stdinLists > 0 && stdinFile)) {
+    std::fprintf(stderr, "stltopo: '--list -' reads standard input: no other input can\n");
+    return 2;
+  }
+  std::vector<Input> inputs;
+  for (const Args::Arg& in : a.inputs) {
+    if (!in.list) {
+      expand(in.path, inputs);
       continue;
     }
-    const stltopo::Topology* t = a.topology ? &topo : nullptr;
-    extras.shells = a.shells && t ? (a.intersections ? &geo.shells : &shells) : nullptr;
-    extras.defects = defects && t ? &found : nullptr;
-    extras.checks = a.intersections && t ? &geo.checks : nullptr;
-    extras.intersections = a.intersections && t ? &geo.intersections : nullptr;
-    extras.nesting = a.intersections && t ? &geo.nesting : nullptr;
-    extras.solid = geo.solid;
-    if (a.json) std::printf("%s\n", stltopo::infoJson(file, mesh, t, extras).c_str());
-    else std::fputs(stltopo::infoText(file, mesh, t, extras).c_str(), stdout);
+    std::string error = readList(in.path, inputs);
+    if (!error.empty()) {
+      std::fputs(error.c_str(), stderr);
+      return 2;
+    }
   }
-  return rc;
+  // '-' more than once: each reads what the one before left, so in order, on one thread.
+  unsigned jobs = a.jobs;
+  if (std::count_if(inputs.begin(), inputs.end(), [](const Input& in) { return in.path == "-"; }) > 1) jobs = 1;
+
+  InfoConfig c;
+  c.json = a.json;
+  c.topology = a.topology;
+  c.shells = a.shells;
+  c.defects = defects;
+  c.intersections = a.intersections;
+  c.ro.maxTriangles = a.maxTriangles;
+  c.ro.maxBytes = a.maxBytes;
+  c.to.tolerance = a.tolerance;
+  c.to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
+  c.to.triangleShell = a.topology && (a.shells || defects || a.intersections);
+  c.io.maxPairs = a.maxPairs;
+  c.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
+  return reportAll(inputs, c, jobs);
 }

@@ -4,7 +4,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { readFileSync, readdirSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, symlinkSync, writeFileSync } from 'node:fs';
+import os from 'node:os';
 import path from 'node:path';
 import { fixtures, fixture, nativeCli, haveNativeCli, root } from './helpers.mjs';
 
@@ -47,8 +48,8 @@ test('--json: byte-identical on every fixture, one file per run', { skip }, () =
   assert.ok(failures > 0 && failures < files.length);
 });
 
-test('--json and text, all fixtures in one run, with missing files and a directory', { skip }, () => {
-  const all = [...files, 'no/such/file.stl', 'tests'];
+test('--json and text, all fixtures in one run, with missing files', { skip }, () => {
+  const all = [...files, 'no/such/file.stl', 'tests/fixtures/SOURCES.md'];
   const a = assertSameRun(['info', '--json', ...all]);
   assert.equal(a.status, 1);
   assert.equal(a.stdout.toString().trimEnd().split('\n').length, all.length);
@@ -114,4 +115,63 @@ test('usage errors and help: exit code 2 / 0, same messages', { skip }, () => {
   }
   assert.equal(wasm([]).status, 2);
   assert.equal(wasm(['--help']).status, 0);
+});
+
+test('corpus: DIRs, --list and --jobs N print the same bytes in both CLIs, failures in place', { skip }, (t) => {
+  const tmp = mkdtempSync(path.join(os.tmpdir(), 'stltopo-corpus-'));
+  t.after(() => rmSync(tmp, { recursive: true, force: true }));
+  const stl = files.filter((f) => /\.stl$/i.test(f)).sort((x, y) => Buffer.compare(Buffer.from(x), Buffer.from(y)));
+  const serial = assertSameRun(['info', '--json', 'tests/fixtures']);
+  assert.equal(serial.status, 1);
+  assert.equal(serial.stdout.toString().trimEnd().split('\n').length, stl.length);
+  // --jobs N: the same bytes as one job, JSON and text (errors on stderr).
+  for (const jobs of ['2', '3']) {
+    const r = assertSameRun(['info', '--json', '--jobs', jobs, 'tests/fixtures']);
+    assert.ok(r.stdout.equals(serial.stdout), `--jobs ${jobs}`);
+  }
+  const text = assertSameRun(['info', '--shells', 'tests/fixtures']);
+  const text3 = assertSameRun(['info', '--shells', '--jobs', '3', 'tests/fixtures']);
+  assert.ok(text3.stdout.equals(text.stdout) && text3.stderr.equals(text.stderr) && text.stderr.length > 0);
+  const geo = ['info', '--json', '--intersections', '--defects', '--tolerance', '0.001', 'tests/judge/cases'];
+  assert.ok(assertSameRun([...geo, '--jobs', '2']).stdout.equals(assertSameRun(geo).stdout), '--intersections --jobs 2');
+  // The DIR = its files as arguments (sorted bytewise) = the same files in a --list.
+  assert.ok(assertSameRun(['info', '--json', ...stl]).stdout.equals(serial.stdout), 'DIR vs files');
+  const list = path.join(tmp, 'list.txt');
+  writeFileSync(list, `\n${stl.join('\r\n')}\n\n`);
+  assert.ok(assertSameRun(['info', '--json', '--jobs', '3', '--list', list]).stdout.equals(serial.stdout), 'DIR vs --list');
+  assert.ok(assertSameRun(['info', '--json', '--list', '-'], readFileSync(list)).stdout.equals(serial.stdout), '--list -');
+  // A missing and a broken file in the middle: reported in place, the rest still read, exit 1.
+  const good = path.relative(root, fixture('bunny.stl'));
+  const broken = path.join(tmp, 'broken.stl');
+  writeFileSync(broken, 'solid x\nfacet normal 0 0 0\n');
+  for (const jobs of ['1', '3']) {
+    const r = assertSameRun(['info', '--json', '--jobs', jobs, good, 'no/such/file.stl', broken, 'tests/fixtures', good]);
+    assert.equal(r.status, 1);
+    const lines = r.stdout.toString().trimEnd().split('\n');
+    assert.equal(lines.length, stl.length + 4);
+    assert.match(lines[1], /^\{"file":"no\/such\/file\.stl","error":\{"code":"invalid-argument"/);
+    assert.match(lines[2], /"error":\{"code":"/);
+    assert.equal(lines[3], serial.stdout.toString().split('\n')[0]);
+    assert.match(lines[lines.length - 1], /^\{"file":"[^"]*bunny\.stl","format":"binary"/);
+  }
+  // A DIR with a link loop, a broken link, a link to a file, upper-case extensions, a non-STL file.
+  const dir = path.join(tmp, 'd');
+  mkdirSync(path.join(dir, 'sub'), { recursive: true });
+  writeFileSync(path.join(dir, 'sub', 'A.STL'), readFileSync(fixture('bunny.stl')));
+  writeFileSync(path.join(dir, 'notes.txt'), 'not an STL file');
+  symlinkSync('..', path.join(dir, 'sub', 'loop'));
+  symlinkSync('nothing.stl', path.join(dir, 'gone.stl'));
+  symlinkSync('sub/A.STL', path.join(dir, 'b.Stl'));
+  const d = assertSameRun(['info', '--json', '--jobs', '2', dir]);
+  assert.equal(d.status, 1);
+  assert.deepEqual(d.stdout.toString().trimEnd().split('\n').map((l) => JSON.parse(l).file),
+    ['b.Stl', 'gone.stl', 'sub/A.STL'].map((f) => `${dir}/${f}`));
+  assertSameRun(['info', '--jobs', '2', `${dir}/`, '--list', list]);
+  // Usage errors: exit status 2, the same messages.
+  for (const bad of [['--jobs', '0'], ['--jobs', '257'], ['--jobs', 'x'], ['--jobs', ''], ['--jobs', '-1'], ['--jobs'],
+    ['--list'], ['--list', path.join(tmp, 'none')], ['--list', tmp], ['--list', '-', '-'], ['--list', '-', '--list', '-']]) {
+    assert.equal(assertSameRun(['info', '--json', ...bad, good]).status, 2, bad.join(' '));
+  }
+  writeFileSync(list, 'a\0b\n');
+  assert.equal(assertSameRun(['info', '--list', list]).status, 2);
 });
