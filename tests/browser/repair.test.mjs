@@ -248,7 +248,20 @@ test('Repair panel: plan, untick an item, preview, apply (the log\'s figures, th
       maxMoved: s.maxMoved,
     })));
     assert.equal(await page.textContent('#repair-undo'), `Undo (${log.steps.length})`);
+    await page.click('#frame-button');
+    await page.waitForTimeout(600);
     await page.screenshot({ path: path.join(artifacts, 'demo-repair-applied.png') });
+
+    // The edit mode starts from the repaired mesh, and the panel waits while it is on.
+    await page.check('#edit-mode');
+    await page.waitForFunction(() => document.body.dataset.editing === 'true');
+    assert.equal((await pageStats(page)).triangles, String(log.after.triangles));
+    assert.equal(await page.isDisabled('#repair-plan'), true);
+    assert.equal(await page.isDisabled('#repair-undo'), true);
+    await page.uncheck('#edit-mode');
+    await page.waitForFunction(() => document.body.dataset.editing === 'false');
+    assert.deepEqual(await pageStats(page), shown, 'after the edit mode, the repaired mesh is on screen again');
+    assert.equal(await page.isDisabled('#repair-undo'), false);
 
     // Download STL: the repaired mesh, the bytes of the Node result.
     await page.selectOption('#download-format', 'binary');

@@ -146,22 +146,46 @@ function updateButtons() {
   $('#repair-preview').textContent = previewCount ? 'Hide preview' : 'Preview';
 }
 
-/** Runs one action of the panel: one at a time, its API errors shown in the panel. */
+/** Lets the page paint (the status line) before a long step on this thread. */
+function nextFrame() {
+  return new Promise((resolve) => {
+    requestAnimationFrame(() => resolve());
+    setTimeout(resolve, 100);
+  });
+}
+
+let generation = 0; // counts the models: an action that outlives its model is dropped
+let pending = null; // the action asked for while another ran (the latest wins: a re-plan sees every change)
+/**
+ * Runs one action of the panel: one at a time, its API errors shown in the panel. The plan, the
+ * apply and the undo run on the page's thread (as the edit mode does); the status line says so.
+ */
 async function run(what, action) {
-  if (body.dataset.repairBusy === 'true') return;
+  if (body.dataset.repairBusy === 'true') {
+    pending = () => run(what, action);
+    return;
+  }
   body.dataset.repairBusy = 'true';
   updateButtons();
   hideError();
+  say(`${what}…`);
+  const g = generation;
   try {
-    await action();
+    await nextFrame();
+    if (g === generation) await action();
   } catch (error) {
-    say(`${what} failed.`);
-    showError(error);
+    if (g === generation) {
+      say(`${what} failed.`);
+      showError(error);
+    }
   } finally {
     body.dataset.repairBusy = 'false';
     body.dataset.repairSeq = String(++seq);
     updateButtons();
   }
+  const next = pending;
+  pending = null;
+  if (next) await next();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -218,7 +242,7 @@ function renderPlan() {
     box.dataset.repairPlanStep = step.step;
     box.dataset.repairDone = String(step.done);
     box.dataset.repairSkipped = String(step.skipped);
-    box.open = step.items.length > 0 && step.items.length <= 50;
+    box.open = step.items.length > 0;
     const summary = document.createElement('summary');
     summary.innerHTML = `<i class="swatch" style="--c:${stepColors[step.step] ?? '#fff'}"></i> `;
     summary.append(`${stepLabels[step.step] ?? step.step}: ${step.done} to do${step.skipped ? `, ${step.skipped} skipped` : ''} `);
@@ -403,20 +427,39 @@ async function drawPreview() {
 function apply() {
   return run('Apply', async () => {
     if (!plan) return;
+    const t0 = performance.now();
     setPreview(false);
     const applied = plan;
-    const log = em.applyRepair(applied);
-    if (!history || history.entries.every((e) => e.undone)) history = { before: log.before, entries: [] };
-    history.entries = history.entries.filter((e) => !e.undone);
+    const undoable = em.undoableSteps;
+    let log;
+    try {
+      log = em.applyRepair(applied);
+    } catch (error) {
+      // Refused, or failed without a log: whatever steps did complete are drawn (and undoable).
+      if (em.undoableSteps !== undoable) {
+        history = null;
+        plan = null;
+        planning = false;
+        renderPlan();
+        renderLog();
+        $('#repair-report').hidden = true;
+        await redraw(t0);
+      }
+      throw error;
+    }
+    if (!history || history.entries.every((e) => e.undone || e.failed)) history = { before: log.before, entries: [] };
+    history.entries = history.entries.filter((e) => !e.undone && !e.failed);
     log.steps.forEach((s, i) => {
+      // A step that failed left the mesh as it was before it: shown in the log, not undoable.
+      const failed = s.status !== 'ok';
       const last = i === log.steps.length - 1;
-      history.entries.push({ step: s.step, after: last ? log.after : applied.steps[i].after, log: s, undone: false });
+      history.entries.push({ step: s.step, after: last ? log.after : applied.steps[i].after, log: s, undone: false, failed });
     });
     plan = null;
     planning = false;
     exclude = [];
     renderPlan();
-    await redraw();
+    if (!(await redraw(t0))) return;
     body.dataset.repair = 'applied';
     renderReport(history.before, log.after, 'applied');
     renderLog();
@@ -429,16 +472,18 @@ function apply() {
 function undo() {
   return run('Undo', async () => {
     if (!em || em.undoableSteps === 0) return;
+    const t0 = performance.now();
     setPreview(false);
     const name = em.undo();
-    const entry = history?.entries.findLast((e) => !e.undone);
+    const live = (e) => !e.undone && !e.failed;
+    const entry = history?.entries.findLast(live);
     if (entry) entry.undone = true;
     plan = null;
     planning = false;
     exclude = [];
     renderPlan();
-    await redraw();
-    const current = history?.entries.findLast((e) => !e.undone);
+    if (!(await redraw(t0))) return;
+    const current = history?.entries.findLast(live);
     body.dataset.repair = em.undoableSteps ? 'applied' : 'none';
     if (history) renderReport(history.before, current ? current.after : history.before, 'applied');
     renderLog();
@@ -446,8 +491,12 @@ function undo() {
   });
 }
 
-/** Draws the mesh the editable mesh holds (the loaded one itself when nothing is applied). */
-async function redraw() {
+/**
+ * Draws the mesh the editable mesh holds (the loaded one itself when nothing is applied); the
+ * model panel's time is that of the change and the rebuild (t0: when the action started).
+ */
+async function redraw(t0) {
+  const g = generation;
   let mesh = source.mesh;
   if (em.undoableSteps > 0) {
     const colors = em.colors;
@@ -456,9 +505,13 @@ async function redraw() {
       ...(colors ? { colors, colorValid: em.colorValid } : {}),
     });
   }
-  viewer.setMesh(mesh, { keepView: true });
-  showMesh(mesh, { name: source.name, credit: em.undoableSteps ? 'Repaired in the page (stltopo repair).' : '', parseMs: 0, sceneMs: 0, totalMs: 0 });
+  if (g !== generation) return false; // another model was loaded meanwhile
+  const parseMs = performance.now() - t0;
+  const sceneMs = viewer.setMesh(mesh, { keepView: true });
+  showMesh(mesh, { name: source.name, credit: em.undoableSteps ? 'Repaired in the page (stltopo repair).' : '',
+    parseMs, sceneMs, totalMs: performance.now() - t0 });
   setEditSource({ mesh, name: source.name });
+  return true;
 }
 
 function renderReport(before, after, what) {
@@ -476,7 +529,8 @@ function renderReport(before, after, what) {
     if (!(key in before) && !(key in after)) continue;
     const tr = document.createElement('tr');
     tr.dataset.repairFigure = key;
-    tr.classList.toggle('changed', before[key] !== after[key]);
+    // A figure the step did not compute (null: the geometry of a step before the last) is not a change.
+    tr.classList.toggle('changed', after[key] !== null && before[key] !== after[key]);
     const name = document.createElement('td');
     name.textContent = label;
     const b = document.createElement('td');
@@ -514,7 +568,8 @@ function renderLog() {
     const tr = document.createElement('tr');
     tr.dataset.repairLogStep = s.step;
     tr.classList.toggle('undone', e.undone);
-    tr.title = e.undone ? 'undone' : s.status;
+    tr.classList.toggle('failed', e.failed);
+    tr.title = e.undone ? 'undone' : e.failed ? `failed: ${s.message ?? s.status}` : 'applied';
     const cell = (text, key, value) => {
       const td = document.createElement('td');
       td.textContent = text;
@@ -540,6 +595,8 @@ function renderLog() {
 
 /** The loaded mesh (load.js): a new model drops the plan and what was applied to the old one. */
 export function setRepairSource(value) {
+  ++generation;
+  pending = null;
   em?.dispose();
   em = null;
   source = value;
