@@ -61,8 +61,9 @@ let plan = null; // the plan on screen
 let planOptions = null; // the options it was made with (without exclude)
 let exclude = []; // [{ step, item }] unticked items of the plan on screen
 let planning = false; // a plan was asked for since the last apply or undo: option changes plan again
-// What is applied, for the report and the log: the figures of the mesh as loaded, and one entry
-// per step applied ({ step, after: figures after it, log: its log step, undone }).
+// What is applied, for the report and the log: the figures of the mesh before the first apply,
+// and one entry per step of each apply ({ step, after: the figures after it, log: its log step,
+// undone, failed }); undo takes back the last entry neither undone nor failed.
 let history = null;
 let previewCount = 0;
 let seq = 0;
@@ -630,6 +631,7 @@ $('#repair-apply').addEventListener('click', apply);
 $('#repair-undo').addEventListener('click', undo);
 // The edit mode works on its own copy: the panel waits while it is on.
 new MutationObserver(() => {
+  if (editing()) setPreview(false); // the edit mode draws its own mesh
   updateButtons();
   if (editing()) say('Turn off Edit to plan a repair.');
   else if ($('#repair-status').textContent === 'Turn off Edit to plan a repair.') say('');
