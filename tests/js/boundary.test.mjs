@@ -135,10 +135,10 @@ test('the entry points export the public API only (no _internal, no fileSource),
   // ./worker-thread and the two .wasm files: the files a bundler is pointed at (README, Bundlers).
   assert.deepEqual(Object.keys(pkg.exports).sort(),
     ['.', './package.json', './stltopo-full.wasm', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
-  const pub = ['DEFECT_KINDS', 'EdgeKind', 'GEOMETRY_DEFECT_KINDS', 'Mesh', 'StlError', 'extractShell', 'fromIndexed', 'init', 'kInvalid', 'loadStl',
-    'loadStlFile', 'toStl', 'writeStl'];
-  // The editable mesh lives where it is made: the main entries only.
-  assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh'].sort());
+  const pub = ['DEFECT_KINDS', 'EdgeKind', 'GEOMETRY_DEFECT_KINDS', 'Mesh', 'REPAIR_DEFAULTS', 'REPAIR_STEPS', 'StlError', 'extractShell',
+    'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
+  // The editable mesh (and planRepair, which needs one) lives where it is made: the main entries only.
+  assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh', 'planRepair'].sort());
   assert.deepEqual(Object.keys(worker).sort(), pub);
   assert.deepEqual(Object.keys(await import('stltopo/three')).sort(),
     ['fromBufferGeometry', 'holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);

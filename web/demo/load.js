@@ -5,6 +5,7 @@ import { samples } from './samples.js';
 import { $, viewer } from './page.js';
 import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels } from './panels.js';
 import { stopEditing, setLoaded } from './edit-panel.js';
+import { setRepairSource, repairedStl } from './repair-panel.js';
 
 export let current = null; // { seq, controller, name } of the load in flight
 let loadSeq = 0;
@@ -62,6 +63,7 @@ export async function load(source, { name, credit = '' } = {}) {
     shown = { mesh, name };
     $('#download').hidden = false;
     setLoaded({ mesh, name });
+    setRepairSource({ mesh, name });
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     hideProgress();
     current = null;
@@ -80,13 +82,15 @@ export async function load(source, { name, credit = '' } = {}) {
     clearPanels();
     hasModel = false;
     shown = null;
+    setRepairSource(null);
     $('#download').hidden = true;
     setState('error');
   }
 }
 
 // The mesh on screen, for "Download STL": written as STL in the worker (the mesh came from
-// one), then handed to the browser as a download.
+// one), then handed to the browser as a download. While a repair is applied (repair-panel.js),
+// the repaired mesh instead (EditableMesh.toStl on this thread).
 let shown = null;
 $('#download-button').addEventListener('click', async () => {
   if (!shown) return;
@@ -94,10 +98,11 @@ $('#download-button').addEventListener('click', async () => {
   const format = $('#download-format').value;
   button.disabled = true;
   try {
-    const blob = await toStl(shown.mesh, { format });
+    const repaired = repairedStl(format);
+    const blob = repaired ? new Blob([repaired], { type: 'model/stl' }) : await toStl(shown.mesh, { format });
     const a = document.createElement('a');
     a.href = URL.createObjectURL(blob);
-    a.download = `${shown.name.replace(/\.stl$/i, '')}${format === 'ascii' ? '-ascii' : ''}.stl`;
+    a.download = `${shown.name.replace(/\.stl$/i, '')}${repaired ? '-repaired' : ''}${format === 'ascii' ? '-ascii' : ''}.stl`;
     document.body.append(a);
     a.click();
     a.remove();

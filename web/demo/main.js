@@ -1,7 +1,8 @@
 // The demo page: loading (samples, file picker, drag and drop, ?url=), the worker-side parse with
 // progress and cancel, and the panels. The 3D side lives in viewer.js. This file wires the page's
 // controls; the parts are page.js ($, the viewer), load.js (loading), panels.js (stats, verdict,
-// loops, shells, defects, progress and errors) and edit-panel.js (the edit mode, edit.js).
+// loops, shells, defects, progress and errors), edit-panel.js (the edit mode, edit.js) and
+// repair-panel.js (the Repair panel: plan, preview, apply, undo; its test hooks are listed there).
 //
 // Test hooks (kept stable): document.body.dataset.state is "loading" | "ready" | "error";
 // every statistic is an element [data-stat="<stltopo info --json key>"] whose text is the value;
@@ -13,6 +14,7 @@ import { samples, defaultSampleId } from './samples.js';
 import { $, viewer } from './page.js';
 import { current, load, loadSample, loadUrl } from './load.js';
 import { formatBytes, hideError, resetView } from './panels.js';
+import './repair-panel.js'; // wires the Repair panel's controls (load.js hands it each model)
 
 // ---------------------------------------------------------------------------------------------
 // Wiring

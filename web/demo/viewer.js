@@ -122,6 +122,16 @@ function circleSprite() {
   return texture;
 }
 
+/** The 12 edges of an axis-aligned box { min, max } as segments (6 floats each). */
+function boxSegments({ min, max }) {
+  const corner = (i) => [i & 1 ? max[0] : min[0], i & 2 ? max[1] : min[1], i & 4 ? max[2] : min[2]];
+  const out = [];
+  for (const [a, b] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]]) {
+    out.push(...corner(a), ...corner(b));
+  }
+  return out;
+}
+
 export class Viewer {
   constructor(container) {
     this.container = container;
@@ -199,6 +209,8 @@ export class Viewer {
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
+    this.preview = null;
+    this.previewFocus = null;
     this.surfaces = [];
     this.isolated = null;
     this.requestRender();
@@ -520,6 +532,75 @@ export class Viewer {
     group.add(this.rings(pts.flat(), color));
     group.userData.defect = kind;
     this.highlight = group;
+    this.model.add(group);
+    this.requestRender();
+  }
+
+  /**
+   * Draws a repair preview over the model (repair-panel.js), replacing the previous one:
+   * `parts` is a list of { color, triangles (9 floats per triangle), boxes ([{ min, max }]),
+   * segments (6 floats per segment), points (3 floats per point) }. Nothing of the mesh changes.
+   */
+  setPreview(parts) {
+    this.clearPreview();
+    if (!parts || !parts.length) return;
+    const group = new THREE.Group();
+    for (const part of parts) {
+      const c = new THREE.Color(part.color);
+      if (part.triangles?.length) {
+        const g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.Float32BufferAttribute(part.triangles, 3));
+        const m = new THREE.Mesh(g, new THREE.MeshBasicMaterial({
+          color: c, side: THREE.DoubleSide, transparent: true, opacity: 0.6, depthWrite: false,
+          polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2,
+        }));
+        m.renderOrder = 8;
+        group.add(m);
+      }
+      const segs = [...(part.segments ?? [])];
+      for (const b of part.boxes ?? []) segs.push(...boxSegments(b));
+      if (segs.length) {
+        const xyz = new Float32Array(segs);
+        const rgb = new Float32Array(xyz.length);
+        for (let i = 0; i < rgb.length; i += 3) rgb.set([c.r, c.g, c.b], i);
+        group.add(this.lines(xyz, rgb, { width: part.width ?? 2.5, depthTest: false, order: 16, opacity: 0.9 }));
+      }
+      if (part.points?.length) group.add(this.rings(part.points, part.color));
+    }
+    group.userData.preview = true;
+    this.preview = group;
+    this.model.add(group);
+    this.requestRender();
+  }
+
+  clearPreview() {
+    for (const key of ['preview', 'previewFocus']) {
+      const g = this[key];
+      if (!g) continue;
+      this.model.remove(g);
+      g.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
+      this[key] = null;
+    }
+    this.requestRender();
+  }
+
+  /** Frames one box { min, max } of the preview and outlines it (white over `color`). */
+  focusPreviewBox(box, color) {
+    if (this.previewFocus) {
+      this.model.remove(this.previewFocus);
+      this.previewFocus.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
+      this.previewFocus = null;
+    }
+    this.frameBox(box);
+    const xyz = new Float32Array(boxSegments(box));
+    const white = new Float32Array(xyz.length).fill(1);
+    const c = new THREE.Color(color);
+    const rgb = new Float32Array(xyz.length);
+    for (let i = 0; i < rgb.length; i += 3) rgb.set([c.r, c.g, c.b], i);
+    const group = new THREE.Group();
+    group.add(this.lines(xyz, white, { width: 8, depthTest: false, order: 20 }));
+    group.add(this.lines(xyz, rgb, { width: 4, depthTest: false, order: 21 }));
+    this.previewFocus = group;
     this.model.add(group);
     this.requestRender();
   }

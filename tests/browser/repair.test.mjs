@@ -1,0 +1,328 @@
+// Browser test of the demo's Repair panel (web/demo/repair-panel.js), run by scripts/test-browser.sh
+// after `vite build`, as demo.test.mjs is: real Chromium (Debian `chromium`) driven by playwright-core
+// against `vite preview` of the built site. The reference is the package itself in Node: the same
+// file loaded with loadStl, planned with the same options and exclusions, applied to an
+// EditableMesh; the page must list that plan, show that log's figures, draw that result and
+// download its bytes. Nothing here depends on which steps find items (the steps still being
+// merged plan nothing until they are): every expectation comes from the Node plan.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync, readFileSync } from 'node:fs';
+import net from 'node:net';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { preview } from 'vite';
+import { loadStl, EditableMesh, REPAIR_DEFAULTS } from 'stltopo';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const artifacts = path.join(root, 'test-artifacts');
+const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync', '--no-first-run'];
+const REMOVE_UNCONNECTED = path.join(root, 'tests/judge/admesh/block/remove-unconnected-bad.stl'); // 3 shells, 2 tiny
+
+let site;
+let siteUrl;
+let browser;
+
+async function freePort() {
+  return new Promise((resolve, reject) => {
+    const srv = net.createServer();
+    srv.once('error', reject);
+    srv.listen(0, '127.0.0.1', () => {
+      const { port } = srv.address();
+      srv.close(() => resolve(port));
+    });
+  });
+}
+
+before(async () => {
+  mkdirSync(artifacts, { recursive: true });
+  site = await preview({
+    configFile: path.join(root, 'web/demo/vite.config.js'),
+    preview: { port: await freePort(), strictPort: true, host: '127.0.0.1' },
+    logLevel: 'warn',
+  });
+  siteUrl = site.resolvedUrls.local[0];
+  browser = await chromium.launch({ executablePath: chromiumPath, args: chromiumArgs });
+});
+
+after(async () => {
+  await browser?.close();
+  await site?.close();
+});
+
+/**
+ * A torus grid as a binary STL with damage: triangles removed (holes), flipped (inconsistent
+ * edges) and repeated (duplicates). The generator of tests/js/repair.test.mjs.
+ */
+function damagedTorusStl(n, m, seed) {
+  const positions = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
+      positions.push([(3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v)]);
+    }
+  }
+  let s = seed;
+  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
+  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
+  const tris = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
+        const r = rnd();
+        if (r < 0.02) continue;
+        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
+        tris.push(t);
+        if (r > 0.98) tris.push(t);
+      }
+    }
+  }
+  const buf = Buffer.alloc(84 + 50 * tris.length);
+  buf.write('damaged torus', 0);
+  buf.writeUInt32LE(tris.length, 80);
+  tris.forEach((t, i) => t.forEach((v, k) => positions[v].forEach((x, c) => buf.writeFloatLE(x, 84 + 50 * i + 12 + 12 * k + 4 * c))));
+  return buf;
+}
+
+async function newPage() {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  page.errors = [];
+  page.on('pageerror', (error) => page.errors.push(error));
+  return page;
+}
+
+async function closePage(page) {
+  const errors = page.errors.map((e) => e.stack || e.message);
+  await page.close();
+  assert.deepEqual(errors, [], 'uncaught page errors');
+}
+
+async function settle(page, loadCount, timeout = 60_000) {
+  await page.waitForFunction(
+    (n) => Number(document.body.dataset.loadCount) > n && document.body.dataset.state !== 'loading',
+    loadCount, { timeout });
+  return page.evaluate(() => document.body.dataset.state);
+}
+
+/** Opens the demo and loads `file` ({ name, buffer }) through the file input. */
+async function openWith(page, file) {
+  await page.goto(`${siteUrl}?sample=unit-sphere`);
+  await settle(page, 0);
+  const n = await page.evaluate(() => Number(document.body.dataset.loadCount));
+  await page.setInputFiles('#file-input', { mimeType: 'model/stl', ...file });
+  assert.equal(await settle(page, n), 'ready');
+}
+
+/** Runs one action of the Repair panel (a click, a change) and waits until it has finished. */
+async function repairAction(page, act) {
+  const seq = await page.evaluate(() => Number(document.body.dataset.repairSeq || 0));
+  await act();
+  await page.waitForFunction((s) => Number(document.body.dataset.repairSeq || 0) > s, seq, { timeout: 60_000 });
+  const error = await page.evaluate(() => (document.querySelector('#repair-error').hidden ? null
+    : document.querySelector('#repair-error').textContent));
+  return error;
+}
+
+async function pageStats(page) {
+  return page.evaluate(() => Object.fromEntries(
+    [...document.querySelectorAll('[data-stat]')].map((e) => [e.dataset.stat, e.textContent])));
+}
+
+/** The page's report cells: { before: { key: text }, after: { key: text } }. */
+async function reportCells(page) {
+  return page.evaluate(() => ({
+    before: Object.fromEntries([...document.querySelectorAll('[data-repair-before]')].map((e) => [e.dataset.repairBefore, e.textContent])),
+    after: Object.fromEntries([...document.querySelectorAll('[data-repair-after]')].map((e) => [e.dataset.repairAfter, e.textContent])),
+    changed: [...document.querySelectorAll('#repair-report tr.changed')].map((e) => e.dataset.repairFigure),
+  }));
+}
+
+/** Figures as the panel prints them (null as a dash). */
+const asText = (figures) => Object.fromEntries(Object.entries(figures).map(([k, v]) => [k, v === null ? '—' : String(v)]));
+
+/** What the page shows of a plan: per step, done / skipped and each listed item. */
+async function shownPlan(page) {
+  return page.evaluate(() => [...document.querySelectorAll('[data-repair-plan-step]')].map((s) => ({
+    step: s.dataset.repairPlanStep,
+    done: Number(s.dataset.repairDone),
+    skipped: Number(s.dataset.repairSkipped),
+    items: [...s.querySelectorAll('li[data-repair-item]')].map((li) => ({
+      action: li.querySelector('.action').textContent,
+      skipped: li.classList.contains('skipped'),
+      reason: li.querySelector('.reason')?.textContent ?? null,
+      ticked: li.querySelector('input[data-repair-exclude]').checked,
+    })),
+  })));
+}
+
+function expectedPlan(plan) {
+  return plan.steps.map((s) => ({
+    step: s.step, done: s.done, skipped: s.skipped,
+    items: s.items.slice(0, 200).map((it) => ({ action: it.action, skipped: it.skipped, reason: it.skipped ? it.reason : null, ticked: !it.skipped })),
+  }));
+}
+
+test('Repair panel: plan, untick an item, preview, apply (the log\'s figures, the result drawn), download, undo back to the file', async () => {
+  const bytes = damagedTorusStl(30, 12, 5);
+  const page = await newPage();
+  await openWith(page, { name: 'damaged-torus.stl', buffer: bytes });
+  const loadedStats = await pageStats(page);
+
+  // The reference: the same file, planned and applied in Node with the panel's defaults.
+  const mesh = await loadStl(bytes);
+  const ref = await EditableMesh.from(mesh);
+  try {
+    const options = { steps: [...REPAIR_DEFAULTS.steps] };
+    const plan0 = ref.planRepair(options);
+    const toggles = await page.evaluate(() => [...document.querySelectorAll('[data-repair-step-toggle]')]
+      .filter((e) => e.checked).map((e) => e.dataset.repairStepToggle));
+    assert.deepEqual(toggles, [...REPAIR_DEFAULTS.steps], 'the step checkboxes start from REPAIR_DEFAULTS.steps');
+
+    // Plan: the page lists the Node plan, step by step and item by item; nothing changed.
+    assert.equal(await repairAction(page, () => page.click('#repair-plan')), null);
+    assert.equal(await page.evaluate(() => document.body.dataset.repair), 'planned');
+    assert.deepEqual(await shownPlan(page), expectedPlan(plan0));
+    let cells = await reportCells(page);
+    assert.deepEqual(cells.before, asText(plan0.before));
+    assert.deepEqual(cells.after, asText(plan0.after));
+    assert.deepEqual(await pageStats(page), loadedStats, 'planning changed the model on screen');
+
+    // Untick one item that the plan would do: planned again with it excluded, listed as skipped.
+    const k = plan0.steps.findIndex((s) => s.items.some((it) => !it.skipped));
+    assert.ok(k >= 0, 'the damaged torus has something to repair');
+    const step = plan0.steps[k].step;
+    const item = plan0.steps[k].items.findIndex((it) => !it.skipped);
+    const exclude = [{ step, item }];
+    const plan = ref.planRepair({ ...options, exclude });
+    assert.equal(plan.steps[k].items[item].skipped, true, 'the Node plan skips the excluded item');
+    const box = `li[data-repair-step="${step}"][data-repair-item="${item}"]`;
+    assert.equal(await repairAction(page, () => page.click(`${box} input[data-repair-exclude]`)), null);
+    assert.deepEqual(await shownPlan(page), expectedPlan(plan));
+    assert.equal(await page.evaluate((sel) => document.querySelector(sel).classList.contains('skipped'), box), true);
+    assert.equal(await page.isChecked(`${box} input[data-repair-exclude]`), false);
+    assert.ok((await page.textContent(`${box} .reason`)).length > 0, 'the excluded item says why it is skipped');
+    cells = await reportCells(page);
+    assert.deepEqual(cells.after, asText(plan.after));
+
+    // Preview: the items drawn over the model, the mesh unchanged; a click on an item frames it.
+    const canvas = page.locator('#viewport canvas');
+    const shot0 = await canvas.screenshot();
+    assert.equal(await repairAction(page, () => page.click('#repair-preview')), null);
+    const drawn = await page.evaluate(() => Number(document.body.dataset.repairPreview));
+    assert.equal(drawn, plan.steps.reduce((n, s) => n + s.items.length, 0));
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: path.join(artifacts, 'demo-repair-preview.png') });
+    assert.notDeepEqual(await canvas.screenshot(), shot0, 'the preview drew nothing');
+    assert.equal(await page.textContent('#repair-preview'), 'Hide preview');
+    await page.click(`${box} .action`);
+    assert.equal(await page.evaluate(() => document.body.dataset.repairFocus), `${step}:${item}`);
+    assert.deepEqual(await pageStats(page), loadedStats, 'the preview changed the model');
+
+    // Apply: the figures side by side are the log's, the model drawn is the result.
+    assert.equal(await repairAction(page, () => page.click('#repair-apply')), null);
+    const log = ref.applyRepair(plan);
+    assert.equal(await page.evaluate(() => document.body.dataset.repair), 'applied');
+    assert.equal(await page.evaluate(() => document.body.dataset.repairReport), 'applied');
+    cells = await reportCells(page);
+    assert.deepEqual(cells.before, asText(log.before));
+    assert.deepEqual(cells.after, asText(log.after));
+    assert.deepEqual(cells.changed.sort(), Object.keys(log.after).filter((key) => log.after[key] !== log.before[key]).sort());
+    const shown = await pageStats(page);
+    for (const key of ['triangles', 'vertices', 'edges', 'boundaryEdges', 'nonManifoldEdges', 'inconsistentEdges',
+      'nonManifoldVertices', 'holes', 'seams', 'shells', 'eulerCharacteristic', 'watertight', 'manifold']) {
+      assert.equal(shown[key], String(log.afterReport[key]), `the model on screen: ${key}`);
+    }
+    const rows = await page.evaluate(() => [...document.querySelectorAll('tr[data-repair-log-step]')].map((tr) => ({
+      step: tr.dataset.repairLogStep,
+      triangles: tr.querySelector('[data-log="triangles"]').dataset.value,
+      vertices: tr.querySelector('[data-log="vertices"]').dataset.value,
+      maxMoved: Number(tr.querySelector('[data-log="maxMoved"]').dataset.value),
+    })));
+    assert.deepEqual(rows, log.steps.map((s) => ({
+      step: s.step,
+      triangles: [s.removedTriangles.length, s.addedTriangles, s.changedTriangles.length].join(','),
+      vertices: [s.removedVertices.length, s.addedVertices, s.changedVertices.length].join(','),
+      maxMoved: s.maxMoved,
+    })));
+    assert.equal(await page.textContent('#repair-undo'), `Undo (${log.steps.length})`);
+    await page.click('#frame-button');
+    await page.waitForTimeout(600);
+    await page.screenshot({ path: path.join(artifacts, 'demo-repair-applied.png') });
+
+    // The edit mode starts from the repaired mesh, and the panel waits while it is on.
+    await page.check('#edit-mode');
+    await page.waitForFunction(() => document.body.dataset.editing === 'true');
+    assert.equal((await pageStats(page)).triangles, String(log.after.triangles));
+    assert.equal(await page.isDisabled('#repair-plan'), true);
+    assert.equal(await page.isDisabled('#repair-undo'), true);
+    await page.uncheck('#edit-mode');
+    await page.waitForFunction(() => document.body.dataset.editing === 'false');
+    assert.deepEqual(await pageStats(page), shown, 'after the edit mode, the repaired mesh is on screen again');
+    assert.equal(await page.isDisabled('#repair-undo'), false);
+
+    // Download STL: the repaired mesh, the bytes of the Node result.
+    await page.selectOption('#download-format', 'binary');
+    const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-button')]);
+    assert.equal(download.suggestedFilename(), 'damaged-torus-repaired.stl');
+    const saved = path.join(artifacts, 'demo-repaired.stl');
+    await download.saveAs(saved);
+    assert.ok(readFileSync(saved).equals(Buffer.from(ref.toStl({ format: 'binary' }))), 'the download is not the repaired mesh');
+
+    // Undo, one step at a time, back to the file as loaded.
+    for (let left = log.steps.length; left > 0; --left) {
+      assert.equal(await page.textContent('#repair-undo'), `Undo (${left})`);
+      assert.equal(await repairAction(page, () => page.click('#repair-undo')), null);
+      assert.match(await page.textContent('#repair-status'), new RegExp(`^Undid ${log.steps[left - 1].step}\\.`));
+    }
+    assert.equal(await page.isDisabled('#repair-undo'), true);
+    assert.equal(await page.evaluate(() => document.body.dataset.repair), 'none');
+    cells = await reportCells(page);
+    assert.deepEqual(cells.after, asText(log.before), 'after undo, the figures are those of the file');
+    assert.deepEqual(cells.changed, []);
+    assert.equal(await page.evaluate(() => document.querySelectorAll('tr[data-repair-log-step].undone').length), log.steps.length);
+    assert.deepEqual(await pageStats(page), loadedStats, 'after undo, the model on screen is the file as loaded');
+    const [again] = await Promise.all([page.waitForEvent('download'), page.click('#download-button')]);
+    assert.equal(again.suggestedFilename(), 'damaged-torus.stl', 'with nothing applied, Download STL saves the loaded mesh');
+  } finally {
+    ref.dispose();
+  }
+  await closePage(page);
+});
+
+test('Repair panel: a bad option shows the API error in the panel; small shells are removed when asked', async () => {
+  const page = await newPage();
+  await openWith(page, { name: 'remove-unconnected-bad.stl', buffer: readFileSync(REMOVE_UNCONNECTED) });
+  const mesh = await loadStl(readFileSync(REMOVE_UNCONNECTED));
+
+  // The step choice is read when planning: small-shells on.
+  await page.check('[data-repair-step-toggle="small-shells"]');
+  assert.equal(await repairAction(page, () => page.click('#repair-plan')), null);
+  const options = { steps: [...REPAIR_DEFAULTS.steps, 'small-shells'] };
+  const ref = await EditableMesh.from(mesh);
+  try {
+    const plan = ref.planRepair(options);
+    assert.deepEqual(await shownPlan(page), expectedPlan(plan));
+
+    // A negative tolerance: the package refuses it (invalid-argument), shown in the panel.
+    await page.fill('#repair-stitch-tolerance', '-1');
+    const error = await repairAction(page, () => page.dispatchEvent('#repair-stitch-tolerance', 'change'));
+    assert.match(error ?? '', /stitchTolerance/);
+    assert.equal(await page.textContent('[data-repair-error-code]'), 'invalid-argument');
+    assert.equal(await page.isDisabled('#repair-apply'), true, 'no plan to apply after a refusal');
+
+    // Fixed: planned again, applied; the figures are those of the Node result.
+    await page.fill('#repair-stitch-tolerance', '0');
+    assert.equal(await repairAction(page, () => page.dispatchEvent('#repair-stitch-tolerance', 'change')), null);
+    assert.equal(await page.isHidden('#repair-error'), true);
+    assert.equal(await repairAction(page, () => page.click('#repair-apply')), null);
+    const log = ref.applyRepair(plan);
+    assert.deepEqual((await reportCells(page)).after, asText(log.after));
+    assert.equal((await pageStats(page)).shells, String(log.after.shells));
+  } finally {
+    ref.dispose();
+  }
+  await closePage(page);
+});
