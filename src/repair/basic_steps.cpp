@@ -44,6 +44,7 @@ Status shellsNow(const EditableMesh& em, Mesh& mesh, Topology& topo, Array<Shell
   if (!s.ok()) return s;
   TopologyOptions o;
   o.triangleShell = true;
+  o.prevAndFace = false;
   s = buildTopology(mesh, topo, o);
   if (!s.ok()) return s;
   return findShellsAndDefects(mesh, topo, &shells, nullptr);

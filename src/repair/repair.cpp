@@ -358,7 +358,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->before = before;
     log->fingerprintBefore = fingerprint;
-    log->beforeReport = em.infoJson("");
+    log->beforeReport = infoJson("", cur, &topo);  // what em.infoJson gives: cur is its toMesh
   }
   int lastStep = -1;
   for (int k = 0; k < kRepairStepCount; ++k)
@@ -433,7 +433,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     if (!s.ok()) return s;
   }
   if (plan) {
-    plan->afterReport = em.infoJson("");
+    plan->afterReport = infoJson("", cur, &topo);
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
       plan->remaining = detail::format(
           "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
@@ -443,7 +443,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->after = after;
     log->fingerprintAfter = fingerprintOf(cur);
-    log->afterReport = changed ? em.infoJson("") : log->beforeReport;
+    log->afterReport = changed ? infoJson("", cur, &topo) : log->beforeReport;
   }
   return Status{};
 }
