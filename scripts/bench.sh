@@ -23,7 +23,7 @@ fi
 
 # The native harness: genmesh, stltopo_stages, procstat and the CLI, Release.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_BENCH=ON -DSTLTOPO_BUILD_TESTS=OFF >&2
-cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_edits stltopo_cli >&2
+cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_edits stltopo_cli stltopo_repair_bench >&2
 # CGAL's self_intersections for bench/geometry.mjs, when CGAL is installed (test-only).
 if cmake --build "$BUILD_DIR" --target help | grep -q stltopo_cgal_pmp; then
   cmake --build "$BUILD_DIR" -j"$JOBS" --target stltopo_cgal_pmp >&2
@@ -31,11 +31,17 @@ fi
 
 export STLTOPO_BENCH_BUILD_DIR="$BUILD_DIR"
 node bench/run.mjs "$@"
-# The exact-geometry figures (issue 21): 100k and 1M tori, or 100k once with --quick.
+# The exact-geometry figures (issue 21): 100k and 1M tori, or 100k once with --quick or --tiny.
 quick=0
-for a in "$@"; do [ "$a" = --quick ] && quick=1; done
+for a in "$@"; do { [ "$a" = --quick ] || [ "$a" = --tiny ]; } && quick=1; done
 if [ "$quick" = 1 ]; then
   node bench/geometry.mjs --sizes 100k --reps 1 --out "$(mktemp -d)/geometry.json"
 else
   node bench/geometry.mjs
+fi
+# The repair (issue 23): the default repair of a torus with 8 holes and 1% flipped faces.
+if [ "$quick" = 1 ]; then
+  node bench/repair.mjs --sizes 100k --reps 1 --out "$(mktemp -d)/repair.json"
+else
+  node bench/repair.mjs
 fi

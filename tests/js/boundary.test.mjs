@@ -137,9 +137,10 @@ test('the entry points export the public API only (no _internal, no fileSource),
     ['.', './package.json', './stltopo-full.wasm', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
   const pub = ['DEFECT_KINDS', 'EdgeKind', 'GEOMETRY_DEFECT_KINDS', 'Mesh', 'REPAIR_DEFAULTS', 'REPAIR_STEPS', 'StlError', 'extractShell',
     'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
-  // The editable mesh (and planRepair, which needs one) lives where it is made: the main entries only.
+  // The editable mesh lives where it is made: the main entries only; both have planRepair, the
+  // worker also applyRepair (on a copy, returning the repaired mesh).
   assert.deepEqual(Object.keys(await import('stltopo')).sort(), [...pub, 'EditableMesh', 'planRepair'].sort());
-  assert.deepEqual(Object.keys(worker).sort(), pub);
+  assert.deepEqual(Object.keys(worker).sort(), [...pub, 'applyRepair', 'planRepair'].sort());
   assert.deepEqual(Object.keys(await import('stltopo/three')).sort(),
     ['fromBufferGeometry', 'holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);
   await assert.rejects(import('stltopo/dist/instance.node.js'), { code: 'ERR_PACKAGE_PATH_NOT_EXPORTED' });

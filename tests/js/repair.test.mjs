@@ -205,3 +205,32 @@ test('stltopo repair: the npm CLI prints the native CLI\'s bytes and writes the 
     rmSync(dir, { recursive: true, force: true });
   }
 });
+
+test('stltopo/worker: planRepair and applyRepair in a worker give the main thread\'s plan, log and result', async () => {
+  const worker = await import('stltopo/worker');
+  const t = damagedTorus(26, 10, 9);
+  const mesh = await fromIndexed(t.positions, t.triangles);
+  const options = { steps: ['duplicates', 'zero-area', 'orient', 'fill-holes'], fill: ['refine'] };
+  const here = await planRepair(mesh, options);
+  const there = await worker.planRepair(mesh, options);
+  assert.deepEqual(there.steps, here.steps);
+  assert.deepEqual(there.after, here.after);
+  assert.equal(there.fingerprint, here.fingerprint);
+  const em = await EditableMesh.from(mesh);
+  try {
+    const log = em.applyRepair(here);
+    const { mesh: repaired, log: wlog } = await worker.applyRepair(mesh, there, { shells: true });
+    assert.deepEqual(wlog.steps, log.steps);
+    assert.deepEqual(wlog.after, log.after);
+    assert.deepEqual(new Uint8Array(await toStl(repaired)), new Uint8Array(em.toStl()));
+    assert.equal(repaired.stats.inconsistentEdges, 0);
+    // The input is unchanged (it is the undo of the whole repair).
+    assert.equal(mesh.stats.inconsistentEdges, here.before.inconsistentEdges);
+  } finally {
+    em.dispose();
+  }
+  await assert.rejects(worker.planRepair(mesh, { steps: ['nope'] }), (e) => e.code === 'invalid-argument');
+  await assert.rejects(worker.applyRepair(mesh, {}), (e) => e.code === 'invalid-argument');
+  const other = await fromIndexed(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), new Uint32Array([0, 1, 2]));
+  await assert.rejects(worker.applyRepair(other, there), (e) => e.code === 'invalid-argument' && /another mesh/.test(e.message));
+});

@@ -13,6 +13,9 @@
 //     write   { mesh, options, wasm }  writeStl() of writeInput(mesh) data (copied); answered by
 //                                  one written message per writePull
 //     writePull {}                 asks for the next chunk of the write
+//     repair  { mode, mesh, options, plan, loadOptions, wasm }  planRepair() ('plan': options)
+//                                  or applyRepair() ('apply': plan, loadOptions) on an
+//                                  EditableMesh made there from writeInput(mesh) data (copied)
 //   worker -> main
 //     ready   {}                   once, when the thread runs (before it, an error is a failed
 //                                  start); the platform wrappers (worker.js, worker.node.js)
@@ -21,12 +24,14 @@
 //     progress { fraction, bytesRead }
 //     result  { raw }              the mesh's raw data, its arrays transferred (transferList)
 //     written { chunk }            the next chunk of a write (transferred), null at the end
+//     repaired { plan } | { raw, log }  the plan, or the repaired mesh's raw data (loaded there
+//                                  with loadOptions) and the change log; id lists transferred
 //     error   { error }            errorToMessage() of the failure
 import { StlError } from './errors.js';
 
 export const Msg = Object.freeze({
   Load: 'load', Chunks: 'chunks', Ready: 'ready', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
-  Indexed: 'indexed', Write: 'write', WritePull: 'writePull', Written: 'written',
+  Indexed: 'indexed', Write: 'write', WritePull: 'writePull', Written: 'written', Repair: 'repair', Repaired: 'repaired',
 });
 export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
 
@@ -40,12 +45,24 @@ export const indexedMessage = (positions, triangles, options, wasm) => ({ type: 
 export const writeMessage = (mesh, options, wasm) => ({ type: Msg.Write, mesh, options, wasm });
 export const writePullMessage = () => ({ type: Msg.WritePull });
 export const writtenMessage = (chunk) => ({ type: Msg.Written, chunk });
+export const repairMessage = (mode, mesh, options, plan, loadOptions, wasm) => ({ type: Msg.Repair, mode, mesh, options, plan, loadOptions, wasm });
+export const repairedMessage = (fields) => ({ type: Msg.Repaired, ...fields });
 export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) });
 
 /** The ArrayBuffers of a raw result, for a postMessage transfer list. */
 export function transferList(raw) {
   const set = new Set();
   for (const a of Object.values(raw.arrays)) if (a && a.buffer) set.add(a.buffer);
+  return [...set];
+}
+
+/** The Uint32Array buffers of a plan's items or a log's steps, for a transfer list. */
+export function repairTransferList(x) {
+  const set = new Set();
+  for (const s of (x && x.steps) || []) {
+    for (const v of Object.values(s)) if (v instanceof Uint32Array) set.add(v.buffer);
+    for (const it of s.items || []) for (const v of Object.values(it)) if (v instanceof Uint32Array) set.add(v.buffer);
+  }
   return [...set];
 }
 

@@ -1,14 +1,14 @@
 // Main-thread side of stltopo/worker: runs loadStl in a worker (one per load
 // in flight, idle ones reused), reports progress, cancels by terminating the
 // worker, and receives the result arrays as transferred ArrayBuffers.
-import { abortError, checkAbort } from './errors.js';
+import { abortError, checkAbort, stlError } from './errors.js';
 import { normalizeOptions, plainOptions } from './options.js';
 import { toSource } from './sources.js';
 import { Mesh, workerHome, writeInput } from './mesh.js';
 import {
-  Msg, InputKind, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage,
+  Msg, InputKind, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage, repairMessage,
 } from './protocol.js';
-import { normalizeIndexedOptions, normalizeWriteOptions } from './options.js';
+import { normalizeIndexedOptions, normalizeWriteOptions, normalizeRepairOptions } from './options.js';
 import { wasmSettings } from './wasm-load.js';
 
 // Where the worker's wasm comes from: the page's init() settings.
@@ -95,6 +95,16 @@ export function createWorkerLoader(spawn) {
               const mesh = new Mesh(msg.raw);
               workerHome.set(mesh, () => self);
               settle(resolve, mesh, true);
+              break;
+            }
+            case Msg.Repaired: {
+              let value = msg.plan;
+              if (msg.raw) {
+                const mesh = new Mesh(msg.raw);
+                workerHome.set(mesh, () => self);
+                value = { mesh, log: msg.log };
+              }
+              settle(resolve, value, true);
               break;
             }
             case Msg.Error:
@@ -184,7 +194,27 @@ export function createWorkerLoader(spawn) {
     }
   }
 
-  const self = { loadStl, loadStlFile, fromIndexed, writeStl };
+  // The mesh as an EditableMesh source: writeInput()'s arrays (copies) and its format.
+  const repairInput = (mesh) => ({ ...writeInput(mesh), format: mesh.format });
+
+  // planRepair() in a worker: the plan comes back with its id lists transferred.
+  async function planRepair(mesh, options) {
+    normalizeRepairOptions(options); // checks here, so errors come from the call
+    return run(repairMessage('plan', repairInput(mesh), { ...(options || {}) }, null, null, wasmOf()), [], {}, null);
+  }
+
+  // applyRepair() in a worker: the repaired mesh (loaded with loadOptions) and the log.
+  async function applyRepair(mesh, plan, loadOptions) {
+    if (!plan || typeof plan !== 'object' || !plan.options || typeof plan.fingerprint !== 'string') {
+      throw stlError('invalid-argument', 'applyRepair() needs a plan from planRepair()');
+    }
+    const o = normalizeOptions(loadOptions);
+    const { steps, before, after, remaining, fingerprint, options } = plan;
+    const lean = { fingerprint, options, before, after, remaining, steps: steps.map((s) => ({ step: s.step })) };
+    return run(repairMessage('apply', repairInput(mesh), null, lean, plainOptions(o), wasmOf()), [], o, null);
+  }
+
+  const self = { loadStl, loadStlFile, fromIndexed, writeStl, planRepair, applyRepair };
   return self;
 }
 

@@ -1,10 +1,11 @@
 // Worker-thread side of stltopo/worker (shared by the browser and Node threads).
 import { bufferSource, streamSource } from './sources.js';
 import { normalizeOptions } from './options.js';
+import { createEditableMesh } from './edit.js';
 import { init } from './wasm-load.js';
 import {
   Msg, InputKind, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
-  writtenMessage,
+  writtenMessage, repairedMessage, repairTransferList,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -36,6 +37,7 @@ function pulledSource(port, total) {
 }
 
 export function serve(port, internal, { fileSource = null } = {}) {
+  let EditableMesh = null;
   let pulled = null;
   let writing = null; // the iterator of the write in progress
   port.onMessage(async (msg) => {
@@ -53,6 +55,27 @@ export function serve(port, internal, { fileSource = null } = {}) {
       } catch (e) {
         writing = null;
         port.post(errorMessage(e));
+      }
+      return;
+    }
+    if (msg.type === Msg.Repair) {
+      let em = null;
+      try {
+        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule);
+        em = await EditableMesh.from(msg.mesh);
+        if (msg.mode === 'plan') {
+          const plan = em.planRepair(msg.options);
+          port.post(repairedMessage({ plan }), repairTransferList(plan));
+        } else {
+          const log = em.applyRepair(msg.plan);
+          const bytes = em.toStl({ format: msg.mesh.format === 'ascii' ? 'ascii' : 'binary' });
+          const raw = await internal.loadRaw(bufferSource(bytes), normalizeOptions(msg.loadOptions), { validate: true });
+          port.post(repairedMessage({ raw, log }), [...transferList(raw), ...repairTransferList(log)]);
+        }
+      } catch (e) {
+        port.post(errorMessage(e));
+      } finally {
+        if (em) em.dispose();
       }
       return;
     }

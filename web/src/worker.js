@@ -48,6 +48,13 @@ const loader = createWorkerLoader(() => {
 export const loadStl = loader.loadStl;
 export const fromIndexed = loader.fromIndexed;
 export const writeStl = loader.writeStl;
+/** A repair plan for a Mesh, made in a worker (docs/REPAIR.md). */
+export const planRepair = loader.planRepair;
+/**
+ * Carries a plan out in a worker on a copy of the mesh: { mesh (the repaired Mesh, loaded
+ * with loadOptions), log }. The input mesh is unchanged: it is the undo of the whole repair.
+ */
+export const applyRepair = loader.applyRepair;
 
 /** toStl() with the writing in a worker: a Blob (type model/stl). */
 export async function toStl(mesh, options) {

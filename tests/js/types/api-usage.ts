@@ -182,3 +182,8 @@ export async function repairing(mesh: Mesh): Promise<number> {
 }
 // @ts-expect-error: step names are a closed union
 export const badStep: RepairOptions = { steps: ['holes'] };
+export async function repairingInAWorker(mesh: Mesh): Promise<number> {
+  const plan = await worker.planRepair(mesh, { steps: ['orient'] });
+  const { mesh: repaired, log } = await worker.applyRepair(mesh, plan, { shells: true });
+  return repaired.stats.triangles + log.steps.length;
+}

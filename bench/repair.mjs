@@ -1,0 +1,93 @@
+#!/usr/bin/env node
+// The repair benchmark (issue 23): the whole default repair of a torus with 8 holes and 1%
+// flipped faces, against a plain load of the same file, natively (in-process, with the time
+// of each step: bench/repair.cpp) and in wasm (the package in Node: loadStl, then planRepair
+// and applyRepair on an EditableMesh). Medians; the contenders alternate run by run.
+//   node bench/repair.mjs [--sizes 100k,1M] [--reps N] [--out FILE]
+// Needs build-bench (scripts/bench.sh builds genmesh and stltopo_repair_bench) and dist/.
+import fs from 'node:fs';
+import path from 'node:path';
+import { spawnSync } from 'node:child_process';
+import { fileURLToPath } from 'node:url';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+const BUILD = path.join(root, process.env.STLTOPO_BENCH_BUILD_DIR || 'build-bench');
+const BIN = { genmesh: path.join(BUILD, 'bench/genmesh'), native: path.join(BUILD, 'bench/stltopo_repair_bench') };
+const SIZES = { '100k': 100000, '1M': 1000000, '4M': 4000000 };
+const opt = { sizes: ['100k', '1M'], reps: 3, out: path.join(root, 'bench/results/repair-latest.json') };
+for (let i = 2; i < process.argv.length; ++i) {
+  const a = process.argv[i];
+  if (a === '--sizes') opt.sizes = process.argv[++i].split(',');
+  else if (a === '--reps') opt.reps = Number(process.argv[++i]);
+  else if (a === '--out') opt.out = path.resolve(process.argv[++i]);
+  else { console.error(`repair.mjs: unknown argument ${a}`); process.exit(2); }
+}
+const DATA = path.join(root, 'bench/data');
+fs.mkdirSync(DATA, { recursive: true });
+const median = (v) => [...v].sort((a, b) => a - b)[Math.floor(v.length / 2)];
+
+// One wasm run in a child process (a fresh heap each time): load, plan, apply, in seconds.
+const WASM_CHILD = `
+import { readFileSync } from 'node:fs';
+import { loadStl, planRepair, EditableMesh } from 'stltopo';
+const bytes = readFileSync(process.argv[1]);
+const intersections = process.argv[2] === '1';
+const t = () => performance.now() / 1000;
+let t0 = t();
+const mesh = await loadStl(bytes);
+const load = t() - t0;
+t0 = t();
+const plan = await planRepair(mesh, { intersections });
+const planS = t() - t0;
+const em = await EditableMesh.from(mesh);
+t0 = t();
+const log = em.applyRepair(plan);
+const apply = t() - t0;
+console.log(JSON.stringify({ load, plan: planS, apply, holesAfter: log.after.holes, inconsistentAfter: log.after.inconsistentEdges }));
+em.dispose();
+`;
+const childFile = path.join(root, 'bench/.repair-child.mjs');
+fs.writeFileSync(childFile, WASM_CHILD);
+
+function run(cmd, args) {
+  const r = spawnSync(cmd, args, { encoding: 'utf8', cwd: root, maxBuffer: 1 << 26 });
+  if (r.status !== 0) throw new Error(`${cmd} ${args.join(' ')}: ${r.stderr}`);
+  return JSON.parse(r.stdout.trim().split('\n').pop());
+}
+
+const results = { date: new Date().toISOString(), reps: opt.reps, cases: [] };
+try {
+  for (const size of opt.sizes) {
+    const n = SIZES[size];
+    const file = path.join(DATA, `torus-${size}-holes8-flip1.stl`);
+    if (!fs.existsSync(file)) spawnSync(BIN.genmesh, [String(n), file, '--hole-count', '8', '--flip-percent', '1'], { stdio: 'ignore' });
+    for (const intersections of [false, true]) {
+      const native = [], wasm = [];
+      for (let r = 0; r < opt.reps; ++r) {
+        native.push(run(BIN.native, [file, '--reps', '1', ...(intersections ? [] : ['--no-intersections'])]));
+        wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0']));
+      }
+      const steps = {};
+      for (const k of Object.keys(native[0].steps)) steps[k] = median(native.map((x) => x.steps[k]));
+      const c = {
+        size, triangles: native[0].triangles, intersections,
+        native: { load: median(native.map((x) => x.load)), plan: median(native.map((x) => x.plan)),
+          apply: median(native.map((x) => x.apply)), steps },
+        wasm: { load: median(wasm.map((x) => x.load)), plan: median(wasm.map((x) => x.plan)), apply: median(wasm.map((x) => x.apply)) },
+        holesBefore: native[0].holesBefore, holesAfter: native[0].holesAfter, inconsistentAfter: native[0].inconsistentAfter,
+      };
+      c.native.applyOverLoad = c.native.apply / c.native.load;
+      c.wasm.applyOverLoad = c.wasm.apply / c.wasm.load;
+      results.cases.push(c);
+      const f = (x) => x.toFixed(3);
+      console.log(`repair ${size}${intersections ? ' (with the intersection pass)' : ''}: native load ${f(c.native.load)} s, plan ${f(c.native.plan)} s, `
+        + `apply ${f(c.native.apply)} s (${c.native.applyOverLoad.toFixed(2)}x load); wasm load ${f(c.wasm.load)} s, `
+        + `plan ${f(c.wasm.plan)} s, apply ${f(c.wasm.apply)} s (${c.wasm.applyOverLoad.toFixed(2)}x load); steps: `
+        + Object.entries(steps).map(([k, v]) => `${k} ${f(v)}`).join(', '));
+    }
+  }
+} finally {
+  fs.rmSync(childFile, { force: true });
+}
+fs.mkdirSync(path.dirname(opt.out), { recursive: true });
+fs.writeFileSync(opt.out, `${JSON.stringify(results, null, 2)}\n`);
