@@ -19,10 +19,10 @@ test('npm pack → install in a fresh folder → import, parse, worker, CLI', { 
     const [info] = JSON.parse(text.slice(text.search(/^\[$/m)));
     const names = info.files.map((f) => f.path).sort();
     for (const must of ['package.json', 'bin/stltopo.mjs', 'bin/cli-wasm.mjs', 'bin/cli-corpus.mjs', 'dist/index.js', 'dist/node.js', 'dist/index.d.ts', 'dist/worker.js',
-      'dist/worker.node.js', 'dist/worker.d.ts', 'dist/three.js', 'dist/three.d.ts', 'dist/stltopo-wasm.js', 'dist/stltopo-wasm.wasm', 'dist/stltopo-full.js', 'dist/stltopo-full.wasm', 'dist/worker-thread.js', 'docs/JS-API.md', 'docs/EDITING.md', 'README.md']) {
+      'dist/worker.node.js', 'dist/worker.d.ts', 'dist/three.js', 'dist/three.d.ts', 'dist/stltopo-wasm.js', 'dist/stltopo-wasm.wasm', 'dist/stltopo-full.js', 'dist/stltopo-full.wasm', 'dist/worker-thread.js', 'docs/JS-API.md', 'docs/EDITING.md', 'docs/REPAIR.md', 'README.md']) {
       assert.ok(names.includes(must), `${must} missing from the package: ${names.join(', ')}`);
     }
-    for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/(stltopo|cli-wasm|cli-corpus)\.mjs|dist\/.*|docs\/(JS-API|EDITING)\.md)$/.test(n), `unexpected ${n}`);
+    for (const n of names) assert.ok(/^(package\.json|README\.md|LICENSE.*|bin\/(stltopo|cli-wasm|cli-corpus)\.mjs|dist\/.*|docs\/(JS-API|EDITING|REPAIR)\.md)$/.test(n), `unexpected ${n}`);
     // The README is the registry's page: its links are absolute, anchors, or relative links
     // that resolve. There is no public repository yet (package.json has no `repository`), so a
     // relative link is a file of the package, or one of the few repository files the README
