@@ -248,15 +248,18 @@ Status mergePairs(StepContext& ctx) {
 Status closeTJunctions(StepContext& ctx) {
   EditableMesh& em = ctx.em;
   const double tol = ctx.options.stitchTolerance;
+  // The T-junctions tried in earlier rounds (vertex, edge), sorted; a round tries each
+  // candidate once (a vertex meets each edge in one grid cell only).
   struct Tried {
-    uint32_t v, a, b;
+    uint32_t v;
+    uint64_t edge;
+    bool operator<(const Tried& o) const { return v != o.v ? v < o.v : edge < o.edge; }
   };
-  Array<Tried> done;
+  Array<Tried> done, roundDone;
   auto wasTried = [&](uint32_t v, uint32_t a, uint32_t b) {
-    for (const Tried& t : done)
-      if (t.v == v && ((t.a == a && t.b == b) || (t.a == b && t.b == a))) return true;
-    return false;
+    return std::binary_search(done.begin(), done.end(), Tried{v, keyOf(a, b)});
   };
+  Array<uint8_t> busy;  // per vertex: its edges changed in this round
   for (int round = 0; round < 64; ++round) {
     Array<uint32_t> bh;
     Status s = boundaryHalfedges(em, bh);
@@ -353,18 +356,14 @@ Status closeTJunctions(StepContext& ctx) {
       return kx < ky;
     });
     // One item per T-junction; an edge or vertex changed in this round waits for the next.
-    Array<uint32_t> busy;  // vertices whose edges changed in this round
+    if (!busy.assign(em.nVertices(), 0)) return detail::oom(kStitchArrays);
+    roundDone.clear();
     bool progress = false;
-    auto isBusy = [&](uint32_t v) {
-      for (uint32_t b : busy)
-        if (b == v) return true;
-      return false;
-    };
     for (const Cand& c : cands) {
-      if (isBusy(c.v) || isBusy(c.a) || isBusy(c.b) || wasTried(c.v, c.a, c.b)) continue;
+      if (busy[c.v] || busy[c.a] || busy[c.b]) continue;
       // The edge as found (an edit of this round may have moved it: then the next round).
       if (!em.halfedgeAlive(c.he) || !em.isBoundary(c.he) || em.vert()[c.he] != c.a || em.vert()[c.he ^ 1u] != c.b) continue;
-      if (!done.push_back(Tried{c.v, c.a, c.b})) return detail::oom(kStitchArrays);
+      if (!roundDone.push_back(Tried{c.v, keyOf(c.a, c.b)})) return detail::oom(kStitchArrays);
       const uint32_t tri = em.faceWords()[c.he ^ 1u];
       const uint32_t* C = em.triangles().data() + 3 * size_t(tri);
       const uint32_t o = C[0] != c.a && C[0] != c.b ? C[0] : C[1] != c.a && C[1] != c.b ? C[1] : C[2];
@@ -379,9 +378,11 @@ Status closeTJunctions(StepContext& ctx) {
       }
       if (!st.ok()) return st;
       progress = true;
-      if (!busy.push_back(c.v) || !busy.push_back(c.a) || !busy.push_back(c.b) || !busy.push_back(o))
-        return detail::oom(kStitchArrays);
+      busy[c.v] = busy[c.a] = busy[c.b] = busy[o] = 1;
     }
+    for (const Tried& t : roundDone)
+      if (!done.push_back(t)) return detail::oom(kStitchArrays);
+    std::sort(done.begin(), done.end());
     if (!progress) return Status{};
   }
   return Status{};
