@@ -70,6 +70,24 @@ gen::Soup cubeHalves(float gap) {
   return s;
 }
 
+// cubeHalves whose upper rim has a vertex more in the middle of each side: the two rims
+// do not match vertex for vertex (a crack between different tessellations).
+gen::Soup cubeHalvesMismatched(float gap) {
+  gen::Soup s = cubeHalves(gap);
+  s.f.resize(12);  // bottom, top and the lower walls; the upper walls are made again
+  const float x[4] = {0, 1, 1, 0}, y[4] = {0, 0, 1, 1};
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    const uint32_t lo_i = uint32_t(8 + i), lo_j = uint32_t(8 + j), hi_i = uint32_t(12 + i), hi_j = uint32_t(12 + j);
+    const uint32_t m = uint32_t(s.v.size());
+    s.v.push_back({0.5f * (x[i] + x[j]), 0.5f * (y[i] + y[j]), 0.5f + gap});
+    s.f.push_back({lo_i, m, hi_i});
+    s.f.push_back({m, lo_j, hi_j});
+    s.f.push_back({m, hi_j, hi_i});
+  }
+  return s;
+}
+
 // Two squares in z = 0 on either side of y = 0: the upper one is two triangles meeting at
 // (1, 0), the lower one a single triangle whose edge (2,0)-(0,0) passes through (1, 0).
 gen::Soup tJunction() {
@@ -85,6 +103,8 @@ uint32_t nSkipped(const RepairStepPlan& p) {
   return n;
 }
 uint32_t nDone(const RepairStepPlan& p) { return uint32_t(p.items.size()) - nSkipped(p); }
+
+uint64_t keyOf2(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
 
 // Runs one step on em and returns its plan entry.
 Status runStep(RepairStepKind kind, EditableMesh& em, const RepairOptions& o, RepairStepPlan& plan) {
@@ -310,6 +330,50 @@ TEST(SplitEdgeAt, RefusalsChangeNothing) {
   EXPECT_NE(s.message.find("strictly inside"), std::string::npos) << s.message;
   EXPECT_EQ(em.splitEdgeAt(inner, v).code, Code::InvalidArgument);  // not a boundary edge
   EXPECT_TRUE(Snapshot(em) == before);
+}
+
+TEST(Stitch, ZipsACrackBetweenDifferentTessellationsInOneEdit) {
+  EditableMesh em;
+  makeEditable(cubeHalvesMismatched(0.001f), em);
+  ASSERT_EQ(em.stats().boundaryEdges, 12u);
+  const auto keep = rim(em, 0.5f), gone = rim(em, 0.501f);
+  // The lower rim's boundary half-edges, each with the upper rim's midpoint above it.
+  std::vector<uint32_t> edges, mids;
+  for (int i = 0; i < 4; ++i) {
+    const float mx = 0.5f * (em.positions()[3 * keep[i]] + em.positions()[3 * keep[(i + 1) % 4]]);
+    const float my = 0.5f * (em.positions()[3 * keep[i] + 1] + em.positions()[3 * keep[(i + 1) % 4] + 1]);
+    for (uint32_t h = 0; h < em.nHalfedges(); ++h)
+      if (em.isBoundary(h) && keyOf2(em.vert()[h], em.vert()[h ^ 1u]) == keyOf2(keep[i], keep[(i + 1) % 4])) edges.push_back(h);
+    mids.push_back(vertexAt(em, mx, my, 0.501f));
+  }
+  ASSERT_EQ(edges.size(), 4u);
+  // Each part alone is refused (a pinch, or edges that do not pair), and changes nothing.
+  Snapshot before(em);
+  EXPECT_EQ(em.mergeVertices(keep.data(), gone.data(), 4).code, Code::EditRefused);
+  EXPECT_EQ(em.splitEdgeAt(edges[0], mids[0]).code, Code::EditRefused);
+  EXPECT_TRUE(Snapshot(em) == before);
+  // Together they close the crack.
+  Status s = em.stitch(keep.data(), gone.data(), 4, edges.data(), mids.data(), 4);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_TRUE(em.stats().manifold);
+  EXPECT_EQ(em.stats().triangles, 28u);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+TEST(StitchStep, ClosesACrackBetweenDifferentTessellations) {
+  EditableMesh em;
+  makeEditable(cubeHalvesMismatched(0.001f), em);
+  RepairOptions o;
+  o.stitchTolerance = 0.01;
+  RepairStepPlan plan;
+  ASSERT_TRUE(runStep(RepairStepKind::Stitch, em, o, plan).ok());
+  ASSERT_EQ(plan.items.size(), 1u);
+  EXPECT_FALSE(plan.items[0].skipped) << plan.items[0].reason;
+  EXPECT_NE(plan.items[0].action.find("merge 4 vertices and split 4 boundary edges"), std::string::npos)
+      << plan.items[0].action;
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
 }
 
 // ------------------------------------------------------------------------ splitVertex

@@ -270,6 +270,14 @@ class EditableMesh {
   // edges or, unless allowNonManifold, non-manifold vertices, fold-over, zero area). Both
   // parts get split(x, x, t) of the triangle attributes; v keeps its values.
   Status splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold = false);
+  // Both at once, as one edit (a crack whose two sides have different vertices): the
+  // T-junctions (boundary half-edge edges[i], vertex vertices[i]) split their edges first
+  // (several vertices on one edge split it in order along it; two edges of one triangle
+  // may not both be split), then gone[i] merges into keep[i] everywhere, the new parts
+  // included. Refused as mergeVertices and splitEdgeAt are, judged on the whole change
+  // (a pair that alone would pinch may close with the splits beside it).
+  Status stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges, const uint32_t* vertices,
+                uint32_t nSplits, bool allowNonManifold = false);
   // Splits vertex v into one vertex per fan; the fans beyond the first (ordered by their
   // lowest triangle id) get new vertices at the same position, with v's vertex attribute
   // values, and their triangles use them (triangle ids kept). A fan: v's triangles

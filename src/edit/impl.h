@@ -100,6 +100,8 @@ struct EditableMesh::Impl {
   Status fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out = nullptr);
   Status mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold = false);
   Status splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold = false);
+  Status stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges, const uint32_t* vertices,
+                uint32_t nSplits, bool allowNonManifold = false);
   Status splitVertex(uint32_t v, uint32_t* firstNew = nullptr, uint32_t* newCount = nullptr);
   Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
                       const void* values, const AttributeRules& rules = {}, const double* defaultValue = nullptr);

@@ -892,6 +892,17 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
 
 Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold) {
   if (n == 0 || !keep || !gone) return badArgument("mergeVertices needs at least one pair of vertices");
+  return stitch(keep, gone, n, nullptr, nullptr, 0, allowNonManifold);
+}
+
+Status EditableMesh::Impl::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) {
+  return stitch(nullptr, nullptr, 0, &e, &v, 1, allowNonManifold);
+}
+
+Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges,
+                                  const uint32_t* vertices, uint32_t nSplits, bool allowNonManifold) {
+  if ((n > 0 && (!keep || !gone)) || (nSplits > 0 && (!edges || !vertices)) || n + nSplits == 0)
+    return badArgument("stitch needs vertex pairs or T-junctions");
   for (uint32_t i = 0; i < n; ++i) {
     Status s = Impl::checkVertex(*this, keep[i]);
     if (s.ok()) s = Impl::checkVertex(*this, gone[i]);
@@ -903,6 +914,42 @@ Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* g
     if (stamp_[v] == epoch_) return badArgument(detail::format("vertex %u appears twice in the vertices to merge", v));
     stamp_[v] = epoch_;
   }
+  // The T-junctions: (pair of the edge, parameter, vertex, half-edge), sorted by edge and
+  // parameter.
+  struct Split {
+    uint32_t pair;
+    double t;
+    uint32_t v, e;
+  };
+  Array<Split> splits;
+  for (uint32_t i = 0; i < nSplits; ++i) {
+    const uint32_t e = edges[i], v = vertices[i];
+    Status s = Impl::checkHalfedge(*this, e);
+    if (s.ok()) s = Impl::checkVertex(*this, v);
+    if (!s.ok()) return s;
+    if (pairKind_[e >> 1] != uint8_t(EdgeKind::Boundary))
+      return badArgument(detail::format("half-edge %u is not on a boundary edge", e));
+    uint32_t tr = kInvalid;
+    const uint32_t side = Impl::triangleSide(*this, e, tr);
+    const uint32_t a = triangles_[side], b = Impl::sideDst(*this, side), o = Impl::thirdCorner(*this, side);
+    if (v == a || v == b || v == o) return refused(detail::format("vertex %u is a corner of triangle %u", v, tr));
+    double pa[3], pb[3], pv[3], ab2 = 0, av = 0;
+    Impl::position(*this, a, pa);
+    Impl::position(*this, b, pb);
+    Impl::position(*this, v, pv);
+    for (int k = 0; k < 3; ++k) {
+      ab2 += (pb[k] - pa[k]) * (pb[k] - pa[k]);
+      av += (pv[k] - pa[k]) * (pb[k] - pa[k]);
+    }
+    const double t = av / ab2;
+    if (!(t > 0 && t < 1)) return refused(detail::format("vertex %u does not project strictly inside edge %u-%u", v, a, b));
+    if (!splits.push_back(Split{e >> 1, t, v, side})) return detail::oom(kEditArrays);
+  }
+  std::sort(splits.begin(), splits.end(), [](const Split& x, const Split& y) { return x.pair != y.pair ? x.pair < y.pair : x.t < y.t; });
+  for (size_t i = 1; i < splits.size(); ++i)
+    if (splits[i].pair == splits[i - 1].pair && (splits[i].v == splits[i - 1].v || splits[i].t == splits[i - 1].t))
+      return badArgument(detail::format("vertex %u splits edge %u-%u twice, or at the same point as vertex %u", splits[i].v,
+                                        vert_[2 * splits[i].pair], vert_[2 * splits[i].pair + 1], splits[i - 1].v));
   // gone -> keep, sorted by gone.
   Array<uint64_t> map;
   if (!map.resize(n)) return detail::oom(kEditArrays);
@@ -912,99 +959,89 @@ Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* g
     size_t i = size_t(std::lower_bound(map.begin(), map.end(), uint64_t(v) << 32) - map.begin());
     return i < map.size() && uint32_t(map[i] >> 32) == v ? uint32_t(map[i]) : v;
   };
+  // The change: each split triangle (a, b, o) becomes (a, v1, o) (its id) and (v1, v2, o),
+  // ..., (vk, b, o) (new ids); then every triangle at a gone vertex is rewritten; finally
+  // every corner goes through the merge map. origin: the triangle each new one comes from;
+  // param: the split parameter of each part (for the triangle attributes), -1 for none.
   Impl::clearChange(*this);
   Impl::newTriangleEpoch(*this);
+  Array<uint32_t> originRw, originAdd;
+  Array<double> paramRw, paramAdd;
   bool ok = true;
+  for (size_t i = 0; i < splits.size() && ok;) {
+    size_t j = i;
+    while (j < splits.size() && splits[j].pair == splits[i].pair) ++j;
+    const uint32_t side = splits[i].e, tr = side / 3, c = side % 3;
+    if (triStamp_[tr] == triEpoch_) {
+      Impl::clearChange(*this);
+      return refused(detail::format("triangle %u has T-junctions on two of its edges", tr));
+    }
+    triStamp_[tr] = triEpoch_;
+    const uint32_t b = Impl::sideDst(*this, side), o = Impl::thirdCorner(*this, side);
+    uint32_t cs[3] = {triangles_[3 * tr], triangles_[3 * tr + 1], triangles_[3 * tr + 2]};
+    cs[nextCorner(c)] = splits[i].v;
+    ok = ok && chRewritten_.push_back(tr) && originRw.push_back(tr) && paramRw.push_back(splits[i].t);
+    for (uint32_t x : cs) ok = ok && chRewrittenCorners_.push_back(x);
+    for (size_t k = i; k < j; ++k) {
+      const uint32_t next = k + 1 < j ? splits[k + 1].v : b;
+      ok = ok && chAdded_.push_back(splits[k].v) && chAdded_.push_back(next) && chAdded_.push_back(o) &&
+           originAdd.push_back(tr) && paramAdd.push_back(splits[k].t);
+    }
+    i = j;
+  }
   for (uint32_t i = 0; i < n && ok; ++i)
     Impl::forEachCorner(*this, gone[i], [&](uint32_t q) {
       uint32_t t = q / 3;
       if (triStamp_[t] == triEpoch_) return;
       triStamp_[t] = triEpoch_;
-      ok = ok && chRewritten_.push_back(t);
-      for (uint32_t c = 0; c < 3; ++c) ok = ok && chRewrittenCorners_.push_back(image(triangles_[3 * size_t(t) + c]));
+      ok = ok && chRewritten_.push_back(t) && originRw.push_back(t) && paramRw.push_back(-1);
+      for (uint32_t c = 0; c < 3; ++c) ok = ok && chRewrittenCorners_.push_back(triangles_[3 * size_t(t) + c]);
     });
   auto fail = [&](Status s) {
     Impl::clearChange(*this);
     return s;
   };
   if (!ok) return fail(detail::oom(kEditArrays));
-  // Geometry: the moved triangles may not fold over or become zero-area.
+  for (uint32_t& x : chRewrittenCorners_) x = image(x);
+  for (uint32_t& x : chAdded_) x = image(x);
+  // Geometry: no new triangle may fold over or become zero-area against its origin.
   const float* P = positions_.data();
-  for (size_t j = 0; j < chRewritten_.size(); ++j) {
-    const uint32_t t = chRewritten_[j];
+  const size_t W = chRewritten_.size(), N = W + chAdded_.size() / 3;
+  for (size_t j = 0; j < N; ++j) {
+    const uint32_t t = j < W ? originRw[j] : originAdd[j - W];
     if (degenerate_[t]) continue;
     const uint32_t* C = triangles_.data() + 3 * size_t(t);
-    const uint32_t* D = chRewrittenCorners_.data() + 3 * j;
+    const uint32_t* D = j < W ? chRewrittenCorners_.data() + 3 * j : chAdded_.data() + 3 * (j - W);
     if (D[0] == D[1] || D[1] == D[2] || D[0] == D[2]) continue;  // checkJoin refuses it
     const char* why = foldReason(P + 3 * size_t(C[0]), P + 3 * size_t(C[1]), P + 3 * size_t(C[2]), P + 3 * size_t(D[0]),
                                  P + 3 * size_t(D[1]), P + 3 * size_t(D[2]));
-    if (why) return fail(refused(detail::format("triangle %u would %s", t, why)));
+    if (why) return fail(refused(detail::format(j < W ? "triangle %u would %s" : "a part of triangle %u would %s", t, why)));
   }
   Status s = Impl::checkJoin(*this, allowNonManifold);
   if (!s.ok()) return fail(s);
   Impl::PendingWrites pw;
-  for (size_t ai = 0; ai < attributes_.size(); ++ai)
-    if (attributes_[ai].view.element == Element::Vertex)
+  for (size_t ai = 0; ai < attributes_.size(); ++ai) {
+    const Element el = attributes_[ai].view.element;
+    if (el == Element::Vertex) {
       for (uint32_t i = 0; i < n; ++i)
         if (!pw.add(*this, ai, true, Impl::valueOf(*this, ai, keep[i]), Impl::valueOf(*this, ai, gone[i]), 0.5, keep[i]))
           return fail(pw.status());
+    } else if (el == Element::Triangle) {
+      for (size_t j = 0; j < N; ++j) {
+        const double t = j < W ? paramRw[j] : paramAdd[j - W];
+        if (t < 0) continue;
+        const uint32_t id = j < W ? chRewritten_[j] : nTriangles() + uint32_t(j - W);
+        const uint8_t* x = Impl::valueOf(*this, ai, j < W ? originRw[j] : originAdd[j - W]);
+        if (!pw.add(*this, ai, false, x, x, t, id)) return fail(pw.status());
+      }
+    }
+  }
   if (!Impl::reserveChange(*this, 0)) return fail(detail::oom(kEditArrays));
   Impl::apply(*this);
   for (uint32_t i = 0; i < n; ++i) {
     vertexDead_[gone[i]] = 1;
     --nLiveVertices_;
   }
-  Impl::writePending(*this, pw);
-  return Status{};
-}
-
-Status EditableMesh::Impl::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) {
-  Status s = Impl::checkHalfedge(*this, e);
-  if (s.ok()) s = Impl::checkVertex(*this, v);
-  if (!s.ok()) return s;
-  if (pairKind_[e >> 1] != uint8_t(EdgeKind::Boundary))
-    return badArgument(detail::format("half-edge %u is not on a boundary edge", e));
-  uint32_t tr = kInvalid;
-  const uint32_t side = Impl::triangleSide(*this, e, tr);
-  const uint32_t c = side % 3, a = triangles_[side], b = Impl::sideDst(*this, side), o = Impl::thirdCorner(*this, side);
-  if (v == a || v == b || v == o) return refused(detail::format("vertex %u is a corner of triangle %u", v, tr));
-  double pa[3], pb[3], pv[3], ab2 = 0, av = 0;
-  Impl::position(*this, a, pa);
-  Impl::position(*this, b, pb);
-  Impl::position(*this, v, pv);
-  for (int k = 0; k < 3; ++k) {
-    ab2 += (pb[k] - pa[k]) * (pb[k] - pa[k]);
-    av += (pv[k] - pa[k]) * (pb[k] - pa[k]);
-  }
-  const double t = av / ab2;
-  if (!(t > 0 && t < 1))
-    return refused(detail::format("vertex %u does not project strictly inside edge %u-%u", v, a, b));
-  Impl::clearChange(*this);
-  uint32_t cs[3] = {triangles_[3 * tr], triangles_[3 * tr + 1], triangles_[3 * tr + 2]};
-  cs[nextCorner(c)] = v;  // (a, b, o) -> (a, v, o), and (v, b, o)
-  bool ok = chRewritten_.push_back(tr);
-  for (uint32_t x : cs) ok = ok && chRewrittenCorners_.push_back(x);
-  ok = ok && chAdded_.push_back(v) && chAdded_.push_back(b) && chAdded_.push_back(o);
-  auto fail = [&](Status st) {
-    Impl::clearChange(*this);
-    return st;
-  };
-  if (!ok) return fail(detail::oom(kEditArrays));
-  const float* P = positions_.data();
-  const float *A = P + 3 * size_t(a), *B = P + 3 * size_t(b), *O = P + 3 * size_t(o), *V = P + 3 * size_t(v);
-  const char* why = foldReason(A, B, O, A, V, O);
-  if (!why) why = foldReason(A, B, O, V, B, O);
-  if (why) return fail(refused(detail::format("a part of triangle %u would %s", tr, why)));
-  s = Impl::checkJoin(*this, allowNonManifold);
-  if (!s.ok()) return fail(s);
-  Impl::PendingWrites pw;
-  for (size_t ai = 0; ai < attributes_.size(); ++ai)
-    if (attributes_[ai].view.element == Element::Triangle) {
-      const uint8_t* x = Impl::valueOf(*this, ai, tr);
-      if (!pw.add(*this, ai, false, x, x, t, tr) || !pw.add(*this, ai, false, x, x, t, nTriangles())) return fail(pw.status());
-    }
-  if (!Impl::reserveChange(*this, 0)) return fail(detail::oom(kEditArrays));
-  Impl::apply(*this);
   Impl::writePending(*this, pw);
   return Status{};
 }

@@ -3,10 +3,14 @@
 // Phase 1, with RepairOptions::stitchTolerance > 0: boundary vertices closer than the
 // tolerance (Euclidean) that are not joined by an edge are matched, closest pairs first
 // (ties by vertex ids), each vertex at most once. Matched pairs that follow each other
-// along both boundaries (u1-u2 and v1-v2 are boundary edges) form one crack; each crack is
-// one item, merged by one EditableMesh::mergeVertices (all its pairs or none; the lower id
-// of each pair stays where it is). A single pair whose edges do not join would pinch two
-// fans together: mergeVertices refuses it, and so it is skipped with that reason.
+// along both boundaries (u1-u2 and v1-v2 are boundary edges) form one crack, and so do
+// pairs joined by a T-junction: an unmatched boundary vertex on a boundary edge (or within
+// the tolerance of it) whose ends are matched (a crack between different tessellations).
+// Each crack is one item, done by one EditableMesh::stitch (all its pairs and T-junctions
+// or none; the lower id of each pair stays where it is). When a crack with T-junctions is
+// refused, its pairs are tried again crack by crack without them (phase 2 retries the
+// T-junctions). A single pair whose edges do not join would pinch two fans together: the
+// editor refuses it, and so it is skipped with that reason.
 //
 // Phase 2: T-junctions. A boundary vertex v that lies on a boundary edge a-b it is not an
 // end of: exactly (v collinear with a and b by the exact predicates and strictly between
@@ -91,6 +95,104 @@ Status boundaryHalfedges(EditableMesh& em, Array<uint32_t>& out) {
     uint32_t x = L.loopHalfedges[i];
     if (kind[x >> 1] == uint8_t(EdgeKind::Boundary) && !out.push_back(x)) return detail::oom(kStitchArrays);
   }
+  return Status{};
+}
+
+// A T-junction candidate: boundary vertex v at distance d from boundary edge a-b (loop
+// half-edge he, a = its origin), its projection strictly inside the edge.
+struct TCand {
+  double d;
+  uint32_t v, he, a, b;
+};
+bool lessTCand(const TCand& x, const TCand& y) {
+  if (x.d != y.d) return x.d < y.d;
+  if (x.v != y.v) return x.v < y.v;
+  return keyOf(x.a, x.b) < keyOf(y.a, y.b);
+}
+
+// Every T-junction candidate among the boundary half-edges bh, sorted by (distance, vertex,
+// edge): exactly on the edge (collinear by the exact predicates, strictly between its
+// ends), or, with tol > 0, within tol of it and farther than tol from both ends. A grid of
+// the edges (cell: the mean edge length, at least tol; an edge goes into every cell its
+// box, grown by tol, meets, up to 64 cells; longer edges are checked against every vertex).
+Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Array<TCand>& cands) {
+  cands.clear();
+  const Array<float>& P = em.positions();
+  const Array<uint32_t>& vert = em.vert();
+  Array<uint32_t> bverts;
+  double total = 0;
+  for (uint32_t x : bh) {
+    if (!bverts.push_back(vert[x])) return detail::oom(kStitchArrays);
+    total += distance(P.data() + 3 * size_t(vert[x]), P.data() + 3 * size_t(vert[x ^ 1u]));
+  }
+  if (bh.empty()) return Status{};
+  std::sort(bverts.begin(), bverts.end());
+  bverts.shrink(size_t(std::unique(bverts.begin(), bverts.end()) - bverts.begin()));
+  double cell = std::max(total / double(bh.size()), tol);
+  if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
+  Array<Entry> grid;
+  Array<uint32_t> big;
+  for (uint32_t i = 0; i < bh.size(); ++i) {
+    const float* a = P.data() + 3 * size_t(vert[bh[i]]);
+    const float* b = P.data() + 3 * size_t(vert[bh[i] ^ 1u]);
+    int64_t lo[3], hi[3], n = 1;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = cellOf(std::min(a[k], b[k]) - tol, cell);
+      hi[k] = cellOf(std::max(a[k], b[k]) + tol, cell);
+      n *= (hi[k] - lo[k] + 1);
+      if (n > 64) break;
+    }
+    if (n > 64) {
+      if (!big.push_back(i)) return detail::oom(kStitchArrays);
+      continue;
+    }
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+          if (!grid.push_back(Entry{{{x, y, z}}, i})) return detail::oom(kStitchArrays);
+  }
+  std::sort(grid.begin(), grid.end(), [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
+  auto consider = [&](uint32_t v, uint32_t i) {
+    const uint32_t x = bh[i], a = vert[x], b = vert[x ^ 1u];
+    if (v == a || v == b) return true;
+    const float *pa = P.data() + 3 * size_t(a), *pb = P.data() + 3 * size_t(b), *pv = P.data() + 3 * size_t(v);
+    double d;
+    if (pred::collinear(pa, pb, pv)) {
+      // Strictly between, exactly: along the axis where a and b differ most.
+      int k = 0;
+      for (int j = 1; j < 3; ++j)
+        if (std::fabs(double(pb[j]) - pa[j]) > std::fabs(double(pb[k]) - pa[k])) k = j;
+      float lo = std::min(pa[k], pb[k]), hi = std::max(pa[k], pb[k]);
+      if (!(lo < pv[k] && pv[k] < hi)) return true;
+      d = 0;
+    } else {
+      if (!(tol > 0)) return true;
+      double ab[3], av[3], ab2 = 0, t = 0;
+      for (int k = 0; k < 3; ++k) {
+        ab[k] = double(pb[k]) - pa[k];
+        av[k] = double(pv[k]) - pa[k];
+        ab2 += ab[k] * ab[k];
+        t += av[k] * ab[k];
+      }
+      if (!(ab2 > 0)) return true;
+      t /= ab2;
+      if (!(t > 0 && t < 1)) return true;
+      double q[3] = {pa[0] + t * ab[0], pa[1] + t * ab[1], pa[2] + t * ab[2]};
+      d = std::sqrt((pv[0] - q[0]) * (pv[0] - q[0]) + (pv[1] - q[1]) * (pv[1] - q[1]) + (pv[2] - q[2]) * (pv[2] - q[2]));
+      if (d > tol || distance(pv, pa) <= tol || distance(pv, pb) <= tol) return true;
+    }
+    return cands.push_back(TCand{d, v, x, a, b});
+  };
+  for (uint32_t v : bverts) {
+    const float* p = P.data() + 3 * size_t(v);
+    CellKey k{{cellOf(p[0], cell), cellOf(p[1], cell), cellOf(p[2], cell)}};
+    const Entry* it = std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
+    for (; it != grid.end() && it->key == k; ++it)
+      if (!consider(v, it->id)) return detail::oom(kStitchArrays);
+    for (uint32_t i : big)
+      if (!consider(v, i)) return detail::oom(kStitchArrays);
+  }
+  std::sort(cands.begin(), cands.end(), lessTCand);
   return Status{};
 }
 
@@ -191,6 +293,27 @@ Status mergePairs(StepContext& ctx) {
       }
     }
   }
+  // T-junctions beside the pairs: an unmatched boundary vertex on (or within tol of) a
+  // boundary edge with a matched end (its nearest such edge) joins the crack of that end's
+  // pair, and joins the cracks of both ends (a crack whose sides have different vertices).
+  Array<uint32_t> parentA;  // the cracks by adjacency alone (the fallback)
+  if (!parentA.resize(np)) return detail::oom(kStitchArrays);
+  for (uint32_t i = 0; i < np; ++i) parentA[i] = find(i);
+  Array<TCand> all, ts;
+  s = tCandidates(em, bh, tol, all);
+  if (!s.ok()) return s;
+  Array<uint8_t> hasT;  // one edge per vertex: its nearest (`all` is sorted by distance)
+  if (!hasT.assign(em.nVertices(), 0)) return detail::oom(kStitchArrays);
+  for (const TCand& c : all) {
+    if (partner[c.v] != kInvalid || (pairOf[c.a] == kInvalid && pairOf[c.b] == kInvalid) || hasT[c.v]) continue;
+    hasT[c.v] = 1;
+    if (!ts.push_back(c)) return detail::oom(kStitchArrays);
+    if (pairOf[c.a] != kInvalid && pairOf[c.b] != kInvalid) {
+      uint32_t a = find(pairOf[c.a]), b = find(pairOf[c.b]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  auto groupOfT = [&](const TCand& c) { return find(pairOf[c.a] != kInvalid ? pairOf[c.a] : pairOf[c.b]); };
   // Items in order of their lowest pair (pairs are in matching order: closest first).
   Array<uint32_t> order;
   for (uint32_t i = 0; i < np; ++i)
@@ -212,11 +335,15 @@ Status mergePairs(StepContext& ctx) {
       if (em.triangleAlive(t))
         for (uint32_t c = 0; c < 3; ++c) triAt[fill[T[3 * t + c]]++] = t;
   }
-  for (size_t b = 0; b < order.size();) {
-    size_t e = b;
-    while (e < order.size() && find(order[e]) == find(order[b])) ++e;
-    std::vector<uint32_t> keep, gone, tris, verts;
-    std::string action = e - b == 1 ? "merge vertex" : detail::format("close a crack: merge %u vertices:", uint32_t(e - b));
+  const Array<uint32_t>& faces = em.faceWords();
+  // One item: the pairs order[b, e) and the T-junctions tsOf, as one edit. Returns the
+  // edit's status (a refusal is listed as skipped).
+  auto item = [&](size_t b, size_t e, const std::vector<const TCand*>& tsOf) -> Status {
+    std::vector<uint32_t> keep, gone, tris, verts, edgesT, vertsT;
+    std::string action = tsOf.empty() ? (e - b == 1 ? std::string("merge vertex")
+                                                    : detail::format("close a crack: merge %u vertices:", uint32_t(e - b)))
+                                      : detail::format("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
+                                                       uint32_t(e - b), uint32_t(tsOf.size()));
     double maxD = 0;
     for (size_t i = b; i < e; ++i) {
       const uint32_t k = order[i];
@@ -229,17 +356,47 @@ Status mergePairs(StepContext& ctx) {
       verts.push_back(pv[k]);
     }
     if (e - b > 8) detail::appendf(action, ", and %u more (all at most %.9g apart)", uint32_t(e - b - 8), maxD);
+    for (size_t i = 0; i < tsOf.size(); ++i) {
+      const TCand& c = *tsOf[i];
+      edgesT.push_back(c.he);
+      vertsT.push_back(c.v);
+      tris.push_back(faces[c.he ^ 1u]);
+      verts.push_back(c.v);
+      if (i < 8) detail::appendf(action, "%s edge %u-%u at %u (%.9g from it)", i == 0 ? " then" : ",", c.a, c.b, c.v, c.d);
+    }
+    if (tsOf.size() > 8) detail::appendf(action, ", and %u more", uint32_t(tsOf.size() - 8));
     std::sort(tris.begin(), tris.end());
     tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
     ctx.begin(std::move(action), std::move(tris), std::move(verts));
-    b = e;
-    if (ctx.excluded()) continue;
-    Status st = em.mergeVertices(keep.data(), gone.data(), uint32_t(keep.size()), false);
-    if (st.code == Code::EditRefused) {
-      ctx.skip(reasonOf(st));
-    } else if (!st.ok()) {
-      return st;
+    if (ctx.excluded()) return Status{};
+    Status st = em.stitch(keep.data(), gone.data(), uint32_t(keep.size()), edgesT.data(), vertsT.data(),
+                          uint32_t(edgesT.size()), false);
+    if (st.code == Code::EditRefused) ctx.skip(reasonOf(st));
+    return st;
+  };
+  for (size_t b = 0; b < order.size();) {
+    size_t e = b;
+    while (e < order.size() && find(order[e]) == find(order[b])) ++e;
+    std::vector<const TCand*> tsOf;
+    for (const TCand& c : ts)
+      if (groupOfT(c) == find(order[b])) tsOf.push_back(&c);
+    Status st = item(b, e, tsOf);
+    if (!st.ok() && st.code != Code::EditRefused) return st;
+    if (st.code == Code::EditRefused && !tsOf.empty() && e - b > 0) {
+      // The pairs alone, crack by crack (the T-junctions wait for phase 2).
+      std::stable_sort(order.begin() + long(b), order.begin() + long(e),
+                       [&](uint32_t x, uint32_t y) { return parentA[x] < parentA[y]; });
+      for (size_t c = b; c < e;) {
+        size_t d = c;
+        while (d < e && parentA[order[d]] == parentA[order[c]]) ++d;
+        st = item(c, d, {});
+        if (!st.ok() && st.code != Code::EditRefused) return st;
+        c = d;
+      }
     }
+    b = e;
   }
   return Status{};
 }
@@ -265,101 +422,17 @@ Status closeTJunctions(StepContext& ctx) {
     Status s = boundaryHalfedges(em, bh);
     if (!s.ok()) return s;
     if (bh.empty()) return Status{};
-    const Array<float>& P = em.positions();
-    const Array<uint32_t>& vert = em.vert();
-    // Boundary vertices and a grid of the boundary edges (cell: the mean edge length, at
-    // least the tolerance; an edge goes into every cell its box, grown by tol, meets, up
-    // to 64 cells; longer edges are checked against every vertex).
-    Array<uint32_t> bverts;
-    double total = 0;
-    for (uint32_t x : bh) {
-      if (!bverts.push_back(vert[x])) return detail::oom(kStitchArrays);
-      total += distance(P.data() + 3 * size_t(vert[x]), P.data() + 3 * size_t(vert[x ^ 1u]));
-    }
-    std::sort(bverts.begin(), bverts.end());
-    bverts.shrink(size_t(std::unique(bverts.begin(), bverts.end()) - bverts.begin()));
-    double cell = std::max(total / double(bh.size()), tol);
-    if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
-    Array<Entry> grid;
-    Array<uint32_t> big;
-    for (uint32_t i = 0; i < bh.size(); ++i) {
-      const float* a = P.data() + 3 * size_t(vert[bh[i]]);
-      const float* b = P.data() + 3 * size_t(vert[bh[i] ^ 1u]);
-      int64_t lo[3], hi[3], n = 1;
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = cellOf(std::min(a[k], b[k]) - tol, cell);
-        hi[k] = cellOf(std::max(a[k], b[k]) + tol, cell);
-        n *= (hi[k] - lo[k] + 1);
-        if (n > 64) break;
-      }
-      if (n > 64) {
-        if (!big.push_back(i)) return detail::oom(kStitchArrays);
-        continue;
-      }
-      for (int64_t x = lo[0]; x <= hi[0]; ++x)
-        for (int64_t y = lo[1]; y <= hi[1]; ++y)
-          for (int64_t z = lo[2]; z <= hi[2]; ++z)
-            if (!grid.push_back(Entry{{{x, y, z}}, i})) return detail::oom(kStitchArrays);
-    }
-    std::sort(grid.begin(), grid.end(), [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
-    struct Cand {
-      double d;
-      uint32_t v, he, a, b;
-    };
-    Array<Cand> cands;
-    auto consider = [&](uint32_t v, uint32_t i) {
-      const uint32_t x = bh[i], a = vert[x], b = vert[x ^ 1u];
-      if (v == a || v == b) return true;
-      const float *pa = P.data() + 3 * size_t(a), *pb = P.data() + 3 * size_t(b), *pv = P.data() + 3 * size_t(v);
-      double d;
-      if (pred::collinear(pa, pb, pv)) {
-        // Strictly between, exactly: along the axis where a and b differ most.
-        int k = 0;
-        for (int j = 1; j < 3; ++j)
-          if (std::fabs(double(pb[j]) - pa[j]) > std::fabs(double(pb[k]) - pa[k])) k = j;
-        float lo = std::min(pa[k], pb[k]), hi = std::max(pa[k], pb[k]);
-        if (!(lo < pv[k] && pv[k] < hi)) return true;
-        d = 0;
-      } else {
-        if (!(tol > 0)) return true;
-        double ab[3], av[3], ab2 = 0, t = 0;
-        for (int k = 0; k < 3; ++k) {
-          ab[k] = double(pb[k]) - pa[k];
-          av[k] = double(pv[k]) - pa[k];
-          ab2 += ab[k] * ab[k];
-          t += av[k] * ab[k];
-        }
-        if (!(ab2 > 0)) return true;
-        t /= ab2;
-        if (!(t > 0 && t < 1)) return true;
-        double q[3] = {pa[0] + t * ab[0], pa[1] + t * ab[1], pa[2] + t * ab[2]};
-        d = std::sqrt((pv[0] - q[0]) * (pv[0] - q[0]) + (pv[1] - q[1]) * (pv[1] - q[1]) + (pv[2] - q[2]) * (pv[2] - q[2]));
-        if (d > tol || distance(pv, pa) <= tol || distance(pv, pb) <= tol) return true;
-      }
-      if (wasTried(v, a, b)) return true;
-      return cands.push_back(Cand{d, v, x, a, b});
-    };
-    for (uint32_t v : bverts) {
-      const float* p = P.data() + 3 * size_t(v);
-      CellKey k{{cellOf(p[0], cell), cellOf(p[1], cell), cellOf(p[2], cell)}};
-      const Entry* it = std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
-      for (; it != grid.end() && it->key == k; ++it)
-        if (!consider(v, it->id)) return detail::oom(kStitchArrays);
-      for (uint32_t i : big)
-        if (!consider(v, i)) return detail::oom(kStitchArrays);
-    }
+    Array<TCand> all, cands;
+    s = tCandidates(em, bh, tol, all);
+    if (!s.ok()) return s;
+    for (const TCand& c : all)
+      if (!wasTried(c.v, c.a, c.b) && !cands.push_back(c)) return detail::oom(kStitchArrays);
     if (cands.empty()) return Status{};
-    std::sort(cands.begin(), cands.end(), [](const Cand& x, const Cand& y) {
-      if (x.d != y.d) return x.d < y.d;
-      if (x.v != y.v) return x.v < y.v;
-      uint64_t kx = keyOf(x.a, x.b), ky = keyOf(y.a, y.b);
-      return kx < ky;
-    });
     // One item per T-junction; an edge or vertex changed in this round waits for the next.
     if (!busy.assign(em.nVertices(), 0)) return detail::oom(kStitchArrays);
     roundDone.clear();
     bool progress = false;
-    for (const Cand& c : cands) {
+    for (const TCand& c : cands) {
       if (busy[c.v] || busy[c.a] || busy[c.b]) continue;
       // The edge as found (an edit of this round may have moved it: then the next round).
       if (!em.halfedgeAlive(c.he) || !em.isBoundary(c.he) || em.vert()[c.he] != c.a || em.vert()[c.he ^ 1u] != c.b) continue;
