@@ -308,6 +308,27 @@ TEST(SplitEdgeAt, ClosesAnExactTJunction) {
   EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
 }
 
+TEST(SplitEdgeAt, TwoVerticesOnOneEdgeSplitItInOrder) {
+  gen::Soup s;  // three triangles above y = 0 meeting it at x = 0, 0.5, 1.5, 2; one below
+  s.v = {{0, 0, 0}, {0.5f, 0, 0}, {1.5f, 0, 0}, {2, 0, 0}, {1, 1, 0}, {1, -1, 0}};
+  s.f = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {0, 5, 3}};
+  EditableMesh em;
+  makeEditable(s, em);
+  const uint32_t a = vertexAt(em, 0, 0, 0), b = vertexAt(em, 2, 0, 0);
+  uint32_t e = kInvalid;
+  for (uint32_t h = 0; h < em.nHalfedges(); ++h)
+    if (em.isBoundary(h) && em.vert()[h] == a && em.vert()[h ^ 1u] == b) e = h;
+  ASSERT_NE(e, kInvalid);
+  // Listed out of order along the edge: the edit sorts them.
+  const uint32_t edges[2] = {e, e}, verts[2] = {vertexAt(em, 1.5f, 0, 0), vertexAt(em, 0.5f, 0, 0)};
+  Status st = em.stitch(nullptr, nullptr, 0, edges, verts, 2);
+  ASSERT_TRUE(st.ok()) << st.message;
+  EXPECT_EQ(em.stats().triangles, 6u);
+  EXPECT_EQ(em.stats().boundaryEdges, 4u);
+  EXPECT_TRUE(em.stats().manifold);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
 TEST(SplitEdgeAt, RefusalsChangeNothing) {
   EditableMesh em;
   makeEditable(tJunction(), em);
