@@ -191,7 +191,10 @@ class RandomEditor {
       }
       case 15: {  // merge a boundary vertex into another, or two consecutive ones of two loops
         uint32_t b1 = boundaryHalfedge(), b2 = boundaryHalfedge();
-        if (b1 == kInvalid) { what = "merge (no boundary)"; return ""; }
+        if (b1 == kInvalid) {
+          what = "merge (no boundary)";
+          return "";
+        }
         const bool allow = pick_(2) == 1;
         uint32_t keep[2] = {em_.vert()[b1], em_.vert()[em_.next()[b1]]};
         uint32_t gone[2] = {em_.vert()[b2 ^ 1u], em_.vert()[b2]};  // b2 runs the other way
@@ -203,7 +206,10 @@ class RandomEditor {
       }
       case 16: {  // split a boundary edge at a vertex
         uint32_t b = boundaryHalfedge();
-        if (b == kInvalid || em_.nVertices() == 0) { what = "splitEdgeAt (no boundary)"; return ""; }
+        if (b == kInvalid || em_.nVertices() == 0) {
+          what = "splitEdgeAt (no boundary)";
+          return "";
+        }
         uint32_t v = pick_(2) ? em_.vert()[em_.next()[em_.next()[b]]] : pick_(em_.nVertices());
         const bool allow = pick_(2) == 1;
         std::snprintf(buf, sizeof buf, "splitEdgeAt(%u, %u, allow %d)", b, v, allow);
@@ -212,7 +218,10 @@ class RandomEditor {
       }
       case 17: {  // split a vertex into its fans (a non-manifold one when there is one)
         uint32_t n = em_.nVertices();
-        if (n == 0) { what = "splitVertex (no vertex)"; return ""; }
+        if (n == 0) {
+          what = "splitVertex (no vertex)";
+          return "";
+        }
         uint32_t v = pick_(n);
         for (uint32_t i = 0; i < n && pick_(2) == 1; ++i)
           if (em_.vertexAlive((v + i) % n) && em_.vertexNonManifold((v + i) % n)) {
@@ -255,17 +264,18 @@ class RandomEditor {
       return what + " made the mesh less manifold";
     // The joins never make a figure worse (unless non-manifold vertices were allowed).
     const bool joinChecked = op == 15 || op == 16;
-    if (joinChecked && (after.boundaryEdges + after.nonManifoldEdges + after.inconsistentEdges >
-                            before.boundaryEdges + before.nonManifoldEdges + before.inconsistentEdges ||
-                        after.nonManifoldEdges > before.nonManifoldEdges || after.inconsistentEdges > before.inconsistentEdges))
+    if (joinChecked &&
+        (after.boundaryEdges + after.nonManifoldEdges + after.inconsistentEdges >
+             before.boundaryEdges + before.nonManifoldEdges + before.inconsistentEdges ||
+         after.nonManifoldEdges > before.nonManifoldEdges || after.inconsistentEdges > before.inconsistentEdges))
       return what + " made the edges worse";
-    if (joinChecked && what.find("allow 0") != std::string::npos && after.nonManifoldVertices > before.nonManifoldVertices)
+    if (joinChecked && what.find("allow 0") != std::string::npos &&
+        after.nonManifoldVertices > before.nonManifoldVertices)
       return what + " made a vertex non-manifold";
     // A split never adds a non-manifold edge (the non-manifold vertices may grow: fans
     // joined through an inconsistent edge stay non-manifold in each part, and a pair kept at
     // one end may be cut at the other end until that end is split too).
-    if (op == 17 && after.nonManifoldEdges > before.nonManifoldEdges)
-      return what + " added a non-manifold edge";
+    if (op == 17 && after.nonManifoldEdges > before.nonManifoldEdges) return what + " added a non-manifold edge";
     if (!checkEachEdit) return "";
     std::string d = differenceFromRebuild(em_);
     return d.empty() ? "" : what + ": " + d;

@@ -364,7 +364,8 @@ TEST(Stitch, ZipsACrackBetweenDifferentTessellationsInOneEdit) {
     const float mx = 0.5f * (em.positions()[3 * keep[i]] + em.positions()[3 * keep[(i + 1) % 4]]);
     const float my = 0.5f * (em.positions()[3 * keep[i] + 1] + em.positions()[3 * keep[(i + 1) % 4] + 1]);
     for (uint32_t h = 0; h < em.nHalfedges(); ++h)
-      if (em.isBoundary(h) && keyOf2(em.vert()[h], em.vert()[h ^ 1u]) == keyOf2(keep[i], keep[(i + 1) % 4])) edges.push_back(h);
+      if (em.isBoundary(h) && keyOf2(em.vert()[h], em.vert()[h ^ 1u]) == keyOf2(keep[i], keep[(i + 1) % 4]))
+        edges.push_back(h);
     mids.push_back(vertexAt(em, mx, my, 0.501f));
   }
   ASSERT_EQ(edges.size(), 4u);
@@ -630,8 +631,9 @@ TEST(StitchStep, NeverMakesAFixtureWorse) {
     ++files;
     const Counts start = counts(probe);
     const bool defective = start.boundary + start.nonManifoldEdges + start.inconsistent + start.nonManifoldVertices > 0;
-    std::string row = rel + ": b/nm/inc/nmv " + std::to_string(start.boundary) + "/" + std::to_string(start.nonManifoldEdges) +
-                      "/" + std::to_string(start.inconsistent) + "/" + std::to_string(start.nonManifoldVertices);
+    std::string row = rel + ": b/nm/inc/nmv " + std::to_string(start.boundary) + "/" +
+                      std::to_string(start.nonManifoldEdges) + "/" + std::to_string(start.inconsistent) + "/" +
+                      std::to_string(start.nonManifoldVertices);
     for (double f : fractions) {
       EditableMesh em;
       ASSERT_TRUE(loadFixture(rel, em, diag));
@@ -646,8 +648,8 @@ TEST(StitchStep, NeverMakesAFixtureWorse) {
         EXPECT_EQ(editcheck::differenceFromRebuild(em), "") << rel << " at " << f;
       }
       char cell[160];
-      std::snprintf(cell, sizeof cell, " | %g: %u/%u/%u/%u (%u done, %u skipped)", f, after.boundary, after.nonManifoldEdges,
-                    after.inconsistent, after.nonManifoldVertices, nDone(plan), nSkipped(plan));
+      std::snprintf(cell, sizeof cell, " | %g: %u/%u/%u/%u (%u done, %u skipped)", f, after.boundary,
+                    after.nonManifoldEdges, after.inconsistent, after.nonManifoldVertices, nDone(plan), nSkipped(plan));
       row += cell;
     }
     if (defective) std::printf("[stitch] %s\n", row.c_str());
@@ -678,8 +680,8 @@ TEST(SplitNonManifoldStep, Fixtures) {
     EXPECT_EQ(nSkipped(plan), after.nonManifoldVertices) << rel;
     EXPECT_EQ(cornerPositions(em), corners) << rel;
     EXPECT_EQ(editcheck::differenceFromRebuild(em), "") << rel;
-    std::printf("[split] %s: b/nm/inc/nmv %u/%u/%u/%u -> %u/%u/%u/%u (%u done, %u skipped)\n", rel.c_str(), start.boundary,
-                start.nonManifoldEdges, start.inconsistent, start.nonManifoldVertices, after.boundary, after.nonManifoldEdges,
-                after.inconsistent, after.nonManifoldVertices, nDone(plan), nSkipped(plan));
+    std::printf("[split] %s: b/nm/inc/nmv %u/%u/%u/%u -> %u/%u/%u/%u (%u done, %u skipped)\n", rel.c_str(),
+                start.boundary, start.nonManifoldEdges, start.inconsistent, start.nonManifoldVertices, after.boundary,
+                after.nonManifoldEdges, after.inconsistent, after.nonManifoldVertices, nDone(plan), nSkipped(plan));
   }
 }

@@ -96,9 +96,11 @@ Status EditableMesh::mergeVertices(const uint32_t* keep, const uint32_t* gone, u
 Status EditableMesh::mergeVertices(uint32_t keep, uint32_t gone, bool allowNonManifold) {
   STLTOPO_WRITE(mergeVertices(&keep, &gone, 1, allowNonManifold), noImpl());
 }
-Status EditableMesh::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) { STLTOPO_WRITE(splitEdgeAt(e, v, allowNonManifold), noImpl()); }
+Status EditableMesh::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) {
+  STLTOPO_WRITE(splitEdgeAt(e, v, allowNonManifold), noImpl());
+}
 Status EditableMesh::stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges,
-                           const uint32_t* vertices, uint32_t nSplits, bool allowNonManifold) {
+                            const uint32_t* vertices, uint32_t nSplits, bool allowNonManifold) {
   STLTOPO_WRITE(stitch(keep, gone, n, edges, vertices, nSplits, allowNonManifold), noImpl());
 }
 Status EditableMesh::splitVertex(uint32_t v, uint32_t* firstNew, uint32_t* newCount) {

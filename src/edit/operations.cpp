@@ -677,7 +677,9 @@ struct FanSide {
   uint32_t other, side, out, tri;
 };
 
-bool lessFanSide(const FanSide& a, const FanSide& b) { return a.other != b.other ? a.other < b.other : a.side < b.side; }
+bool lessFanSide(const FanSide& a, const FanSide& b) {
+  return a.other != b.other ? a.other < b.other : a.side < b.side;
+}
 
 uint32_t findRoot(Array<uint32_t>& parent, uint32_t x) {
   while (parent[x] != x) {
@@ -757,7 +759,8 @@ const char* foldReason(const float* p, const float* q, const float* r, const flo
   double n0[3], n1[3];
   triangleNormal(a[0], a[1], a[2], n0);
   triangleNormal(b[0], b[1], b[2], n1);
-  if (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2] < 0) return "fold over (its normal would turn by more than 90 degrees)";
+  if (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2] < 0)
+    return "fold over (its normal would turn by more than 90 degrees)";
   return nullptr;
 }
 
@@ -767,7 +770,9 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
   const size_t W = m.chRewritten_.size(), A = m.chAdded_.size() / 3, N = W + A;
   const uint32_t nt = m.nTriangles();
   const uint32_t* tri = m.triangles_.data();
-  auto corner = [&](size_t j, uint32_t c) { return j < W ? m.chRewrittenCorners_[3 * j + c] : m.chAdded_[3 * (j - W) + c]; };
+  auto corner = [&](size_t j, uint32_t c) {
+    return j < W ? m.chRewrittenCorners_[3 * j + c] : m.chAdded_[3 * (j - W) + c];
+  };
   auto idOf = [&](size_t j) { return j < W ? m.chRewritten_[j] : nt + uint32_t(j - W); };
   auto degenerateNew = [&](size_t j) {
     uint32_t a = corner(j, 0), b = corner(j, 1), c = corner(j, 2);
@@ -794,7 +799,8 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
       if (old != kNewEdge) ok = ok && keys.push_back(old);
       if (degenerateNew(j)) continue;
       uint32_t p = corner(j, c), q = corner(j, nextCorner(c));
-      ok = ok && fin.push_back(JoinSide{edgeKey(p, q), old, 3 * idOf(j) + c, uint8_t(p < q ? 1 : 0)}) && keys.push_back(edgeKey(p, q));
+      ok = ok && fin.push_back(JoinSide{edgeKey(p, q), old, 3 * idOf(j) + c, uint8_t(p < q ? 1 : 0)}) &&
+           keys.push_back(edgeKey(p, q));
     }
   }
   if (!ok) return detail::oom(kEditArrays);
@@ -815,7 +821,8 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
     curLowToHigh[i] = lh;
   }
   if (!ok) return detail::oom(kEditArrays);
-  std::sort(fin.begin(), fin.end(), [](const JoinSide& a, const JoinSide& b) { return a.key != b.key ? a.key < b.key : a.side < b.side; });
+  std::sort(fin.begin(), fin.end(),
+            [](const JoinSide& a, const JoinSide& b) { return a.key != b.key ? a.key < b.key : a.side < b.side; });
   auto countOf = [&](uint64_t key) {
     size_t i = size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
     return i < keys.size() && keys[i] == key ? curCount[i] : 0u;
@@ -841,9 +848,11 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
                                             : "two sides running the same way (inconsistent)"));
     f = g;
   }
-  const int64_t bad = delta[int(EdgeClass::Boundary)] + delta[int(EdgeClass::NonManifold)] + delta[int(EdgeClass::Inconsistent)];
+  const int64_t bad =
+      delta[int(EdgeClass::Boundary)] + delta[int(EdgeClass::NonManifold)] + delta[int(EdgeClass::Inconsistent)];
   if (bad > 0 || delta[int(EdgeClass::NonManifold)] > 0 || delta[int(EdgeClass::Inconsistent)] > 0)
-    return refused(detail::format("the change would add %lld boundary, non-manifold or inconsistent edges", (long long)std::max<int64_t>(bad, 1)));
+    return refused(detail::format("the change would add %lld boundary, non-manifold or inconsistent edges",
+                                  (long long)std::max<int64_t>(bad, 1)));
 
   // Vertices: the vnext cycles after the change at every corner of a changed triangle.
   Array<uint32_t> verts;
@@ -852,7 +861,8 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
     for (uint32_t c = 0; c < 3; ++c) {
       ok = ok && verts.push_back(corner(j, c));
       if (j < W) ok = ok && verts.push_back(tri[3 * size_t(m.chRewritten_[j]) + c]);
-      if (!degenerateNew(j) && (c == 0 || corner(j, c) != corner(j, c - 1))) ok = ok && at.push_back((uint64_t(corner(j, c)) << 32) | j);
+      if (!degenerateNew(j) && (c == 0 || corner(j, c) != corner(j, c - 1)))
+        ok = ok && at.push_back((uint64_t(corner(j, c)) << 32) | j);
     }
   if (!ok) return detail::oom(kEditArrays);
   std::sort(verts.begin(), verts.end());
@@ -870,12 +880,14 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
       Impl::forEachCorner(m, x, [&](uint32_t q) {
         uint32_t t = q / 3;
         if (m.degenerate_[t] || isRewritten(t)) return;
-        ok = ok && ids.push_back(t) && tris.push_back(tri[3 * t]) && tris.push_back(tri[3 * t + 1]) && tris.push_back(tri[3 * t + 2]);
+        ok = ok && ids.push_back(t) && tris.push_back(tri[3 * t]) && tris.push_back(tri[3 * t + 1]) &&
+             tris.push_back(tri[3 * t + 2]);
       });
     for (size_t i = size_t(std::lower_bound(at.begin(), at.end(), uint64_t(x) << 32) - at.begin());
          i < at.size() && uint32_t(at[i] >> 32) == x; ++i) {
       size_t j = size_t(uint32_t(at[i]));
-      ok = ok && ids.push_back(idOf(j)) && tris.push_back(corner(j, 0)) && tris.push_back(corner(j, 1)) && tris.push_back(corner(j, 2));
+      ok = ok && ids.push_back(idOf(j)) && tris.push_back(corner(j, 0)) && tris.push_back(corner(j, 1)) &&
+           tris.push_back(corner(j, 2));
     }
     if (!ok) return detail::oom(kEditArrays);
     uint32_t cycles = cyclesAt(x, tris, ids, sides, parent, claimed);
@@ -886,11 +898,13 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
     }
   }
   if (!allowNonManifold && after > before)
-    return refused(detail::format("vertex %u would become non-manifold (its fans would meet at one point without joining)", firstBad));
+    return refused(detail::format(
+        "vertex %u would become non-manifold (its fans would meet at one point without joining)", firstBad));
   return Status{};
 }
 
-Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold) {
+Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n,
+                                         bool allowNonManifold) {
   if (n == 0 || !keep || !gone) return badArgument("mergeVertices needs at least one pair of vertices");
   return stitch(keep, gone, n, nullptr, nullptr, 0, allowNonManifold);
 }
@@ -942,14 +956,17 @@ Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, ui
       av += (pv[k] - pa[k]) * (pb[k] - pa[k]);
     }
     const double t = av / ab2;
-    if (!(t > 0 && t < 1)) return refused(detail::format("vertex %u does not project strictly inside edge %u-%u", v, a, b));
+    if (!(t > 0 && t < 1))
+      return refused(detail::format("vertex %u does not project strictly inside edge %u-%u", v, a, b));
     if (!splits.push_back(Split{e >> 1, t, v, side})) return detail::oom(kEditArrays);
   }
-  std::sort(splits.begin(), splits.end(), [](const Split& x, const Split& y) { return x.pair != y.pair ? x.pair < y.pair : x.t < y.t; });
+  std::sort(splits.begin(), splits.end(),
+            [](const Split& x, const Split& y) { return x.pair != y.pair ? x.pair < y.pair : x.t < y.t; });
   for (size_t i = 1; i < splits.size(); ++i)
     if (splits[i].pair == splits[i - 1].pair && (splits[i].v == splits[i - 1].v || splits[i].t == splits[i - 1].t))
-      return badArgument(detail::format("vertex %u splits edge %u-%u twice, or at the same point as vertex %u", splits[i].v,
-                                        vert_[2 * splits[i].pair], vert_[2 * splits[i].pair + 1], splits[i - 1].v));
+      return badArgument(detail::format("vertex %u splits edge %u-%u twice, or at the same point as vertex %u",
+                                        splits[i].v, vert_[2 * splits[i].pair], vert_[2 * splits[i].pair + 1],
+                                        splits[i - 1].v));
   // gone -> keep, sorted by gone.
   Array<uint64_t> map;
   if (!map.resize(n)) return detail::oom(kEditArrays);
@@ -1015,7 +1032,8 @@ Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, ui
     if (D[0] == D[1] || D[1] == D[2] || D[0] == D[2]) continue;  // checkJoin refuses it
     const char* why = foldReason(P + 3 * size_t(C[0]), P + 3 * size_t(C[1]), P + 3 * size_t(C[2]), P + 3 * size_t(D[0]),
                                  P + 3 * size_t(D[1]), P + 3 * size_t(D[2]));
-    if (why) return fail(refused(detail::format(j < W ? "triangle %u would %s" : "a part of triangle %u would %s", t, why)));
+    if (why)
+      return fail(refused(detail::format(j < W ? "triangle %u would %s" : "a part of triangle %u would %s", t, why)));
   }
   Status s = Impl::checkJoin(*this, allowNonManifold);
   if (!s.ok()) return fail(s);
@@ -1024,7 +1042,8 @@ Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, ui
     const Element el = attributes_[ai].view.element;
     if (el == Element::Vertex) {
       for (uint32_t i = 0; i < n; ++i)
-        if (!pw.add(*this, ai, true, Impl::valueOf(*this, ai, keep[i]), Impl::valueOf(*this, ai, gone[i]), 0.5, keep[i]))
+        if (!pw.add(*this, ai, true, Impl::valueOf(*this, ai, keep[i]), Impl::valueOf(*this, ai, gone[i]), 0.5,
+                    keep[i]))
           return fail(pw.status());
     } else if (el == Element::Triangle) {
       for (size_t j = 0; j < N; ++j) {
@@ -1046,7 +1065,8 @@ Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, ui
   return Status{};
 }
 
-Status EditableMesh::Impl::vertexFans(const M& m, uint32_t v, Array<uint32_t>& corners, Array<uint32_t>& fanOf, uint32_t& nFans) {
+Status EditableMesh::Impl::vertexFans(const M& m, uint32_t v, Array<uint32_t>& corners, Array<uint32_t>& fanOf,
+                                      uint32_t& nFans) {
   const uint32_t* tri = m.triangles_.data();
   corners.clear();
   bool ok = true;

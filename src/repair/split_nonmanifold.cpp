@@ -111,10 +111,11 @@ Status runSplitNonManifold(StepContext& ctx) {
       }
       if (!s.ok()) return s;
       RepairItem& item = ctx.plan.items.back();
-      item.action = count == 1 ? detail::format("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
-                                                describe(why[v]), first)
-                               : detail::format("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position", v,
-                                                describe(why[v]), count + 1, first, first + count - 1);
+      item.action = count == 1
+                        ? detail::format("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
+                                         describe(why[v]), first)
+                        : detail::format("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position",
+                                         v, describe(why[v]), count + 1, first, first + count - 1);
       for (uint32_t k = 0; k < count; ++k) item.vertices.push_back(first + k);
       progress = true;
     }
@@ -128,7 +129,9 @@ Status runSplitNonManifold(StepContext& ctx) {
     ctx.begin(detail::format("split vertex %u (%s) into one vertex per fan", v, describe(why[v])), {}, {v});
     if (ctx.excluded()) continue;
     Status r = em.splitVertex(v);
-    if (r.ok()) return Status::error(Code::Invalid, "split-nonmanifold: a vertex split after the last round (a defect of the library)");
+    if (r.ok())
+      return Status::error(Code::Invalid,
+                           "split-nonmanifold: a vertex split after the last round (a defect of the library)");
     if (r.code != Code::EditRefused) return r;
     ctx.skip(reasonOf(r) + ((why[v] & 1) ? " (its fans are joined through inconsistent edges: orient first)" : ""));
   }

@@ -151,7 +151,8 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
         for (int64_t z = lo[2]; z <= hi[2]; ++z)
           if (!grid.push_back(Entry{{{x, y, z}}, i})) return detail::oom(kStitchArrays);
   }
-  std::sort(grid.begin(), grid.end(), [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
+  std::sort(grid.begin(), grid.end(),
+            [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
   auto consider = [&](uint32_t v, uint32_t i) {
     const uint32_t x = bh[i], a = vert[x], b = vert[x ^ 1u];
     if (v == a || v == b) return true;
@@ -178,7 +179,8 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
       t /= ab2;
       if (!(t > 0 && t < 1)) return true;
       double q[3] = {pa[0] + t * ab[0], pa[1] + t * ab[1], pa[2] + t * ab[2]};
-      d = std::sqrt((pv[0] - q[0]) * (pv[0] - q[0]) + (pv[1] - q[1]) * (pv[1] - q[1]) + (pv[2] - q[2]) * (pv[2] - q[2]));
+      d = std::sqrt((pv[0] - q[0]) * (pv[0] - q[0]) + (pv[1] - q[1]) * (pv[1] - q[1]) +
+                    (pv[2] - q[2]) * (pv[2] - q[2]));
       if (d > tol || distance(pv, pa) <= tol || distance(pv, pb) <= tol) return true;
     }
     return cands.push_back(TCand{d, v, x, a, b});
@@ -186,7 +188,8 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
   for (uint32_t v : bverts) {
     const float* p = P.data() + 3 * size_t(v);
     CellKey k{{cellOf(p[0], cell), cellOf(p[1], cell), cellOf(p[2], cell)}};
-    const Entry* it = std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
+    const Entry* it =
+        std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
     for (; it != grid.end() && it->key == k; ++it)
       if (!consider(v, it->id)) return detail::oom(kStitchArrays);
     for (uint32_t i : big)
@@ -233,7 +236,8 @@ Status mergePairs(StepContext& ctx) {
     if (!grid.push_back(Entry{{{cellOf(p[0], tol), cellOf(p[1], tol), cellOf(p[2], tol)}}, v}))
       return detail::oom(kStitchArrays);
   }
-  std::sort(grid.begin(), grid.end(), [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
+  std::sort(grid.begin(), grid.end(),
+            [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); });
   struct Cand {
     double d;
     uint32_t u, v;
@@ -245,7 +249,8 @@ Status mergePairs(StepContext& ctx) {
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
           CellKey k{{e.key.c[0] + dx, e.key.c[1] + dy, e.key.c[2] + dz}};
-          const Entry* it = std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
+          const Entry* it =
+              std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
           for (; it != grid.end() && it->key == k; ++it) {
             if (it->id <= e.id) continue;
             double d = distance(p, P.data() + 3 * size_t(it->id));
@@ -340,10 +345,11 @@ Status mergePairs(StepContext& ctx) {
   // edit's status (a refusal is listed as skipped).
   auto item = [&](size_t b, size_t e, const std::vector<const TCand*>& tsOf) -> Status {
     std::vector<uint32_t> keep, gone, tris, verts, edgesT, vertsT;
-    std::string action = tsOf.empty() ? (e - b == 1 ? std::string("merge vertex")
-                                                    : detail::format("close a crack: merge %u vertices:", uint32_t(e - b)))
-                                      : detail::format("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
-                                                       uint32_t(e - b), uint32_t(tsOf.size()));
+    std::string action =
+        tsOf.empty() ? (e - b == 1 ? std::string("merge vertex")
+                                   : detail::format("close a crack: merge %u vertices:", uint32_t(e - b)))
+                     : detail::format("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
+                                      uint32_t(e - b), uint32_t(tsOf.size()));
     double maxD = 0;
     for (size_t i = b; i < e; ++i) {
       const uint32_t k = order[i];
@@ -362,7 +368,8 @@ Status mergePairs(StepContext& ctx) {
       vertsT.push_back(c.v);
       tris.push_back(faces[c.he ^ 1u]);
       verts.push_back(c.v);
-      if (i < 8) detail::appendf(action, "%s edge %u-%u at %u (%.9g from it)", i == 0 ? " then" : ",", c.a, c.b, c.v, c.d);
+      if (i < 8)
+        detail::appendf(action, "%s edge %u-%u at %u (%.9g from it)", i == 0 ? " then" : ",", c.a, c.b, c.v, c.d);
     }
     if (tsOf.size() > 8) detail::appendf(action, ", and %u more", uint32_t(tsOf.size() - 8));
     std::sort(tris.begin(), tris.end());
@@ -435,13 +442,17 @@ Status closeTJunctions(StepContext& ctx) {
     for (const TCand& c : cands) {
       if (busy[c.v] || busy[c.a] || busy[c.b]) continue;
       // The edge as found (an edit of this round may have moved it: then the next round).
-      if (!em.halfedgeAlive(c.he) || !em.isBoundary(c.he) || em.vert()[c.he] != c.a || em.vert()[c.he ^ 1u] != c.b) continue;
+      if (!em.halfedgeAlive(c.he) || !em.isBoundary(c.he) || em.vert()[c.he] != c.a || em.vert()[c.he ^ 1u] != c.b)
+        continue;
       if (!roundDone.push_back(Tried{c.v, keyOf(c.a, c.b)})) return detail::oom(kStitchArrays);
       const uint32_t tri = em.faceWords()[c.he ^ 1u];
       const uint32_t* C = em.triangles().data() + 3 * size_t(tri);
       const uint32_t o = C[0] != c.a && C[0] != c.b ? C[0] : C[1] != c.a && C[1] != c.b ? C[1] : C[2];
-      std::string action = c.d == 0 ? detail::format("close T-junction: split boundary edge %u-%u at vertex %u (on the edge)", c.a, c.b, c.v)
-                                    : detail::format("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v, c.d);
+      std::string action =
+          c.d == 0
+              ? detail::format("close T-junction: split boundary edge %u-%u at vertex %u (on the edge)", c.a, c.b, c.v)
+              : detail::format("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v,
+                               c.d);
       ctx.begin(std::move(action), {tri}, {c.v, c.a, c.b});
       if (ctx.excluded()) continue;
       Status st = em.splitEdgeAt(c.he, c.v, false);
@@ -466,7 +477,8 @@ Status closeTJunctions(StepContext& ctx) {
 Status runStitch(StepContext& ctx) {
   const double tol = ctx.options.stitchTolerance;
   if (!(tol >= 0) || !std::isfinite(tol))
-    return Status::error(Code::InvalidArgument, detail::format("the stitch tolerance must be a finite distance >= 0, not %g", tol));
+    return Status::error(Code::InvalidArgument,
+                         detail::format("the stitch tolerance must be a finite distance >= 0, not %g", tol));
   const Figures before = figures(ctx.em);
   Status s;
   if (tol > 0) s = mergePairs(ctx);
