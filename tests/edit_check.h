@@ -98,7 +98,7 @@ class RandomEditor {
   // which edit it was.
   std::string step(std::string& what, bool checkEachEdit = true) {
     using namespace stltopo;
-    const uint32_t op = pick_(16);
+    const uint32_t op = pick_(19);
     const EditStats before = em_.stats();
     Status s;
     std::vector<uint8_t> dummy;
@@ -189,6 +189,49 @@ class RandomEditor {
         s = em_.fillHole(b, m, &added);
         break;
       }
+      case 15: {  // merge a boundary vertex into another, or two consecutive ones of two loops
+        uint32_t b1 = boundaryHalfedge(), b2 = boundaryHalfedge();
+        if (b1 == kInvalid) {
+          what = "merge (no boundary)";
+          return "";
+        }
+        const bool allow = pick_(2) == 1;
+        uint32_t keep[2] = {em_.vert()[b1], em_.vert()[em_.next()[b1]]};
+        uint32_t gone[2] = {em_.vert()[b2 ^ 1u], em_.vert()[b2]};  // b2 runs the other way
+        const uint32_t n = 1 + pick_(2);
+        std::snprintf(buf, sizeof buf, "mergeVertices(%u <- %u%s, allow %d)", keep[0], gone[0],
+                      n == 2 ? (", " + std::to_string(keep[1]) + " <- " + std::to_string(gone[1])).c_str() : "", allow);
+        s = em_.mergeVertices(keep, gone, n, allow);
+        break;
+      }
+      case 16: {  // split a boundary edge at a vertex
+        uint32_t b = boundaryHalfedge();
+        if (b == kInvalid || em_.nVertices() == 0) {
+          what = "splitEdgeAt (no boundary)";
+          return "";
+        }
+        uint32_t v = pick_(2) ? em_.vert()[em_.next()[em_.next()[b]]] : pick_(em_.nVertices());
+        const bool allow = pick_(2) == 1;
+        std::snprintf(buf, sizeof buf, "splitEdgeAt(%u, %u, allow %d)", b, v, allow);
+        s = em_.splitEdgeAt(b, v, allow);
+        break;
+      }
+      case 17: {  // split a vertex into its fans (a non-manifold one when there is one)
+        uint32_t n = em_.nVertices();
+        if (n == 0) {
+          what = "splitVertex (no vertex)";
+          return "";
+        }
+        uint32_t v = pick_(n);
+        for (uint32_t i = 0; i < n && pick_(2) == 1; ++i)
+          if (em_.vertexAlive((v + i) % n) && em_.vertexNonManifold((v + i) % n)) {
+            v = (v + i) % n;
+            break;
+          }
+        std::snprintf(buf, sizeof buf, "splitVertex(%u)", v);
+        s = em_.splitVertex(v);
+        break;
+      }
       default: {
         if (pick_(4) != 0) { what = "nothing"; return ""; }
         std::snprintf(buf, sizeof buf, "compact()");
@@ -219,6 +262,20 @@ class RandomEditor {
         (after.nonManifoldEdges > before.nonManifoldEdges || after.nonManifoldVertices > before.nonManifoldVertices ||
          after.inconsistentEdges > before.inconsistentEdges))
       return what + " made the mesh less manifold";
+    // The joins never make a figure worse (unless non-manifold vertices were allowed).
+    const bool joinChecked = op == 15 || op == 16;
+    if (joinChecked &&
+        (after.boundaryEdges + after.nonManifoldEdges + after.inconsistentEdges >
+             before.boundaryEdges + before.nonManifoldEdges + before.inconsistentEdges ||
+         after.nonManifoldEdges > before.nonManifoldEdges || after.inconsistentEdges > before.inconsistentEdges))
+      return what + " made the edges worse";
+    if (joinChecked && what.find("allow 0") != std::string::npos &&
+        after.nonManifoldVertices > before.nonManifoldVertices)
+      return what + " made a vertex non-manifold";
+    // A split never adds a non-manifold edge (the non-manifold vertices may grow: fans
+    // joined through an inconsistent edge stay non-manifold in each part, and a pair kept at
+    // one end may be cut at the other end until that end is split too).
+    if (op == 17 && after.nonManifoldEdges > before.nonManifoldEdges) return what + " added a non-manifold edge";
     if (!checkEachEdit) return "";
     std::string d = differenceFromRebuild(em_);
     return d.empty() ? "" : what + ": " + d;

@@ -7,7 +7,8 @@
 // moves a live element to another slot, except as noted below. Removed elements leave
 // dead slots (holes in the numbering) until compact() renumbers everything densely, in
 // the same order, and returns the old -> new maps.
-//   - Vertex ids: stable until compact(). A vertex dies only in collapseEdge(); a vertex
+//   - Vertex ids: stable until compact(). A vertex dies only in collapseEdge() and
+//     mergeVertices(); a vertex
 //     that no triangle uses stays alive (addTriangle can use it again) but compact() and
 //     toMesh() drop it, as a file could not hold it.
 //   - Triangle ids: stable until compact(). New triangles take new ids at the end; the
@@ -238,6 +239,57 @@ class EditableMesh {
   Status fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out = nullptr);
   // Same for loop h of loops().
   Status fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out = nullptr);
+
+  // --- Joining and splitting vertices (repair: stitch, split-nonmanifold) ---------------
+  // Merges vertex gone[i] into keep[i] for every i < n, as one edit: the triangles at
+  // gone[i] now use keep[i] (they keep their ids), and gone[i] dies. keep[i] stays where it
+  // is (the triangles at gone[i] move by the distance between the two). The 2n ids must be
+  // live and all different (InvalidArgument). Refused, and nothing changes, when:
+  //   - a triangle would get a repeated corner (it uses both vertices of a pair);
+  //   - an edge that gains sides from another edge would end with three or more sides or
+  //     with two sides running the same way (only boundary sides that pair up may join:
+  //     an edge that merely moves with its vertex keeps its kind);
+  //   - the number of boundary, non-manifold or inconsistent edges would grow;
+  //   - unless allowNonManifold, the number of non-manifold vertices would grow (a single
+  //     pair of boundary vertices whose edges do not join pinches two fans together: that
+  //     is refused; a run of pairs along two boundaries zips them into one surface);
+  //   - a moved triangle would fold over (its normal turns by more than 90 degrees, as in
+  //     collapseEdge) or become zero-area (exactly collinear corners) when it was not.
+  // Attributes: each keep[i] gets merge(keep, gone, 1/2) of the vertex attributes (the two
+  // are one point of the surface); triangles keep theirs; an edge that two edges join into
+  // keeps the values of the one whose half-edges the pairing keeps.
+  Status mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold = false);
+  Status mergeVertices(uint32_t keep, uint32_t gone, bool allowNonManifold = false);
+  // Closes a T-junction: splits the boundary edge of e = a -> b at the existing vertex v,
+  // which lies on it or near it: the edge's triangle (a, b, c) becomes (a, v, c), keeping
+  // its id, and (v, b, c), a new id. The same result as splitEdge(e, t) at v's projection
+  // t followed by mergeVertices(v, m), without the dead vertex m. InvalidArgument unless e
+  // is a boundary half-edge (or the twin of one) and v a live vertex; refused when v is a
+  // corner of the triangle, when v's projection onto a-b is not strictly inside the edge,
+  // and for every reason mergeVertices refuses (edges that cannot pair, more defective
+  // edges or, unless allowNonManifold, non-manifold vertices, fold-over, zero area). Both
+  // parts get split(x, x, t) of the triangle attributes; v keeps its values.
+  Status splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold = false);
+  // Both at once, as one edit (a crack whose two sides have different vertices): the
+  // T-junctions (boundary half-edge edges[i], vertex vertices[i]) split their edges first
+  // (several vertices on one edge split it in order along it; two edges of one triangle
+  // may not both be split), then gone[i] merges into keep[i] everywhere, the new parts
+  // included. Refused as mergeVertices and splitEdgeAt are, judged on the whole change
+  // (a pair that alone would pinch may close with the splits beside it).
+  Status stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges, const uint32_t* vertices,
+                uint32_t nSplits, bool allowNonManifold = false);
+  // Splits vertex v into one vertex per fan; the fans beyond the first (ordered by their
+  // lowest triangle id) get new vertices at the same position, with v's vertex attribute
+  // values, and their triangles use them (triangle ids kept). A fan: v's triangles
+  // connected through the edges at v that have exactly two sides (interior or
+  // inconsistent), and through the pairs of v's non-manifold edges (paired as
+  // buildTopology pairs them: opposite directions) where joining the two fans keeps every
+  // edge at v at two sides at most. So a non-manifold vertex splits into its fans, and a
+  // non-manifold edge's pairs come apart into manifold edges once both ends are split
+  // (what manifold-3d does on import: duplicated edges, then pinched vertices split).
+  // Returns the first new vertex and the number of new vertices (they follow each other).
+  // Refused when v has one fan (nothing to split).
+  Status splitVertex(uint32_t v, uint32_t* firstNew = nullptr, uint32_t* newCount = nullptr);
 
   // --- Attributes -----------------------------------------------------------------------
   // Adds (or replaces) attribute `name`. `values`: count * components values of `type` for

@@ -90,6 +90,22 @@ Status EditableMesh::reverseTriangle(uint32_t t) { STLTOPO_WRITE(reverseTriangle
 Status EditableMesh::reverseShell(uint32_t t) { STLTOPO_WRITE(reverseShell(t), noImpl()); }
 Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out) { STLTOPO_WRITE(fillHole(e, method, out), noImpl()); }
 Status EditableMesh::fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out) { STLTOPO_WRITE(fillLoop(h, method, out), noImpl()); }
+Status EditableMesh::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold) {
+  STLTOPO_WRITE(mergeVertices(keep, gone, n, allowNonManifold), noImpl());
+}
+Status EditableMesh::mergeVertices(uint32_t keep, uint32_t gone, bool allowNonManifold) {
+  STLTOPO_WRITE(mergeVertices(&keep, &gone, 1, allowNonManifold), noImpl());
+}
+Status EditableMesh::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) {
+  STLTOPO_WRITE(splitEdgeAt(e, v, allowNonManifold), noImpl());
+}
+Status EditableMesh::stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges,
+                            const uint32_t* vertices, uint32_t nSplits, bool allowNonManifold) {
+  STLTOPO_WRITE(stitch(keep, gone, n, edges, vertices, nSplits, allowNonManifold), noImpl());
+}
+Status EditableMesh::splitVertex(uint32_t v, uint32_t* firstNew, uint32_t* newCount) {
+  STLTOPO_WRITE(splitVertex(v, firstNew, newCount), noImpl());
+}
 
 Status EditableMesh::addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
                                   const void* values, const AttributeRules& rules, const double* defaultValue) {

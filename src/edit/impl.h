@@ -98,6 +98,11 @@ struct EditableMesh::Impl {
   Status reverseShell(uint32_t t);
   Status fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out = nullptr);
   Status fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out = nullptr);
+  Status mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold = false);
+  Status splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold = false);
+  Status stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges, const uint32_t* vertices,
+                uint32_t nSplits, bool allowNonManifold = false);
+  Status splitVertex(uint32_t v, uint32_t* firstNew = nullptr, uint32_t* newCount = nullptr);
   Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
                       const void* values, const AttributeRules& rules = {}, const double* defaultValue = nullptr);
   const AttributeView* attribute(const std::string& name) const;
@@ -362,6 +367,16 @@ struct EditableMesh::Impl {
     return kInvalid;
   }
   static uint32_t thirdCorner(const M& m, uint32_t s) { return m.triangles_[3 * (s / 3) + prevCorner(s % 3)]; }
+
+  // The change of chRewritten_/chAdded_ (nothing removed) joins vertices or edges
+  // (mergeVertices, splitEdgeAt): refused when a changed triangle gets a repeated corner,
+  // when an edge that gains sides from another ends non-manifold or inconsistent, when the
+  // boundary, non-manifold or inconsistent edges would grow, and unless allowNonManifold
+  // when the non-manifold vertices would grow. Reads only (scratch: its own arrays).
+  static Status checkJoin(M& m, bool allowNonManifold);
+  // The fans of vertex v as splitVertex defines them: fanOf[i] for the i-th corner of v
+  // in corner-list order (degenerate triangles: fan 0), fans numbered by lowest triangle.
+  static Status vertexFans(const M& m, uint32_t v, Array<uint32_t>& corners, Array<uint32_t>& fanOf, uint32_t& nFans);
 
   // A triangle attribute's bytes of triangle t / vertex v / pair k.
   static const uint8_t* valueOf(const M& m, size_t ai, uint32_t id) {

@@ -1,5 +1,6 @@
 // EditableMesh operations: init and every edit. See impl.h.
 #include "edit/impl.h"
+#include "predicates.h"
 
 namespace stltopo {
 using Impl = EditableMesh::Impl;
@@ -647,6 +648,537 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
   uint32_t first = Impl::apply(*this);
   if (out)
     for (uint32_t i = 0; i < tris.size() / 3; ++i) (void)out->push_back(first + i);
+  return Status{};
+}
+
+}  // namespace stltopo
+
+// ============================================================================ joining and splitting vertices
+// mergeVertices, splitEdgeAt (repair: stitch) and splitVertex (repair: split-nonmanifold).
+// Each builds its change, checks it completely (checkJoin for the joins), and only then
+// applies it, so that a refusal changes nothing.
+
+namespace stltopo {
+namespace {
+
+constexpr uint64_t kNewEdge = ~uint64_t(0);
+
+// A side of the mesh after a proposed change: its edge, the edge it was on before
+// (kNewEdge for a side of an added triangle), its side id and direction.
+struct JoinSide {
+  uint64_t key, oldKey;
+  uint32_t side;
+  uint8_t lowToHigh;
+};
+
+// A side at a vertex x: the other end of its edge, its side id, whether it leaves x, and
+// the index of its triangle in the vertex's list.
+struct FanSide {
+  uint32_t other, side, out, tri;
+};
+
+bool lessFanSide(const FanSide& a, const FanSide& b) {
+  return a.other != b.other ? a.other < b.other : a.side < b.side;
+}
+
+uint32_t findRoot(Array<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+// Pairs the sides [b, e) of one edge at a vertex by buildTopology's rule (sorted by side
+// id): two sides pair when they run opposite ways; three or more: first unpaired with first
+// unpaired running the other way, in side order. Calls f(i, j) for each pair (indices into
+// the array). `claimed`: scratch of at least e - b flags.
+template <class F>
+bool pairByRule(const FanSide* s, size_t n, Array<uint8_t>& claimed, F&& f) {
+  if (n < 2) return true;
+  if (n == 2) {
+    if (s[0].out != s[1].out) f(size_t(0), size_t(1));
+    return true;
+  }
+  if (!claimed.assign(n, 0)) return false;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < i; ++j) {
+      if (claimed[j] || s[j].out == s[i].out) continue;
+      claimed[i] = claimed[j] = 1;
+      f(j, i);
+      break;
+    }
+  return true;
+}
+
+// The number of vnext cycles (fans joined through paired sides) at x of the triangles in
+// `tris` (3 corners each, all non-degenerate, each using x once), whose side ids are
+// 3 * ids[i] + c. `sides`, `parent`, `claimed`: scratch. kInvalid when memory runs out.
+uint32_t cyclesAt(uint32_t x, const Array<uint32_t>& tris, const Array<uint32_t>& ids, Array<FanSide>& sides,
+                  Array<uint32_t>& parent, Array<uint8_t>& claimed) {
+  const uint32_t n = uint32_t(ids.size());
+  sides.clear();
+  if (!parent.resize(n)) return kInvalid;
+  for (uint32_t i = 0; i < n; ++i) {
+    parent[i] = i;
+    const uint32_t* C = tris.data() + 3 * size_t(i);
+    uint32_t cx = C[0] == x ? 0 : C[1] == x ? 1 : 2;
+    if (!sides.push_back(FanSide{C[nextCorner(cx)], 3 * ids[i] + cx, 1, i}) ||
+        !sides.push_back(FanSide{C[prevCorner(cx)], 3 * ids[i] + prevCorner(cx), 0, i}))
+      return kInvalid;
+  }
+  std::sort(sides.begin(), sides.end(), lessFanSide);
+  uint32_t comps = n;
+  for (size_t b = 0; b < sides.size();) {
+    size_t e = b;
+    while (e < sides.size() && sides[e].other == sides[b].other) ++e;
+    const FanSide* S = sides.data() + b;
+    if (!pairByRule(S, e - b, claimed, [&](size_t i, size_t j) {
+          uint32_t r = findRoot(parent, S[i].tri), q = findRoot(parent, S[j].tri);
+          if (r != q) {
+            parent[std::max(r, q)] = std::min(r, q);
+            --comps;
+          }
+        }))
+      return kInvalid;
+    b = e;
+  }
+  return comps;
+}
+
+// Whether triangle (p, q, r) (old corners) would fold over as (P, Q, R) (new corners):
+// the normal turns by more than 90 degrees (as collapseEdge decides), or becomes zero-area
+// (exactly collinear corners) when the old one was not.
+const char* foldReason(const float* p, const float* q, const float* r, const float* P, const float* Q, const float* R) {
+  if (pred::collinear(P, Q, R)) return pred::collinear(p, q, r) ? nullptr : "become zero-area";
+  double a[3][3], b[3][3];
+  for (int k = 0; k < 3; ++k) {
+    a[0][k] = p[k], a[1][k] = q[k], a[2][k] = r[k];
+    b[0][k] = P[k], b[1][k] = Q[k], b[2][k] = R[k];
+  }
+  double n0[3], n1[3];
+  triangleNormal(a[0], a[1], a[2], n0);
+  triangleNormal(b[0], b[1], b[2], n1);
+  if (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2] < 0)
+    return "fold over (its normal would turn by more than 90 degrees)";
+  return nullptr;
+}
+
+}  // namespace
+
+Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
+  const size_t W = m.chRewritten_.size(), A = m.chAdded_.size() / 3, N = W + A;
+  const uint32_t nt = m.nTriangles();
+  const uint32_t* tri = m.triangles_.data();
+  auto corner = [&](size_t j, uint32_t c) {
+    return j < W ? m.chRewrittenCorners_[3 * j + c] : m.chAdded_[3 * (j - W) + c];
+  };
+  auto idOf = [&](size_t j) { return j < W ? m.chRewritten_[j] : nt + uint32_t(j - W); };
+  auto degenerateNew = [&](size_t j) {
+    uint32_t a = corner(j, 0), b = corner(j, 1), c = corner(j, 2);
+    return a == b || b == c || a == c;
+  };
+  for (size_t j = 0; j < N; ++j)
+    if (degenerateNew(j) && !(j < W && m.degenerate_[m.chRewritten_[j]]))
+      return refused(detail::format("triangle %u would have a repeated corner", idOf(j)));
+  Array<uint32_t> rewritten;
+  if (!rewritten.resize(W)) return detail::oom(kEditArrays);
+  if (W > 0) std::memcpy(rewritten.data(), m.chRewritten_.data(), W * 4);
+  std::sort(rewritten.begin(), rewritten.end());
+  auto isRewritten = [&](uint32_t t) { return std::binary_search(rewritten.begin(), rewritten.end(), t); };
+
+  // Edges: the sides of the changed triangles after the change, the edges they touch.
+  Array<JoinSide> fin;
+  Array<uint64_t> keys;
+  bool ok = true;
+  for (size_t j = 0; j < N; ++j) {
+    const bool oldSides = j < W && !m.degenerate_[m.chRewritten_[j]];
+    const uint32_t t = j < W ? m.chRewritten_[j] : kInvalid;
+    for (uint32_t c = 0; c < 3; ++c) {
+      uint64_t old = oldSides ? edgeKey(tri[3 * t + c], tri[3 * t + nextCorner(c)]) : kNewEdge;
+      if (old != kNewEdge) ok = ok && keys.push_back(old);
+      if (degenerateNew(j)) continue;
+      uint32_t p = corner(j, c), q = corner(j, nextCorner(c));
+      ok = ok && fin.push_back(JoinSide{edgeKey(p, q), old, 3 * idOf(j) + c, uint8_t(p < q ? 1 : 0)}) &&
+           keys.push_back(edgeKey(p, q));
+    }
+  }
+  if (!ok) return detail::oom(kEditArrays);
+  std::sort(keys.begin(), keys.end());
+  keys.shrink(size_t(std::unique(keys.begin(), keys.end()) - keys.begin()));
+  Array<uint32_t> curCount, curLowToHigh;
+  if (!curCount.resize(keys.size()) || !curLowToHigh.resize(keys.size())) return detail::oom(kEditArrays);
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const uint32_t lo = uint32_t(keys[i] >> 32), hi = uint32_t(keys[i]);
+    uint32_t cnt = 0, lh = 0;
+    Impl::forEachEdgeSide(m, lo, hi, [&](uint32_t s) {
+      ++cnt;
+      uint8_t d = tri[s] == lo ? 1 : 0;
+      lh += d;
+      if (!isRewritten(s / 3)) ok = ok && fin.push_back(JoinSide{keys[i], keys[i], s, d});
+    });
+    curCount[i] = cnt;
+    curLowToHigh[i] = lh;
+  }
+  if (!ok) return detail::oom(kEditArrays);
+  std::sort(fin.begin(), fin.end(),
+            [](const JoinSide& a, const JoinSide& b) { return a.key != b.key ? a.key < b.key : a.side < b.side; });
+  auto countOf = [&](uint64_t key) {
+    size_t i = size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+    return i < keys.size() && keys[i] == key ? curCount[i] : 0u;
+  };
+  int64_t delta[5] = {0, 0, 0, 0, 0};  // by EdgeClass
+  size_t f = 0;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    --delta[int(classify(curCount[i], curLowToHigh[i]))];
+    while (f < fin.size() && fin[f].key < keys[i]) ++f;
+    size_t g = f;
+    uint32_t lh = 0;
+    bool renamed = true;
+    for (; g < fin.size() && fin[g].key == keys[i]; ++g) {
+      lh += fin[g].lowToHigh;
+      if (fin[g].oldKey == kNewEdge || fin[g].oldKey != fin[f].oldKey) renamed = false;
+    }
+    const uint32_t cnt = uint32_t(g - f);
+    const EdgeClass cls = classify(cnt, lh);
+    ++delta[int(cls)];
+    if (cnt >= 2 && cls != EdgeClass::Interior && !(renamed && countOf(fin[f].oldKey) == cnt))
+      return refused(detail::format("edge %u-%u would have %s", uint32_t(keys[i] >> 32), uint32_t(keys[i]),
+                                    cnt > 2 ? detail::format("%u sides (non-manifold)", cnt).c_str()
+                                            : "two sides running the same way (inconsistent)"));
+    f = g;
+  }
+  const int64_t bad =
+      delta[int(EdgeClass::Boundary)] + delta[int(EdgeClass::NonManifold)] + delta[int(EdgeClass::Inconsistent)];
+  if (bad > 0 || delta[int(EdgeClass::NonManifold)] > 0 || delta[int(EdgeClass::Inconsistent)] > 0)
+    return refused(detail::format("the change would add %lld boundary, non-manifold or inconsistent edges",
+                                  (long long)std::max<int64_t>(bad, 1)));
+
+  // Vertices: the vnext cycles after the change at every corner of a changed triangle.
+  Array<uint32_t> verts;
+  Array<uint64_t> at;  // (vertex << 32) | j for the corners of the changed triangles after
+  for (size_t j = 0; j < N && ok; ++j)
+    for (uint32_t c = 0; c < 3; ++c) {
+      ok = ok && verts.push_back(corner(j, c));
+      if (j < W) ok = ok && verts.push_back(tri[3 * size_t(m.chRewritten_[j]) + c]);
+      if (!degenerateNew(j) && (c == 0 || corner(j, c) != corner(j, c - 1)))
+        ok = ok && at.push_back((uint64_t(corner(j, c)) << 32) | j);
+    }
+  if (!ok) return detail::oom(kEditArrays);
+  std::sort(verts.begin(), verts.end());
+  verts.shrink(size_t(std::unique(verts.begin(), verts.end()) - verts.begin()));
+  std::sort(at.begin(), at.end());
+  uint32_t before = 0, after = 0, firstBad = kInvalid;
+  Array<uint32_t> tris, ids, parent;
+  Array<FanSide> sides;
+  Array<uint8_t> claimed;
+  for (uint32_t x : verts) {
+    tris.clear();
+    ids.clear();
+    before += x < m.nVertices() ? m.vertexNonManifold_[x] : 0;
+    if (x < m.nVertices())
+      Impl::forEachCorner(m, x, [&](uint32_t q) {
+        uint32_t t = q / 3;
+        if (m.degenerate_[t] || isRewritten(t)) return;
+        ok = ok && ids.push_back(t) && tris.push_back(tri[3 * t]) && tris.push_back(tri[3 * t + 1]) &&
+             tris.push_back(tri[3 * t + 2]);
+      });
+    for (size_t i = size_t(std::lower_bound(at.begin(), at.end(), uint64_t(x) << 32) - at.begin());
+         i < at.size() && uint32_t(at[i] >> 32) == x; ++i) {
+      size_t j = size_t(uint32_t(at[i]));
+      ok = ok && ids.push_back(idOf(j)) && tris.push_back(corner(j, 0)) && tris.push_back(corner(j, 1)) &&
+           tris.push_back(corner(j, 2));
+    }
+    if (!ok) return detail::oom(kEditArrays);
+    uint32_t cycles = cyclesAt(x, tris, ids, sides, parent, claimed);
+    if (cycles == kInvalid) return detail::oom(kEditArrays);
+    if (cycles > 1) {
+      ++after;
+      if (firstBad == kInvalid && !(x < m.nVertices() && m.vertexNonManifold_[x])) firstBad = x;
+    }
+  }
+  if (!allowNonManifold && after > before)
+    return refused(detail::format(
+        "vertex %u would become non-manifold (its fans would meet at one point without joining)", firstBad));
+  return Status{};
+}
+
+Status EditableMesh::Impl::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n,
+                                         bool allowNonManifold) {
+  if (n == 0 || !keep || !gone) return badArgument("mergeVertices needs at least one pair of vertices");
+  return stitch(keep, gone, n, nullptr, nullptr, 0, allowNonManifold);
+}
+
+Status EditableMesh::Impl::splitEdgeAt(uint32_t e, uint32_t v, bool allowNonManifold) {
+  return stitch(nullptr, nullptr, 0, &e, &v, 1, allowNonManifold);
+}
+
+Status EditableMesh::Impl::stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges,
+                                  const uint32_t* vertices, uint32_t nSplits, bool allowNonManifold) {
+  if ((n > 0 && (!keep || !gone)) || (nSplits > 0 && (!edges || !vertices)) || n + nSplits == 0)
+    return badArgument("stitch needs vertex pairs or T-junctions");
+  for (uint32_t i = 0; i < n; ++i) {
+    Status s = Impl::checkVertex(*this, keep[i]);
+    if (s.ok()) s = Impl::checkVertex(*this, gone[i]);
+    if (!s.ok()) return s;
+  }
+  Impl::newEpoch(*this);
+  for (uint32_t i = 0; i < 2 * n; ++i) {
+    uint32_t v = i < n ? keep[i] : gone[i - n];
+    if (stamp_[v] == epoch_) return badArgument(detail::format("vertex %u appears twice in the vertices to merge", v));
+    stamp_[v] = epoch_;
+  }
+  // The T-junctions: (pair of the edge, parameter, vertex, half-edge), sorted by edge and
+  // parameter.
+  struct Split {
+    uint32_t pair;
+    double t;
+    uint32_t v, e;
+  };
+  Array<Split> splits;
+  for (uint32_t i = 0; i < nSplits; ++i) {
+    const uint32_t e = edges[i], v = vertices[i];
+    Status s = Impl::checkHalfedge(*this, e);
+    if (s.ok()) s = Impl::checkVertex(*this, v);
+    if (!s.ok()) return s;
+    if (pairKind_[e >> 1] != uint8_t(EdgeKind::Boundary))
+      return badArgument(detail::format("half-edge %u is not on a boundary edge", e));
+    uint32_t tr = kInvalid;
+    const uint32_t side = Impl::triangleSide(*this, e, tr);
+    const uint32_t a = triangles_[side], b = Impl::sideDst(*this, side), o = Impl::thirdCorner(*this, side);
+    if (v == a || v == b || v == o) return refused(detail::format("vertex %u is a corner of triangle %u", v, tr));
+    double pa[3], pb[3], pv[3], ab2 = 0, av = 0;
+    Impl::position(*this, a, pa);
+    Impl::position(*this, b, pb);
+    Impl::position(*this, v, pv);
+    for (int k = 0; k < 3; ++k) {
+      ab2 += (pb[k] - pa[k]) * (pb[k] - pa[k]);
+      av += (pv[k] - pa[k]) * (pb[k] - pa[k]);
+    }
+    const double t = av / ab2;
+    if (!(t > 0 && t < 1))
+      return refused(detail::format("vertex %u does not project strictly inside edge %u-%u", v, a, b));
+    if (!splits.push_back(Split{e >> 1, t, v, side})) return detail::oom(kEditArrays);
+  }
+  std::sort(splits.begin(), splits.end(),
+            [](const Split& x, const Split& y) { return x.pair != y.pair ? x.pair < y.pair : x.t < y.t; });
+  for (size_t i = 1; i < splits.size(); ++i)
+    if (splits[i].pair == splits[i - 1].pair && (splits[i].v == splits[i - 1].v || splits[i].t == splits[i - 1].t))
+      return badArgument(detail::format("vertex %u splits edge %u-%u twice, or at the same point as vertex %u",
+                                        splits[i].v, vert_[2 * splits[i].pair], vert_[2 * splits[i].pair + 1],
+                                        splits[i - 1].v));
+  // gone -> keep, sorted by gone.
+  Array<uint64_t> map;
+  if (!map.resize(n)) return detail::oom(kEditArrays);
+  for (uint32_t i = 0; i < n; ++i) map[i] = (uint64_t(gone[i]) << 32) | keep[i];
+  std::sort(map.begin(), map.end());
+  auto image = [&](uint32_t v) {
+    size_t i = size_t(std::lower_bound(map.begin(), map.end(), uint64_t(v) << 32) - map.begin());
+    return i < map.size() && uint32_t(map[i] >> 32) == v ? uint32_t(map[i]) : v;
+  };
+  // The change: each split triangle (a, b, o) becomes (a, v1, o) (its id) and (v1, v2, o),
+  // ..., (vk, b, o) (new ids); then every triangle at a gone vertex is rewritten; finally
+  // every corner goes through the merge map. origin: the triangle each new one comes from;
+  // param: the split parameter of each part (for the triangle attributes), -1 for none.
+  Impl::clearChange(*this);
+  Impl::newTriangleEpoch(*this);
+  Array<uint32_t> originRw, originAdd;
+  Array<double> paramRw, paramAdd;
+  bool ok = true;
+  for (size_t i = 0; i < splits.size() && ok;) {
+    size_t j = i;
+    while (j < splits.size() && splits[j].pair == splits[i].pair) ++j;
+    const uint32_t side = splits[i].e, tr = side / 3, c = side % 3;
+    if (triStamp_[tr] == triEpoch_) {
+      Impl::clearChange(*this);
+      return refused(detail::format("triangle %u has T-junctions on two of its edges", tr));
+    }
+    triStamp_[tr] = triEpoch_;
+    const uint32_t b = Impl::sideDst(*this, side), o = Impl::thirdCorner(*this, side);
+    uint32_t cs[3] = {triangles_[3 * tr], triangles_[3 * tr + 1], triangles_[3 * tr + 2]};
+    cs[nextCorner(c)] = splits[i].v;
+    ok = ok && chRewritten_.push_back(tr) && originRw.push_back(tr) && paramRw.push_back(splits[i].t);
+    for (uint32_t x : cs) ok = ok && chRewrittenCorners_.push_back(x);
+    for (size_t k = i; k < j; ++k) {
+      const uint32_t next = k + 1 < j ? splits[k + 1].v : b;
+      ok = ok && chAdded_.push_back(splits[k].v) && chAdded_.push_back(next) && chAdded_.push_back(o) &&
+           originAdd.push_back(tr) && paramAdd.push_back(splits[k].t);
+    }
+    i = j;
+  }
+  for (uint32_t i = 0; i < n && ok; ++i)
+    Impl::forEachCorner(*this, gone[i], [&](uint32_t q) {
+      uint32_t t = q / 3;
+      if (triStamp_[t] == triEpoch_) return;
+      triStamp_[t] = triEpoch_;
+      ok = ok && chRewritten_.push_back(t) && originRw.push_back(t) && paramRw.push_back(-1);
+      for (uint32_t c = 0; c < 3; ++c) ok = ok && chRewrittenCorners_.push_back(triangles_[3 * size_t(t) + c]);
+    });
+  auto fail = [&](Status s) {
+    Impl::clearChange(*this);
+    return s;
+  };
+  if (!ok) return fail(detail::oom(kEditArrays));
+  for (uint32_t& x : chRewrittenCorners_) x = image(x);
+  for (uint32_t& x : chAdded_) x = image(x);
+  // Geometry: no new triangle may fold over or become zero-area against its origin.
+  const float* P = positions_.data();
+  const size_t W = chRewritten_.size(), N = W + chAdded_.size() / 3;
+  for (size_t j = 0; j < N; ++j) {
+    const uint32_t t = j < W ? originRw[j] : originAdd[j - W];
+    if (degenerate_[t]) continue;
+    const uint32_t* C = triangles_.data() + 3 * size_t(t);
+    const uint32_t* D = j < W ? chRewrittenCorners_.data() + 3 * j : chAdded_.data() + 3 * (j - W);
+    if (D[0] == D[1] || D[1] == D[2] || D[0] == D[2]) continue;  // checkJoin refuses it
+    const char* why = foldReason(P + 3 * size_t(C[0]), P + 3 * size_t(C[1]), P + 3 * size_t(C[2]), P + 3 * size_t(D[0]),
+                                 P + 3 * size_t(D[1]), P + 3 * size_t(D[2]));
+    if (why)
+      return fail(refused(detail::format(j < W ? "triangle %u would %s" : "a part of triangle %u would %s", t, why)));
+  }
+  Status s = Impl::checkJoin(*this, allowNonManifold);
+  if (!s.ok()) return fail(s);
+  Impl::PendingWrites pw;
+  for (size_t ai = 0; ai < attributes_.size(); ++ai) {
+    const Element el = attributes_[ai].view.element;
+    if (el == Element::Vertex) {
+      for (uint32_t i = 0; i < n; ++i)
+        if (!pw.add(*this, ai, true, Impl::valueOf(*this, ai, keep[i]), Impl::valueOf(*this, ai, gone[i]), 0.5,
+                    keep[i]))
+          return fail(pw.status());
+    } else if (el == Element::Triangle) {
+      for (size_t j = 0; j < N; ++j) {
+        const double t = j < W ? paramRw[j] : paramAdd[j - W];
+        if (t < 0) continue;
+        const uint32_t id = j < W ? chRewritten_[j] : nTriangles() + uint32_t(j - W);
+        const uint8_t* x = Impl::valueOf(*this, ai, j < W ? originRw[j] : originAdd[j - W]);
+        if (!pw.add(*this, ai, false, x, x, t, id)) return fail(pw.status());
+      }
+    }
+  }
+  if (!Impl::reserveChange(*this, 0)) return fail(detail::oom(kEditArrays));
+  Impl::apply(*this);
+  for (uint32_t i = 0; i < n; ++i) {
+    vertexDead_[gone[i]] = 1;
+    --nLiveVertices_;
+  }
+  Impl::writePending(*this, pw);
+  return Status{};
+}
+
+Status EditableMesh::Impl::vertexFans(const M& m, uint32_t v, Array<uint32_t>& corners, Array<uint32_t>& fanOf,
+                                      uint32_t& nFans) {
+  const uint32_t* tri = m.triangles_.data();
+  corners.clear();
+  bool ok = true;
+  Impl::forEachCorner(m, v, [&](uint32_t q) { ok = ok && corners.push_back(q); });
+  const uint32_t n = uint32_t(corners.size());
+  Array<uint32_t> parent;
+  Array<FanSide> sides;
+  if (!ok || !fanOf.assign(n, 0) || !parent.resize(n)) return detail::oom(kEditArrays);
+  for (uint32_t i = 0; i < n; ++i) {
+    parent[i] = i;
+    const uint32_t q = corners[i], t = q / 3, cx = q % 3;
+    if (m.degenerate_[t]) continue;
+    ok = ok && sides.push_back(FanSide{tri[3 * t + nextCorner(cx)], q, 1, i}) &&
+         sides.push_back(FanSide{tri[3 * t + prevCorner(cx)], 3 * t + prevCorner(cx), 0, i});
+  }
+  if (!ok) return detail::oom(kEditArrays);
+  std::sort(sides.begin(), sides.end(), lessFanSide);
+  // Fans through the edges with two sides; the pairs of the non-manifold edges, and where
+  // each non-manifold edge's sides are.
+  struct NmPair {
+    uint32_t first, a, b;  // lowest side id of the pair; triangle indices
+    uint32_t edge;         // index into nmEdges
+  };
+  Array<NmPair> pairs;
+  Array<uint32_t> nmEdges;  // offsets into sides of each non-manifold edge: begin, end
+  Array<uint8_t> claimed;
+  for (size_t b = 0; b < sides.size();) {
+    size_t e = b;
+    while (e < sides.size() && sides[e].other == sides[b].other) ++e;
+    const FanSide* S = sides.data() + b;
+    if (e - b == 2) {
+      uint32_t r = findRoot(parent, S[0].tri), q = findRoot(parent, S[1].tri);
+      parent[std::max(r, q)] = std::min(r, q);
+    } else if (e - b >= 3) {
+      const uint32_t edge = uint32_t(nmEdges.size() / 2);
+      ok = ok && nmEdges.push_back(uint32_t(b)) && nmEdges.push_back(uint32_t(e));
+      ok = ok && pairByRule(S, e - b, claimed, [&](size_t i, size_t j) {
+             ok = ok && pairs.push_back(NmPair{std::min(S[i].side, S[j].side), S[i].tri, S[j].tri, edge});
+           });
+    }
+    b = e;
+  }
+  if (!ok) return detail::oom(kEditArrays);
+  std::sort(pairs.begin(), pairs.end(), [](const NmPair& x, const NmPair& y) { return x.first < y.first; });
+  // Join two fans through a pair when every non-manifold edge at v keeps at most two sides
+  // in the joined fan, and the pair's own edge exactly the pair.
+  for (const NmPair& p : pairs) {
+    uint32_t r1 = findRoot(parent, p.a), r2 = findRoot(parent, p.b);
+    if (r1 == r2) continue;
+    bool join = true;
+    for (uint32_t k = 0; k < nmEdges.size() / 2 && join; ++k) {
+      uint32_t cnt = 0;
+      for (uint32_t i = nmEdges[2 * k]; i < nmEdges[2 * k + 1]; ++i) {
+        uint32_t r = findRoot(parent, sides[i].tri);
+        cnt += (r == r1 || r == r2) ? 1 : 0;
+      }
+      if (cnt > 2) join = false;
+    }
+    if (join) parent[std::max(r1, r2)] = std::min(r1, r2);
+  }
+  // Number the fans by their lowest triangle id; degenerate triangles stay with fan 0.
+  Array<uint32_t> lowest;  // per root: lowest triangle id
+  if (!lowest.assign(n, kInvalid)) return detail::oom(kEditArrays);
+  for (uint32_t i = 0; i < n; ++i)
+    if (!m.degenerate_[corners[i] / 3]) {
+      uint32_t r = findRoot(parent, i);
+      lowest[r] = std::min(lowest[r], corners[i] / 3);
+    }
+  Array<uint64_t> order;
+  for (uint32_t i = 0; i < n; ++i)
+    if (lowest[i] != kInvalid && !order.push_back((uint64_t(lowest[i]) << 32) | i)) return detail::oom(kEditArrays);
+  std::sort(order.begin(), order.end());
+  Array<uint32_t> fanOfRoot;
+  if (!fanOfRoot.assign(n, 0)) return detail::oom(kEditArrays);
+  for (uint32_t k = 0; k < order.size(); ++k) fanOfRoot[uint32_t(order[k])] = k;
+  for (uint32_t i = 0; i < n; ++i) fanOf[i] = m.degenerate_[corners[i] / 3] ? 0 : fanOfRoot[findRoot(parent, i)];
+  nFans = uint32_t(order.size());
+  return Status{};
+}
+
+Status EditableMesh::Impl::splitVertex(uint32_t v, uint32_t* firstNew, uint32_t* newCount) {
+  Status s = Impl::checkVertex(*this, v);
+  if (!s.ok()) return s;
+  Array<uint32_t> corners, fanOf;
+  uint32_t nFans = 0;
+  s = Impl::vertexFans(*this, v, corners, fanOf, nFans);
+  if (!s.ok()) return s;
+  if (nFans <= 1) return refused(detail::format("vertex %u has one fan: nothing to split", v));
+  Impl::clearChange(*this);
+  const uint32_t base = nVertices();
+  bool ok = true;
+  for (uint32_t i = 0; i < corners.size() && ok; ++i) {
+    if (fanOf[i] == 0) continue;
+    const uint32_t t = corners[i] / 3;
+    ok = ok && chRewritten_.push_back(t);
+    for (uint32_t c = 0; c < 3; ++c) {
+      uint32_t w = triangles_[3 * size_t(t) + c];
+      ok = ok && chRewrittenCorners_.push_back(c == corners[i] % 3 ? base + fanOf[i] - 1 : w);
+    }
+  }
+  if (!ok || !Impl::reserveChange(*this, nFans - 1)) {
+    Impl::clearChange(*this);
+    return detail::oom(kEditArrays);
+  }
+  float p[3] = {positions_[3 * size_t(v)], positions_[3 * size_t(v) + 1], positions_[3 * size_t(v) + 2]};
+  for (uint32_t k = 1; k < nFans; ++k) {
+    uint32_t w = Impl::appendVertex(*this, p);
+    Impl::copySlot(*this, Element::Vertex, v, w);
+  }
+  Impl::apply(*this);
+  if (firstNew) *firstNew = base;
+  if (newCount) *newCount = nFans - 1;
   return Status{};
 }
 

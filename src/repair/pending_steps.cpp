@@ -1,18 +1,10 @@
-// Steps still being built on their own branches (stitch, split-nonmanifold, fill-holes):
+// Steps still being built on their own branches (fill-holes):
 // until they land, each plans nothing and says so in its note. Removed when they land.
 #include "repair/steps.h"
 
 namespace stltopo {
 namespace repair_detail {
 
-Status runStitch(StepContext& ctx) {
-  ctx.plan.note = "not built yet";
-  return Status{};
-}
-Status runSplitNonManifold(StepContext& ctx) {
-  ctx.plan.note = "not built yet";
-  return Status{};
-}
 Status runFillHoles(StepContext& ctx) {
   ctx.plan.note = "not built yet";
   return Status{};
