@@ -110,6 +110,35 @@ class EditSession {
     Status s = em_.collapseEdge(u32(e), t, &v);
     return s.ok() ? val(v) : js::status(s);
   }
+  // Vertex joins (stitch): id lists as JS arrays (web/src/edit.js checks them).
+  static std::vector<uint32_t> ids(const val& list) {
+    std::vector<uint32_t> out;
+    const uint32_t n = list["length"].as<uint32_t>();
+    out.reserve(n);
+    for (uint32_t i = 0; i < n; ++i) out.push_back(u32(list[i].as<double>()));
+    return out;
+  }
+  val mergeVertices(val keep, val gone, bool nonManifold) {
+    std::vector<uint32_t> k = ids(keep), g = ids(gone);
+    if (k.size() != g.size()) return js::status(Status::error(Code::InvalidArgument, "keep and gone need the same length"));
+    return js::status(em_.mergeVertices(k.data(), g.data(), uint32_t(k.size()), nonManifold));
+  }
+  val splitEdgeAt(double e, double v, bool nonManifold) { return js::status(em_.splitEdgeAt(u32(e), u32(v), nonManifold)); }
+  val stitch(val keep, val gone, val edges, val vertices, bool nonManifold) {
+    std::vector<uint32_t> k = ids(keep), g = ids(gone), e = ids(edges), v = ids(vertices);
+    if (k.size() != g.size() || e.size() != v.size())
+      return js::status(Status::error(Code::InvalidArgument, "keep/gone and edges/vertices need the same lengths"));
+    return js::status(em_.stitch(k.data(), g.data(), uint32_t(k.size()), e.data(), v.data(), uint32_t(e.size()), nonManifold));
+  }
+  val splitVertex(double v) {
+    uint32_t first = 0, count = 0;
+    Status s = em_.splitVertex(u32(v), &first, &count);
+    if (!s.ok()) return js::status(s);
+    val o = val::object();
+    o.set("first", val(first));
+    o.set("count", val(count));
+    return o;
+  }
   val reverseTriangle(double t) { return js::status(em_.reverseTriangle(u32(t))); }
   val reverseShell(double t) { return js::status(em_.reverseShell(u32(t))); }
   val fill(double id, bool byLoop, bool ear) {
@@ -355,6 +384,10 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("flipEdge", &EditSession::flipEdge)
       .function("splitEdge", &EditSession::splitEdge)
       .function("collapseEdge", &EditSession::collapseEdge)
+      .function("mergeVertices", &EditSession::mergeVertices)
+      .function("splitEdgeAt", &EditSession::splitEdgeAt)
+      .function("stitch", &EditSession::stitch)
+      .function("splitVertex", &EditSession::splitVertex)
       .function("reverseTriangle", &EditSession::reverseTriangle)
       .function("reverseShell", &EditSession::reverseShell)
       .function("fill", &EditSession::fill)

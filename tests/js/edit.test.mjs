@@ -227,3 +227,62 @@ test('the wasm heap returns to its baseline after many editable meshes', async (
   for (let i = 0; i < 30; ++i) await round();
   assert.equal(await heap(), base);
 });
+
+test('joins: a crack closed by mergeVertices, a T-junction by splitEdgeAt, a pinch split by splitVertex; refusals change nothing', async () => {
+  // Two unit squares side by side in z = 0, their shared side cut apart: vertices 1-2 of the
+  // left square and 4-5 of the right one sit on the same line x = 1 (4 = 1, 5 = 2 in position).
+  const positions = new Float32Array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 0, 2, 1, 0]);
+  const triangles = new Uint32Array([0, 1, 2, 0, 2, 3, 4, 6, 7, 4, 7, 5]);
+  const em = await EditableMesh.from({ positions, triangles });
+  try {
+    assert.equal(em.stats.boundaryEdges, 8);
+    // One pair alone would pinch the fans: refused, nothing changes.
+    const before = em.triangles.slice();
+    assert.throws(() => em.mergeVertices(1, 4), (e) => e instanceof StlError && e.code === 'edit-refused');
+    assert.deepEqual(em.triangles, before);
+    em.mergeVertices([1, 2], [4, 5]);
+    assert.equal(em.stats.boundaryEdges, 6);
+    assert.deepEqual(em.validate(), { ok: true });
+    const fresh = await freshStats(em);
+    for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
+    assert.throws(() => em.mergeVertices([1], [2, 3]), (e) => e.code === 'invalid-argument');
+    assert.throws(() => em.mergeVertices('x', 1), (e) => e.code === 'invalid-argument');
+  } finally {
+    em.dispose();
+  }
+  // A T-junction: the left square's right side runs 1-4-2 through vertex 4 at (1, 0.5); the
+  // right square's left side is the one edge 1-2.
+  const p2 = new Float32Array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0.5, 0, 2, 0, 0, 2, 1, 0]);
+  // Left: (0,1,4), (0,4,3), (4,2,3) — its right side runs 1-4-2; right square (1,5,6), (1,6,2).
+  const t2 = new Uint32Array([0, 1, 4, 0, 4, 3, 4, 2, 3, 1, 5, 6, 1, 6, 2]);
+  const tj = await EditableMesh.from({ positions: p2, triangles: t2 });
+  try {
+    assert.equal(tj.stats.boundaryEdges, 9);
+    const { vert, face } = tj.halfedges;
+    let e = -1;
+    for (let h = 0; h < tj.nHalfedges; ++h) {
+      const ends = [vert[h], tj.dst(h)].sort().join();
+      if (face[h] >= tj.nTriangles && ends === '1,2') e = h;
+    }
+    assert.ok(e >= 0);
+    tj.splitEdgeAt(e, 4);
+    assert.equal(tj.stats.boundaryEdges, 6);
+    assert.deepEqual(tj.validate(), { ok: true });
+  } finally {
+    tj.dispose();
+  }
+  // Two tetrahedra sharing one vertex: splitVertex gives the second fan its own vertex.
+  const p3 = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1]);
+  const t3 = new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 0, 4, 5, 0, 6, 4, 0, 5, 6, 4, 6, 5]);
+  const pinch = await EditableMesh.from({ positions: p3, triangles: t3 });
+  try {
+    assert.equal(pinch.stats.nonManifoldVertices, 1);
+    const r = pinch.splitVertex(0);
+    assert.deepEqual(r, { first: 7, count: 1 });
+    assert.equal(pinch.stats.nonManifoldVertices, 0);
+    assert.deepEqual(Array.from(pinch.positions.slice(21, 24)), [0, 0, 0]);
+    assert.throws(() => pinch.splitVertex(0), (e) => e.code === 'edit-refused');
+  } finally {
+    pinch.dispose();
+  }
+});

@@ -37,6 +37,11 @@ function id(x, what) {
   if (!Number.isInteger(x) || x < 0 || x > 0xfffffffe) throw invalid(`${what} must be an id, not ${String(x)}`);
   return x;
 }
+function idList(x, what) {
+  const list = typeof x === 'number' ? [x] : Array.isArray(x) || ArrayBuffer.isView(x) ? Array.from(x) : null;
+  if (!list) throw invalid(`${what} must be an id or a list of ids`);
+  return list.map((v) => id(v, what));
+}
 
 // The id lists of a plan's items and a log's steps, as Uint32Arrays (compact, and
 // transferable from a worker).
@@ -218,6 +223,27 @@ export function createEditableMesh(getModule) {
     splitEdge(e, t = 0.5) { return this.#edit(this.#live().splitEdge(id(e, 'half-edge'), t)); }
     /** Returns the vertex that remains (the origin of e). */
     collapseEdge(e, t = 0.5) { return this.#edit(this.#live().collapseEdge(id(e, 'half-edge'), t)); }
+    /**
+     * Merges vertex gone[i] into keep[i] for every i, in one edit (keep stays where it is).
+     * Numbers or arrays of ids. options.nonManifold allows more non-manifold vertices.
+     */
+    mergeVertices(keep, gone, options = {}) {
+      const k = idList(keep, 'keep'), g = idList(gone, 'gone');
+      if (k.length !== g.length) throw invalid('mergeVertices() needs as many gone vertices as keep vertices');
+      this.#edit(this.#live().mergeVertices(k, g, !!options.nonManifold));
+    }
+    /** Closes a T-junction: splits boundary half-edge e's edge at the existing vertex v. */
+    splitEdgeAt(e, v, options = {}) {
+      this.#edit(this.#live().splitEdgeAt(id(e, 'half-edge'), id(v, 'vertex'), !!options.nonManifold));
+    }
+    /** splitEdgeAt for each (edges[i], vertices[i]), then mergeVertices(keep, gone), as one edit. */
+    stitch({ keep = [], gone = [], edges = [], vertices = [] } = {}, options = {}) {
+      const k = idList(keep, 'keep'), g = idList(gone, 'gone'), e = idList(edges, 'edges'), v = idList(vertices, 'vertices');
+      if (k.length !== g.length || e.length !== v.length) throw invalid('stitch() needs keep/gone and edges/vertices of equal lengths');
+      this.#edit(this.#live().stitch(k, g, e, v, !!options.nonManifold));
+    }
+    /** Splits vertex v into one vertex per fan: { first, count } of the new vertices. */
+    splitVertex(v) { return this.#edit(this.#live().splitVertex(id(v, 'vertex'))); }
     reverseTriangle(t) { this.#edit(this.#live().reverseTriangle(id(t, 'triangle'))); }
     /** Reverses the shell of triangle t. */
     reverseShell(t) { this.#edit(this.#live().reverseShell(id(t, 'triangle'))); }

@@ -710,6 +710,15 @@ export declare class EditableMesh {
   flipEdge(e: number): void;
   splitEdge(e: number, t?: number): number;
   collapseEdge(e: number, t?: number): number;
+  /** Merges gone[i] into keep[i] for every i, in one edit (docs/EDITING.md). */
+  mergeVertices(keep: number | ArrayLike<number>, gone: number | ArrayLike<number>, options?: { nonManifold?: boolean }): void;
+  /** Closes a T-junction: splits boundary half-edge e's edge at the existing vertex v. */
+  splitEdgeAt(e: number, v: number, options?: { nonManifold?: boolean }): void;
+  /** splitEdgeAt for each (edges[i], vertices[i]), then mergeVertices(keep, gone), as one edit. */
+  stitch(join: { keep?: ArrayLike<number>; gone?: ArrayLike<number>; edges?: ArrayLike<number>; vertices?: ArrayLike<number> },
+    options?: { nonManifold?: boolean }): void;
+  /** Splits vertex v into one vertex per fan: the new vertices' first id and count. */
+  splitVertex(v: number): { first: number; count: number };
   reverseTriangle(t: number): void;
   reverseShell(t: number): void;
   fillHole(hole: number | BoundaryLoop, options?: { method?: 'fan' | 'ear' }): Uint32Array;

@@ -187,3 +187,12 @@ export async function repairingInAWorker(mesh: Mesh): Promise<number> {
   const { mesh: repaired, log } = await worker.applyRepair(mesh, plan, { shells: true });
   return repaired.stats.triangles + log.steps.length;
 }
+export async function joining(mesh: Mesh): Promise<number> {
+  const em = await EditableMesh.from(mesh);
+  em.mergeVertices([1, 2], new Uint32Array([4, 5]), { nonManifold: false });
+  em.splitEdgeAt(0, 3);
+  em.stitch({ keep: [1], gone: [2], edges: [5], vertices: [6] });
+  const { first, count }: { first: number; count: number } = em.splitVertex(0);
+  em.dispose();
+  return first + count;
+}
