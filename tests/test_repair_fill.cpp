@@ -362,7 +362,6 @@ TEST(RepairFill, MinimumWeightBeatsAFanOnANonConvexHole) {
   for (int x = 1; x <= 5; ++x) u.push_back(1 * n + x);
   for (int y = 2; y <= 4; ++y) u.push_back(y * n + 1), u.push_back(y * n + 5);
   const gen::Soup box = gridBox(n, u);
-  double holeArea = double(u.size());
   // The fan from the loop's first vertex.
   EditableMesh fan;
   makeEditable(box, fan);
@@ -391,7 +390,44 @@ TEST(RepairFill, MinimumWeightBeatsAFanOnANonConvexHole) {
   ASSERT_TRUE(mw.toMesh(m).ok());
   EXPECT_NEAR(m.area, 2 * 49.0 + 4 * 7.0, 1e-9);
   EXPECT_NEAR(m.volume, 49.0, 1e-9);
-  (void)holeArea;
+}
+
+TEST(RepairFill, LongLoopsAreFilledByEarClipping) {
+  // A round hole of 240 edges (a cup with a flat rim) and a square one of 4 x 51 = 204 edges
+  // with collinear runs: both over the minimum-weight cap of 200.
+  EditableMesh round;
+  makeEditable(cup(240, 0), round);
+  FillRun r = fill(round);
+  ASSERT_TRUE(r.status.ok());
+  ASSERT_EQ(r.plan.items.size(), 1u);
+  EXPECT_FALSE(r.plan.items[0].skipped) << r.plan.items[0].reason;
+  EXPECT_EQ(r.plan.items[0].action, "fill hole 0 (240 edges) with 238 triangles (ear clipping)");
+  EXPECT_TRUE(round.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(round), "");
+  EXPECT_EQ(intersectingPairs(round), 0u);
+  std::vector<int> cells;
+  for (int y = 1; y < 52; ++y)
+    for (int x = 1; x < 52; ++x) cells.push_back(y * 53 + x);
+  EditableMesh square;
+  makeEditable(gridBox(53, cells), square);
+  r = fill(square);
+  ASSERT_TRUE(r.status.ok());
+  ASSERT_EQ(r.plan.items.size(), 1u);
+  EXPECT_FALSE(r.plan.items[0].skipped) << r.plan.items[0].reason;
+  EXPECT_EQ(r.plan.items[0].action, "fill hole 0 (204 edges) with 202 triangles (ear clipping)");
+  EXPECT_TRUE(square.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(square), "");
+  EXPECT_EQ(intersectingPairs(square), 0u);
+  // Under the cap, the same square hole by minimum weight.
+  cells.clear();
+  for (int y = 1; y < 50; ++y)
+    for (int x = 1; x < 50; ++x) cells.push_back(y * 51 + x);
+  EditableMesh smaller;
+  makeEditable(gridBox(51, cells), smaller);
+  r = fill(smaller);
+  ASSERT_TRUE(r.status.ok());
+  EXPECT_EQ(r.plan.items[0].action, "fill hole 0 (196 edges) with 194 triangles (minimum weight)");
+  EXPECT_EQ(intersectingPairs(smaller), 0u);
 }
 
 TEST(RepairFill, RefineMakesEdgesNearTheLoopsEdgeLength) {

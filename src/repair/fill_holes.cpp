@@ -194,6 +194,7 @@ struct Filler {
   Bvh bvh;
   uint32_t nVerticesAtStart = 0, nTrianglesAtStart = 0;
   Array<uint32_t> stamp;  // per vertex (step-start count), for cutting loops
+  Array<uint32_t> meshVtri;  // per vertex (step-start count): kInvalid outside refine()
   uint32_t epoch = 0;
 
   explicit Filler(StepContext& c) : ctx(c), em(c.em) {}
@@ -224,7 +225,7 @@ struct Filler {
     // Vertex -> triangles.
     const uint32_t nv = nVerticesAtStart, nt = nTrianglesAtStart;
     const uint32_t* T = em.triangles().data();
-    if (!vtOffsets.assign(size_t(nv) + 1, 0) || !stamp.assign(nv, 0)) return oom();
+    if (!vtOffsets.assign(size_t(nv) + 1, 0) || !stamp.assign(nv, 0) || !meshVtri.assign(nv, kInvalid)) return oom();
     uint32_t usable = 0;
     for (uint32_t t = 0; t < nt; ++t)
       if (triangleUsable(t)) {
@@ -549,19 +550,22 @@ bool patchHasEdge(const Patch& p, uint32_t t0, uint32_t x, uint32_t y) {
 // Liepa's refinement of the patch: centroid splits where the scale allows, then Delaunay
 // flips of the inner edges.
 // nbNormal[i]: the unit normal of the mesh triangle across the loop's edge i.
-Status refine(const Filler& F, Patch& p, double target, const Array<V3>& nbNormal) {
+// meshVtri: per mesh vertex, kInvalid (and so again on return); a patch triangle using
+// each loop vertex while refining.
+Status refine(const Filler& F, Patch& p, double target, const Array<V3>& nbNormal, Array<uint32_t>& meshVtri) {
   auto scaleOf = [&](uint32_t v) { return v < p.base ? target : p.newScale[v - p.base]; };
-  auto vtriOf = [&](uint32_t v, uint32_t t) {
-    if (v >= p.base) p.vtri[v - p.base] = t;
-  };
-  // A triangle of the patch using mesh vertex v (for circulation): found by a scan.
-  auto anyTri = [&](uint32_t v) {
-    if (v >= p.base) return p.vtri[v - p.base];
-    for (uint32_t t = 0; t < p.nTris(); ++t)
-      for (uint32_t c = 0; c < 3; ++c)
-        if (p.tris[3 * size_t(t) + c] == v) return t;
-    return kInvalid;
-  };
+  auto vtriOf = [&](uint32_t v, uint32_t t) { (v >= p.base ? p.vtri[v - p.base] : meshVtri[v]) = t; };
+  auto anyTri = [&](uint32_t v) { return v >= p.base ? p.vtri[v - p.base] : meshVtri[v]; };
+  for (uint32_t t = 0; t < p.nTris(); ++t)
+    for (uint32_t c = 0; c < 3; ++c) vtriOf(p.tris[3 * size_t(t) + c], t);
+  struct Reset {
+    Patch& p;
+    Array<uint32_t>& meshVtri;
+    ~Reset() {
+      for (uint32_t v : p.tris)
+        if (v < p.base) meshVtri[v] = kInvalid;
+    }
+  } reset{p, meshVtri};
   // The angle at corner c of triangle t.
   auto angleAt = [&](uint32_t t, uint32_t c) {
     const V3 a = patchV(F, p, p.tris[3 * size_t(t) + c]);
@@ -673,7 +677,7 @@ Status refine(const Filler& F, Patch& p, double target, const Array<V3>& nbNorma
       repoint(nBC, t1);
       repoint(nCA, t2);
       (void)nAB;
-      if (c >= p.base) p.vtri[c - p.base] = t1;
+      vtriOf(c, t1);
       split = true;
     }
     if (!split) break;
@@ -869,8 +873,11 @@ Status Filler::fillItem(uint32_t h) {
   it.n = loopOffsets[h + 1] - loopOffsets[h];
   const uint32_t* he = loopHalfedges.data() + it.first;
   const uint32_t* lv = loopVerts.data() + it.first;
+  // The item's box comes from the vertices: begin() would read a loop's from em.loops(),
+  // which an earlier fill renumbered (and reading it would renumber the loops, O(n), per item).
   std::vector<uint32_t> verts(lv, lv + it.n);
-  RepairItem& item = ctx.begin(detail::format("fill hole %u (%u edges)", h, it.n), {}, std::move(verts), {h});
+  RepairItem& item = ctx.begin(detail::format("fill hole %u (%u edges)", h, it.n), {}, std::move(verts));
+  item.loops.push_back(h);
   if (ctx.excluded()) return Status{};
   if (loopIsSeam[h]) {
     ctx.skip("a seam: the loop has cut sides (non-manifold or inconsistent edges); filling it would make non-manifold edges");
@@ -1010,7 +1017,7 @@ Status Filler::fillItem(uint32_t h) {
       const uint32_t* M = em.triangles().data() + 3 * size_t(it.nbTri[i]);
       nbNormal[i] = unitNormal(vof(pos(M[0])), vof(pos(M[1])), vof(pos(M[2])));
     }
-    s = refine(*this, refined, it.target, nbNormal);
+    s = refine(*this, refined, it.target, nbNormal, meshVtri);
     if (!s.ok()) return s;
     if (ctx.options.fillFair) {
       s = fair(*this, refined);
