@@ -184,8 +184,9 @@ struct Filler {
   Array<uint32_t> loopOffsets, loopHalfedges, loopVerts;
   Array<uint8_t> loopIsSeam;
   Array<double> loopPerimeter;
-  // Vertex -> live triangles with three distinct corners (CSR), as the step found the mesh.
-  Array<uint32_t> vtOffsets, vtList;
+  // The candidate loops' vertices: a slot each (kInvalid for the other vertices), and per
+  // slot the live triangles with three distinct corners at it (CSR), as the step found them.
+  Array<uint32_t> vertexSlot, slotOffsets, slotList;
   // Edges that earlier fills of this step added (sorted), their triangles and boxes.
   Array<uint64_t> addedEdges;
   Array<uint32_t> addedTriangles;  // triangle ids
@@ -207,6 +208,22 @@ struct Filler {
     return C[0] != C[1] && C[1] != C[2] && C[0] != C[2];
   }
 
+  // Whether the step would try loop h at all (seams and loops over the edge and perimeter
+  // limits are skipped before anything is looked up).
+  bool candidate(uint32_t h) const {
+    const uint32_t n = loopOffsets[h + 1] - loopOffsets[h];
+    return !loopIsSeam[h] && n <= ctx.options.maxHoleEdges &&
+           !(ctx.options.maxHolePerimeter > 0 && loopPerimeter[h] > ctx.options.maxHolePerimeter);
+  }
+
+  // What the items need of the mesh as the step finds it, in one pass over the triangles
+  // (O(n), plus O(k log k) for the k triangles near the loops):
+  //   - the triangles at the candidate loops' vertices (slot per such vertex, CSR), for the
+  //     edges that exist there: every inner edge a fill can add between mesh vertices joins
+  //     two vertices of its loop;
+  //   - the triangles whose boxes overlap a candidate loop's box, in a hierarchy, for the
+  //     crossing test: a fill lies in its loop's box (its corners are the loop's vertices,
+  //     centroids and averages of them).
   Status init() {
     nVerticesAtStart = em.nVertices();
     nTrianglesAtStart = em.nTriangles();
@@ -216,84 +233,111 @@ struct Filler {
       if (src.size() > 0) std::memcpy(dst.data(), src.data(), src.size() * sizeof(src[0]));
       return true;
     };
+    if (L.nLoops() > 0 && L.loopOffsets.size() != L.nLoops() + 1) return oom();  // loops() ran out of memory
     if (!copy(loopOffsets, L.loopOffsets) || !copy(loopHalfedges, L.loopHalfedges) || !copy(loopIsSeam, L.loopIsSeam) ||
         !copy(loopPerimeter, L.loopPerimeter) || !loopVerts.resize(L.loopHalfedges.size()))
       return oom();
-    if (L.nLoops() > 0 && L.loopOffsets.size() != L.nLoops() + 1) return oom();  // loops() ran out of memory
     for (size_t i = 0; i < loopHalfedges.size(); ++i) loopVerts[i] = em.vert()[loopHalfedges[i]];
-    if (L.nLoops() == 0) return Status{};
-    // Vertex -> triangles.
+    if (!addedItemOffsets.push_back(0)) return oom();
+    const uint32_t nLoops = L.nLoops();
+    if (nLoops == 0) return Status{};
     const uint32_t nv = nVerticesAtStart, nt = nTrianglesAtStart;
-    const uint32_t* T = em.triangles().data();
-    if (!vtOffsets.assign(size_t(nv) + 1, 0) || !stamp.assign(nv, 0) || !meshVtri.assign(nv, kInvalid)) return oom();
-    uint32_t usable = 0;
-    for (uint32_t t = 0; t < nt; ++t)
-      if (triangleUsable(t)) {
-        ++usable;
-        for (int c = 0; c < 3; ++c) ++vtOffsets[T[3 * size_t(t) + c] + 1];
-      }
-    for (uint32_t v = 0; v < nv; ++v) vtOffsets[v + 1] += vtOffsets[v];
-    if (!vtList.resize(size_t(usable) * 3)) return oom();
-    {
-      Array<uint32_t> fill;
-      if (!fill.resize(nv)) return oom();
-      for (uint32_t v = 0; v < nv; ++v) fill[v] = vtOffsets[v];
-      for (uint32_t t = 0; t < nt; ++t)
-        if (triangleUsable(t))
-          for (int c = 0; c < 3; ++c) vtList[fill[T[3 * size_t(t) + c]]++] = t;
+    if (!stamp.assign(nv, 0) || !meshVtri.assign(nv, kInvalid) || !vertexSlot.assign(nv, kInvalid)) return oom();
+    // The candidate loops' vertices and boxes.
+    Bvh loopBoxes;
+    uint32_t nSlots = 0, nCand = 0;
+    for (uint32_t h = 0; h < nLoops; ++h) {
+      if (!candidate(h)) continue;
+      ++nCand;
+      for (uint32_t i = loopOffsets[h]; i < loopOffsets[h + 1]; ++i)
+        if (vertexSlot[loopVerts[i]] == kInvalid) vertexSlot[loopVerts[i]] = nSlots++;
     }
-    // The hierarchy over the triangles with a normal.
-    Array<uint64_t> keyed;
-    Box all = emptyBox();
-    uint32_t n = 0;
+    if (!loopBoxes.tri.resize(nCand) || !loopBoxes.box.resize(nCand) || !loopBoxes.nodes.reserve(size_t(nCand) / 2 + 16))
+      return oom();
+    nCand = 0;
+    for (uint32_t h = 0; h < nLoops; ++h) {
+      if (!candidate(h)) continue;
+      Box b = emptyBox();
+      for (uint32_t i = loopOffsets[h]; i < loopOffsets[h + 1]; ++i) extend(b, pos(loopVerts[i]));
+      loopBoxes.tri[nCand] = h;
+      loopBoxes.box[nCand++] = b;
+    }
+    if (nCand > 0) loopBoxes.build(0, nCand);  // in loop order: loops are numbered along the mesh
+    // One pass over the triangles.
+    const uint32_t* T = em.triangles().data();
+    Array<uint64_t> slotTri;  // slot << 32 | triangle
+    Array<uint32_t> near;
     for (uint32_t t = 0; t < nt; ++t) {
       if (!triangleUsable(t)) continue;
       const uint32_t* C = T + 3 * size_t(t);
-      if (pred::collinear(pos(C[0]), pos(C[1]), pos(C[2]))) continue;
-      for (int c = 0; c < 3; ++c) extend(all, pos(C[c]));
-      ++n;
+      for (int c = 0; c < 3; ++c)
+        if (vertexSlot[C[c]] != kInvalid && !slotTri.push_back((uint64_t(vertexSlot[C[c]]) << 32) | t)) return oom();
+      Box b = emptyBox();
+      for (int c = 0; c < 3; ++c) extend(b, pos(C[c]));
+      bool hit = false;
+      loopBoxes.query(b, [&](uint32_t) {
+        hit = true;
+        return false;
+      });
+      if (hit && !pred::collinear(pos(C[0]), pos(C[1]), pos(C[2])) && !near.push_back(t)) return oom();
     }
+    std::sort(slotTri.begin(), slotTri.end());
+    if (!slotOffsets.assign(size_t(nSlots) + 1, 0) || !slotList.resize(slotTri.size())) return oom();
+    for (size_t i = 0; i < slotTri.size(); ++i) {
+      ++slotOffsets[uint32_t(slotTri[i] >> 32) + 1];
+      slotList[i] = uint32_t(slotTri[i]);
+    }
+    for (uint32_t k = 0; k < nSlots; ++k) slotOffsets[k + 1] += slotOffsets[k];
+    // The hierarchy over the triangles near the loops, sorted by the Morton code of their
+    // box centres.
+    const uint32_t n = uint32_t(near.size());
+    Array<uint64_t> keyed;
     if (!keyed.resize(n) || !bvh.tri.resize(n) || !bvh.box.resize(n) || !bvh.nodes.reserve(size_t(n) / 2 + 16))
       return oom();
+    Box all = emptyBox();
+    for (uint32_t i = 0; i < n; ++i) {
+      Box b = emptyBox();
+      for (int c = 0; c < 3; ++c) extend(b, pos(T[3 * size_t(near[i]) + c]));
+      bvh.box[i] = b;
+      merge(all, b);
+    }
     double scale[3];
     for (int k = 0; k < 3; ++k) {
       const double ext = double(all.hi[k]) - all.lo[k];
       scale[k] = ext > 0 ? 1023.0 / ext : 0;
     }
-    n = 0;
-    for (uint32_t t = 0; t < nt; ++t) {
-      if (!triangleUsable(t)) continue;
-      const uint32_t* C = T + 3 * size_t(t);
-      if (pred::collinear(pos(C[0]), pos(C[1]), pos(C[2]))) continue;
-      Box b = emptyBox();
-      for (int c = 0; c < 3; ++c) extend(b, pos(C[c]));
+    for (uint32_t i = 0; i < n; ++i) {
       uint32_t code = 0;
       for (int k = 0; k < 3; ++k) {
-        const double mid = 0.5 * (double(b.lo[k]) + b.hi[k]);
+        const double mid = 0.5 * (double(bvh.box[i].lo[k]) + bvh.box[i].hi[k]);
         code |= spread10(uint32_t((mid - all.lo[k]) * scale[k])) << k;
       }
-      keyed[n++] = (uint64_t(code) << 32) | t;
+      keyed[i] = (uint64_t(code) << 32) | i;
     }
     std::sort(keyed.begin(), keyed.end());
-    for (uint32_t i = 0; i < n; ++i) {
-      const uint32_t t = uint32_t(keyed[i]);
-      bvh.tri[i] = t;
-      Box b = emptyBox();
-      for (int c = 0; c < 3; ++c) extend(b, pos(T[3 * size_t(t) + c]));
-      bvh.box[i] = b;
+    {
+      Array<Box> boxes;
+      if (!boxes.resize(n)) return oom();
+      for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t j = uint32_t(keyed[i]);
+        bvh.tri[i] = near[j];
+        boxes[i] = bvh.box[j];
+      }
+      for (uint32_t i = 0; i < n; ++i) bvh.box[i] = boxes[i];
     }
     if (n > 0) bvh.build(0, n);
-    if (!addedItemOffsets.push_back(0)) return oom();
     return Status{};
   }
 
-  // Whether edge u-v exists: in the mesh as the step found it (a live triangle with three
-  // distinct corners has it) or among the edges earlier fills added.
+  // Whether edge u-v exists between two vertices of candidate loops: in the mesh as the step
+  // found it (a live triangle with three distinct corners has it) or among the edges earlier
+  // fills added.
   bool edgeExists(uint32_t u, uint32_t v) const {
-    if (u < nVerticesAtStart && v < nVerticesAtStart) {
+    if (u < nVerticesAtStart && v < nVerticesAtStart && vertexSlot[u] != kInvalid) {
       const uint32_t* T = em.triangles().data();
-      for (uint32_t i = vtOffsets[u]; i < vtOffsets[u + 1]; ++i) {
-        const uint32_t* C = T + 3 * size_t(vtList[i]);
+      const uint32_t k = vertexSlot[u];
+      for (uint32_t i = slotOffsets[k]; i < slotOffsets[k + 1]; ++i) {
+        const uint32_t* C = T + 3 * size_t(slotList[i]);
         if (C[0] == v || C[1] == v || C[2] == v) return true;
       }
     }
@@ -480,6 +524,7 @@ struct ItemState {
   uint32_t first = 0, n = 0;  // the loop's positions in loopHalfedges
   Array<uint32_t> nbTri;      // per loop edge: the mesh triangle across it
   double target = 0;          // mean length of the loop's edges
+  Box box;                    // of the loop's vertices
 };
 
 // The position of patch vertex v.
@@ -810,14 +855,32 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     return x;
   };
   double point[3];
-  for (uint32_t t = 0; t < nt && why.empty(); ++t) {
-    const Tri a = triOfPatch(t);
-    F.bvh.query(boxes[t], [&](uint32_t m) {
-      if (geometry_detail::trianglePairTest(a, triOfMesh(m), point) < 0) return true;
-      why = detail::format("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1],
-                           a.v[2], m);
-      return false;
-    });
+  auto meets = [&](const Tri& a, uint32_t m) {
+    if (geometry_detail::trianglePairTest(a, triOfMesh(m), point) < 0) return false;
+    why = detail::format("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1],
+                         a.v[2], m);
+    return true;
+  };
+  bool inLoopBox = true;
+  for (int k = 0; k < 3; ++k) inLoopBox = inLoopBox && it.box.lo[k] <= all.lo[k] && all.hi[k] <= it.box.hi[k];
+  if (inLoopBox) {
+    for (uint32_t t = 0; t < nt && why.empty(); ++t) {
+      const Tri a = triOfPatch(t);
+      F.bvh.query(boxes[t], [&](uint32_t m) { return !meets(a, m); });
+    }
+  } else {
+    // The hierarchy holds the triangles near the loops' boxes, and a fill lies in its
+    // loop's box; should one not, every triangle is tested (O(n) for this item).
+    for (uint32_t m = 0; m < F.nTrianglesAtStart && why.empty(); ++m) {
+      if (!F.triangleUsable(m)) continue;
+      const uint32_t* M = T + 3 * size_t(m);
+      if (pred::collinear(F.pos(M[0]), F.pos(M[1]), F.pos(M[2]))) continue;
+      Box bm = emptyBox();
+      for (int c = 0; c < 3; ++c) extend(bm, F.pos(M[c]));
+      if (!overlaps(bm, all)) continue;
+      for (uint32_t t = 0; t < nt && why.empty(); ++t)
+        if (overlaps(bm, boxes[t])) meets(triOfPatch(t), m);
+    }
   }
   if (!why.empty()) return Status{};
   // Earlier fills of this step.
@@ -915,6 +978,8 @@ Status Filler::fillItem(uint32_t h) {
     perim += vlen(vsub(vof(pos(lv[i])), vof(pos(lv[(i + 1) % it.n]))));
   }
   it.target = perim / it.n;
+  it.box = emptyBox();
+  for (uint32_t i = 0; i < it.n; ++i) extend(it.box, pos(lv[i]));
   // Cut at repeated vertices into simple parts (a stack of loop positions).
   Parts parts;
   if (!parts.offsets.push_back(0)) return oom();
