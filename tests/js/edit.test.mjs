@@ -127,6 +127,32 @@ test('a refused edit throws StlError edit-refused and changes nothing', async ()
   assert.throws(() => em.stats, (e) => e instanceof StlError && e.code === 'invalid-argument');
 });
 
+test('setPosition moves one vertex: the hole perimeter, volume and bbox follow; bad ids and coordinates are refused', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  const em = await EditableMesh.from(mesh);
+  em.removeTriangle(0);
+  const hole = em.holes[0];
+  const v = hole.vertices[0];
+  const before = em.positions.slice();
+  const perimeterBefore = hole.perimeter;
+  em.setPosition(v, before[3 * v] + 2, before[3 * v + 1], before[3 * v + 2]);
+  const after = em.positions;
+  for (let i = 0; i < before.length; ++i) assert.equal(after[i], i === 3 * v ? before[i] + 2 : before[i], `coordinate ${i}`);
+  assert.ok(em.holes[0].perimeter > perimeterBefore + 1);
+  assert.deepEqual(em.holes[0].vertices, hole.vertices);
+  const fresh = await freshStats(em);
+  for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
+  assert.deepEqual(em.validate(), { ok: true });
+  const frozen = { pos: em.positions.slice(), stats: JSON.stringify(em.stats) };
+  assert.throws(() => em.setPosition(em.nVertices, 0, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.throws(() => em.setPosition(v, NaN, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.throws(() => em.setPosition(-1, 0, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.deepEqual(em.positions, frozen.pos);
+  assert.equal(JSON.stringify(em.stats), frozen.stats);
+  em.dispose();
+  mesh.dispose?.();
+});
+
 test('split, flip, collapse and reverse on a sphere keep it closed; compact renumbers', async () => {
   const em = await EditableMesh.from(await loadStlFile(fixture('test_sphere.stl')));
   const chi = em.stats.eulerCharacteristic;
