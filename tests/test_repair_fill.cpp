@@ -319,6 +319,37 @@ TEST(RepairFill, AFillThatWouldMakeANonManifoldEdgeIsSkippedAndChangesNothing) {
   EXPECT_TRUE(editcheck::Snapshot(em) == before);
 }
 
+TEST(RepairFill, AFillThatWouldCrossTheMeshIsSkippedAndChangesNothing) {
+  // A small cube stands in the hole of the top, through its plane: any fill of the hole
+  // (flat, in the plane z = 0) would cut the cube's sides.
+  gen::Soup s = gridBox(6, {2 * 6 + 2, 2 * 6 + 3, 3 * 6 + 2, 3 * 6 + 3});
+  gen::append(s, gen::cube(2.75f, 2.75f, -0.25f, 0.5f));
+  for (bool refine : {false, true}) {
+    EditableMesh em;
+    makeEditable(s, em);
+    ASSERT_EQ(em.stats().holes, 1u);
+    ASSERT_EQ(intersectingPairs(em), 0u);
+    editcheck::Snapshot before(em);
+    RepairOptions o;
+    o.fillRefine = refine;
+    FillRun r = fill(em, o);
+    ASSERT_TRUE(r.status.ok());
+    ASSERT_EQ(r.plan.items.size(), 1u);
+    EXPECT_TRUE(r.plan.items[0].skipped);
+    EXPECT_EQ(r.plan.items[0].reason.rfind("the fill would cross the mesh (new triangle (", 0), 0u) << r.plan.items[0].reason;
+    EXPECT_TRUE(editcheck::Snapshot(em) == before);
+  }
+  // Lowered under the top, the cube is out of the way.
+  gen::Soup t = gridBox(6, {2 * 6 + 2, 2 * 6 + 3, 3 * 6 + 2, 3 * 6 + 3});
+  gen::append(t, gen::cube(2.75f, 2.75f, -0.75f, 0.5f));
+  EditableMesh em;
+  makeEditable(t, em);
+  FillRun r = fill(em);
+  ASSERT_TRUE(r.status.ok());
+  EXPECT_FALSE(r.plan.items[0].skipped) << r.plan.items[0].reason;
+  EXPECT_TRUE(em.stats().watertight);
+}
+
 TEST(RepairFill, SeamsAreSkipped) {
   // Three triangles on one edge: its loops have cut sides.
   gen::Soup s;

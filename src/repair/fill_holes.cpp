@@ -361,13 +361,6 @@ struct Patch {
   Array<uint32_t> vtri;    // per new vertex: a triangle using it (for circulation)
   uint32_t nTris() const { return uint32_t(tris.size() / 3); }
   uint32_t nNew() const { return uint32_t(newScale.size()); }
-  void clear() {
-    tris.clear();
-    nbr.clear();
-    newPos.clear();
-    newScale.clear();
-    vtri.clear();
-  }
 };
 
 inline uint32_t nextC(uint32_t c) { return c == 2 ? 0 : c + 1; }
@@ -397,10 +390,13 @@ Status minWeight(uint32_t m, const V3* P, const V3* NB, Forbidden&& forbidden, A
   for (uint32_t i = 0; i < m; ++i)
     for (uint32_t j = i + 2; j < m; ++j)
       if (!(i == 0 && j == m - 1) && forbidden(i, j)) bad[size_t(i) * m + j] = 1;
-  // Cost of a dihedral: 1 - cos of the angle between unit normals (0 flat, 2 folded back);
-  // a triangle without a normal costs more than any angle.
+  // Cost of the dihedral between a new triangle (unit normal a) and a neighbour (b): 1 - cos
+  // of the angle between the normals (0 flat, 2 folded back). A new triangle without a
+  // normal costs more than any angle (and is charged once for itself below); a neighbour
+  // without one says nothing.
   auto cost = [](const V3& a, const V3& b) {
-    if (vdot(a, a) == 0 || vdot(b, b) == 0) return 4.0;
+    if (vdot(a, a) == 0) return 4.0;
+    if (vdot(b, b) == 0) return 0.0;
     return 1 - vdot(a, b);
   };
   for (uint32_t i = 0; i + 1 < m; ++i) angle[size_t(i) * m + i + 1] = 0;
