@@ -91,8 +91,7 @@ inline int normalSign(const float* a, const float* b, const float* c, int k) {
 // 90 degrees; 0 when they are perpendicular or one triangle has no normal. A filter, then
 // expansion arithmetic (the degree-4 determinant does not fit the 128-bit integer path).
 int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
-int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e,
-                        const float* f);
+int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
 
 // Whether a, b, c lie on one line (equal points included): (b - a) x (c - a) == 0.
 inline bool collinear(const float* a, const float* b, const float* c) {

@@ -336,7 +336,8 @@ TEST(RepairFill, AFillThatWouldCrossTheMeshIsSkippedAndChangesNothing) {
     ASSERT_TRUE(r.status.ok());
     ASSERT_EQ(r.plan.items.size(), 1u);
     EXPECT_TRUE(r.plan.items[0].skipped);
-    EXPECT_EQ(r.plan.items[0].reason.rfind("the fill would cross the mesh (new triangle (", 0), 0u) << r.plan.items[0].reason;
+    EXPECT_EQ(r.plan.items[0].reason.rfind("the fill would cross the mesh (new triangle (", 0), 0u)
+        << r.plan.items[0].reason;
     EXPECT_TRUE(editcheck::Snapshot(em) == before);
   }
   // Lowered under the top, the cube is out of the way.
@@ -629,7 +630,8 @@ TEST(RepairFill, NormalsDotIsExact) {
   // and the expansions agree, and the sign is the exact one (a tiny tilt decides).
   const float a[3] = {1e6f, 1e6f, 0}, b[3] = {1e6f + 1, 1e6f, 0}, c[3] = {1e6f, 1e6f + 1, 0};  // normal +z
   for (float tilt : {0.0f, 0.0625f, -0.0625f}) {
-    const float e[3] = {1e6f, 1e6f, 0}, f[3] = {1e6f + 1, 1e6f, 0}, g[3] = {1e6f, 1e6f + tilt, 1};  // normal (0, -1, tilt)
+    const float e[3] = {1e6f, 1e6f, 0}, f[3] = {1e6f + 1, 1e6f, 0},
+                g[3] = {1e6f, 1e6f + tilt, 1};  // normal (0, -1, tilt)
     const int want = tilt == 0 ? 0 : (tilt > 0 ? 1 : -1);
     EXPECT_EQ(pred::normalsDot(a, b, c, e, f, g), want) << tilt;
     EXPECT_EQ(pred::normalsDotExpansion(a, b, c, e, f, g), want) << tilt;

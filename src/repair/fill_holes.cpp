@@ -69,7 +69,9 @@ struct V3 {
   double x = 0, y = 0, z = 0;
 };
 inline V3 vsub(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 vcross(const V3& a, const V3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline V3 vcross(const V3& a, const V3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 inline double vdot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline double vlen(const V3& a) { return std::sqrt(vdot(a, a)); }
 inline V3 vof(const float* p) { return {p[0], p[1], p[2]}; }
@@ -194,7 +196,7 @@ struct Filler {
   Array<Box> addedItemBoxes;
   Bvh bvh;
   uint32_t nVerticesAtStart = 0, nTrianglesAtStart = 0;
-  Array<uint32_t> stamp;  // per vertex (step-start count), for cutting loops
+  Array<uint32_t> stamp;     // per vertex (step-start count), for cutting loops
   Array<uint32_t> meshVtri;  // per vertex (step-start count): kInvalid outside refine()
   uint32_t epoch = 0;
 
@@ -252,7 +254,8 @@ struct Filler {
       for (uint32_t i = loopOffsets[h]; i < loopOffsets[h + 1]; ++i)
         if (vertexSlot[loopVerts[i]] == kInvalid) vertexSlot[loopVerts[i]] = nSlots++;
     }
-    if (!loopBoxes.tri.resize(nCand) || !loopBoxes.box.resize(nCand) || !loopBoxes.nodes.reserve(size_t(nCand) / 2 + 16))
+    if (!loopBoxes.tri.resize(nCand) || !loopBoxes.box.resize(nCand) ||
+        !loopBoxes.nodes.reserve(size_t(nCand) / 2 + 16))
       return oom();
     nCand = 0;
     for (uint32_t h = 0; h < nLoops; ++h) {
@@ -356,7 +359,7 @@ struct Patch {
   uint32_t base = 0;
   Array<uint32_t> tris;
   Array<int64_t> nbr;
-  Array<float> newPos;    // 3 per new vertex
+  Array<float> newPos;     // 3 per new vertex
   Array<double> newScale;  // per new vertex
   Array<uint32_t> vtri;    // per new vertex: a triangle using it (for circulation)
   uint32_t nTris() const { return uint32_t(tris.size() / 3); }
@@ -464,9 +467,12 @@ Status earClip(uint32_t m, const V3* P, Forbidden&& forbidden, Array<uint32_t>& 
   if (!(len > 0) || !std::isfinite(len)) return Status{};
   nrm = {nrm.x / len, nrm.y / len, nrm.z / len};
   V3 ax;
-  if (std::fabs(nrm.x) <= std::fabs(nrm.y) && std::fabs(nrm.x) <= std::fabs(nrm.z)) ax.x = 1;
-  else if (std::fabs(nrm.y) <= std::fabs(nrm.z)) ax.y = 1;
-  else ax.z = 1;
+  if (std::fabs(nrm.x) <= std::fabs(nrm.y) && std::fabs(nrm.x) <= std::fabs(nrm.z))
+    ax.x = 1;
+  else if (std::fabs(nrm.y) <= std::fabs(nrm.z))
+    ax.y = 1;
+  else
+    ax.z = 1;
   V3 u = vcross(nrm, ax);
   const double ul = vlen(u);
   u = {u.x / ul, u.y / ul, u.z / ul};
@@ -546,9 +552,8 @@ Status linkPatch(Patch& p, const Array<uint32_t>& sideLoopEdge) {
   Array<uint32_t> order;
   if (!order.resize(keys.size())) return oom();
   for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return keys[a] != keys[b] ? keys[a] < keys[b] : sides[a] < sides[b];
-  });
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return keys[a] != keys[b] ? keys[a] < keys[b] : sides[a] < sides[b]; });
   for (size_t i = 0; i + 1 < order.size(); ++i)
     if (keys[order[i]] == keys[order[i + 1]] && (i + 2 >= order.size() || keys[order[i + 2]] != keys[order[i]]) &&
         (i == 0 || keys[order[i - 1]] != keys[order[i]])) {
@@ -637,7 +642,9 @@ Status refine(const Filler& F, Patch& p, double target, const Array<V3>& nbNorma
     if (!(vdot(m0, avg) > 0) || !(vdot(m1, avg) > 0)) return false;
     // Nor may it fold a triangle over the mesh across a loop edge (the relaxation is for
     // nearly flat patches; on a curved one a flip can turn a rim triangle too far).
-    auto foldsAt = [&](const V3& n, int64_t across) { return across < 0 && !(vdot(n, nbNormal[size_t(-1 - across)]) > 0); };
+    auto foldsAt = [&](const V3& n, int64_t across) {
+      return across < 0 && !(vdot(n, nbNormal[size_t(-1 - across)]) > 0);
+    };
     {
       const int64_t nCA0 = p.nbr[3 * size_t(t1) + oc1], nAD0 = p.nbr[3 * size_t(t2) + nextC(c2)];
       const int64_t nDB0 = p.nbr[3 * size_t(t2) + oc2], nBC0 = p.nbr[3 * size_t(t1) + nextC(c1)];
@@ -785,7 +792,8 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const int64_t nb = p.nbr[s];
     const uint32_t a = p.tris[s], b = p.tris[3 * (s / 3) + nextC(s % 3)];
     if (nb == std::numeric_limits<int64_t>::min()) {
-      why = detail::format("the fill would make edge %u-%u non-manifold or inconsistent (new triangles do not pair on it)", a, b);
+      why = detail::format(
+          "the fill would make edge %u-%u non-manifold or inconsistent (new triangles do not pair on it)", a, b);
       return Status{};
     }
     if (nb < 0 || uint32_t(nb) < s / 3) continue;
@@ -807,8 +815,8 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const uint32_t* C = p.tris.data() + 3 * size_t(s / 3);
     const uint32_t* M = T + 3 * size_t(m);
     if (pred::normalsDot(F.pos(M[0]), F.pos(M[1]), F.pos(M[2]), P(C[0]), P(C[1]), P(C[2])) < 0) {
-      why = detail::format("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)", p.tris[s],
-                           p.tris[3 * (s / 3) + nextC(s % 3)], m);
+      why = detail::format("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)",
+                           p.tris[s], p.tris[3 * (s / 3) + nextC(s % 3)], m);
       return Status{};
     }
   }
@@ -820,7 +828,8 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       area += triArea(vof(P(C[0])), vof(P(C[1])), vof(P(C[2])));
     }
     if (area > F.ctx.options.maxHoleArea) {
-      why = detail::format("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area, F.ctx.options.maxHoleArea);
+      why = detail::format("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area,
+                           F.ctx.options.maxHoleArea);
       return Status{};
     }
   }
@@ -939,7 +948,9 @@ Status Filler::fillItem(uint32_t h) {
   item.loops.push_back(h);
   if (ctx.excluded()) return Status{};
   if (loopIsSeam[h]) {
-    ctx.skip("a seam: the loop has cut sides (non-manifold or inconsistent edges); filling it would make non-manifold edges");
+    ctx.skip(
+        "a seam: the loop has cut sides (non-manifold or inconsistent edges); filling it would make non-manifold "
+        "edges");
     return Status{};
   }
   if (it.n > ctx.options.maxHoleEdges) {
@@ -1011,9 +1022,10 @@ Status Filler::fillItem(uint32_t h) {
     for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p) {
       const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
       if (m < 3) {
-        ctx.skip(detail::format("the loop passes vertex %u more than once, leaving a part of %u edges, which no triangle "
-                                "can fill",
-                                repeated, m));
+        ctx.skip(
+            detail::format("the loop passes vertex %u more than once, leaving a part of %u edges, which no triangle "
+                           "can fill",
+                           repeated, m));
         return Status{};
       }
     }
@@ -1041,10 +1053,10 @@ Status Filler::fillItem(uint32_t h) {
     if (!s.ok()) return s;
     (m <= kMinWeightCap ? byMinWeight : byEars) = true;
     if (!found) {
-      ctx.skip(m <= kMinWeightCap
-                   ? "every triangulation would put a new inner edge on an existing edge (non-manifold)"
-                   : "ear clipping found no triangulation (no best-fitting plane, or every ear would put a new inner edge on "
-                     "an existing edge)");
+      ctx.skip(m <= kMinWeightCap ? "every triangulation would put a new inner edge on an existing edge (non-manifold)"
+                                  : "ear clipping found no triangulation (no best-fitting plane, or every ear would "
+                                    "put a new inner edge on "
+                                    "an existing edge)");
       return Status{};
     }
     for (size_t k = 0; k < local.size(); k += 3)
@@ -1087,8 +1099,10 @@ Status Filler::fillItem(uint32_t h) {
     if (refined.nNew() > 0) {
       s = check(*this, it, refined, why);
       if (!s.ok()) return s;
-      if (why.empty()) chosen = &refined;
-      else notRefined = why;
+      if (why.empty())
+        chosen = &refined;
+      else
+        notRefined = why;
     }
   }
   const Patch& patch = *chosen;
@@ -1122,7 +1136,8 @@ Status Filler::fillItem(uint32_t h) {
   const size_t before = addedEdges.size();
   for (uint32_t t = 0; t < patch.nTris(); ++t)
     for (uint32_t c = 0; c < 3; ++c)
-      if (!addedEdges.push_back(edgeKey(idOf(patch.tris[3 * size_t(t) + c]), idOf(patch.tris[3 * size_t(t) + nextC(c)]))))
+      if (!addedEdges.push_back(
+              edgeKey(idOf(patch.tris[3 * size_t(t) + c]), idOf(patch.tris[3 * size_t(t) + nextC(c)]))))
         return oom();
   std::sort(addedEdges.begin() + before, addedEdges.end());
   std::inplace_merge(addedEdges.begin(), addedEdges.begin() + before, addedEdges.end());
@@ -1134,10 +1149,15 @@ Status Filler::fillItem(uint32_t h) {
   if (!addedItemOffsets.push_back(uint32_t(addedTriangles.size())) || !addedItemBoxes.push_back(box)) return oom();
   std::string action = detail::format("fill hole %u (%u edges) with %u triangles", h, it.n, patch.nTris());
   if (patch.nNew() > 0) action += detail::format(" and %u new vertices", patch.nNew());
-  action += byMinWeight && byEars ? " (minimum weight and ear clipping" : byEars ? " (ear clipping" : " (minimum weight";
-  if (chosen == &refined) action += ctx.options.fillFair ? ", refined and faired)" : ", refined)";
-  else if (!notRefined.empty()) action += "; not refined: " + notRefined + ")";
-  else action += ")";
+  action += byMinWeight && byEars ? " (minimum weight and ear clipping"
+            : byEars              ? " (ear clipping"
+                                  : " (minimum weight";
+  if (chosen == &refined)
+    action += ctx.options.fillFair ? ", refined and faired)" : ", refined)";
+  else if (!notRefined.empty())
+    action += "; not refined: " + notRefined + ")";
+  else
+    action += ")";
   item.action = std::move(action);
   return Status{};
 }
