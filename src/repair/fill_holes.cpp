@@ -1005,11 +1005,9 @@ Status Filler::fillItem(uint32_t h) {
       stack.shrink(from);
       return parts.offsets.push_back(uint32_t(parts.pos.size()));
     };
-    uint32_t repeated = kInvalid;
     for (uint32_t i = 0; i < it.n; ++i) {
       const uint32_t v = lv[i];
       if (stamp[v] == epoch) {
-        repeated = v;
         size_t from = stack.size();
         while (from > 0 && lv[stack[from - 1]] != v) --from;
         if (!emit(from - 1)) return oom();
@@ -1019,13 +1017,14 @@ Status Filler::fillItem(uint32_t h) {
     }
     if (!emit(0)) return oom();
     ++epoch;  // leaves no vertex marked
+    // A part of two edges (u -> w -> u) needs two opposite boundary sides on one edge, which
+    // only an edge with cut sides has (a seam, skipped above): a guard.
     for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p) {
       const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
       if (m < 3) {
-        ctx.skip(
-            detail::format("the loop passes vertex %u more than once, leaving a part of %u edges, which no triangle "
-                           "can fill",
-                           repeated, m));
+        ctx.skip(detail::format("the loop passes vertex %u more than once, with a part of %u edges between: no "
+                                "triangle can fill it",
+                                lv[parts.pos[parts.offsets[p]]], m));
         return Status{};
       }
     }
@@ -1054,9 +1053,8 @@ Status Filler::fillItem(uint32_t h) {
     (m <= kMinWeightCap ? byMinWeight : byEars) = true;
     if (!found) {
       ctx.skip(m <= kMinWeightCap ? "every triangulation would put a new inner edge on an existing edge (non-manifold)"
-                                  : "ear clipping found no triangulation (no best-fitting plane, or every ear would "
-                                    "put a new inner edge on "
-                                    "an existing edge)");
+                                  : "ear clipping found no triangulation (the loop has no best-fitting plane, or "
+                                    "every ear would put a new inner edge on an existing edge)");
       return Status{};
     }
     for (size_t k = 0; k < local.size(); k += 3)
