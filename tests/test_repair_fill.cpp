@@ -462,6 +462,30 @@ TEST(RepairFill, LongLoopsAreFilledByEarClipping) {
   EXPECT_EQ(intersectingPairs(smaller), 0u);
 }
 
+TEST(RepairFill, WhenEarClippingFailsALongLoopGetsMinimumWeight) {
+  // A saddle rim of 240 edges: ear clipping in the Newell plane folds over at the rim, so the
+  // loop (under the fallback cap of 600) is triangulated by minimum weight after all.
+  EditableMesh em;
+  makeEditable(cup(240, 1.5f), em);
+  const uint32_t before = em.nTriangles();
+  FillRun r = fill(em);
+  ASSERT_TRUE(r.status.ok());
+  ASSERT_EQ(r.plan.items.size(), 1u);
+  EXPECT_FALSE(r.plan.items[0].skipped) << r.plan.items[0].reason;
+  EXPECT_EQ(r.plan.items[0].action,
+            "fill hole 0 (240 edges) with 238 triangles (minimum weight, as ear clipping failed the checks)");
+  EXPECT_TRUE(em.stats().watertight);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  EXPECT_EQ(intersectingPairs(em), 0u);
+  EXPECT_GT(worstCosOfNewTriangles(em, before), 0.0);
+  // The ear-clipped fan itself folds: filled by the editor's ear clipping, some new
+  // triangle's normal turns by more than 90 degrees against a neighbour.
+  EditableMesh ears;
+  makeEditable(cup(240, 1.5f), ears);
+  ASSERT_TRUE(ears.fillLoop(0, FillMethod::Ear).ok());
+  EXPECT_LT(worstCosOfNewTriangles(ears, before), 0.0);
+}
+
 TEST(RepairFill, RefineMakesEdgesNearTheLoopsEdgeLength) {
   // An 8 x 8 hole of unit cells in a 12 x 12 top: loop edges of length 1.
   std::vector<int> cells;

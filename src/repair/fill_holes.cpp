@@ -50,6 +50,9 @@ using geometry_detail::Tri;
 // Parts with up to this many edges are triangulated by minimum weight (O(n^3) time, O(n^2)
 // memory: 200 edges take a few milliseconds), longer ones by ear clipping.
 constexpr uint32_t kMinWeightCap = 200;
+// Ear-clipped parts up to this many edges get a second chance by minimum weight when the
+// ear-clipped patch fails the checks (O(n^3): about a second at 600 edges; 16 MB).
+constexpr uint32_t kMinWeightFallbackCap = 600;
 // Refinement: at most this many rounds of splits, and at most this many triangles in one
 // patch (the refinement stops there; the patch stays valid).
 constexpr int kRefineRounds = 30;
@@ -1029,50 +1032,65 @@ Status Filler::fillItem(uint32_t h) {
       }
     }
   }
-  // Triangulate each part.
+  // Triangulate each part: by minimum weight up to the cap, by ear clipping above. When a
+  // patch with ear-clipped parts fails the checks and those parts are at most
+  // kMinWeightFallbackCap long, they are triangulated by minimum weight after all (slower,
+  // and much better on curved holes).
   Patch plain;
   plain.base = em.nVertices();
-  Array<uint32_t> sideLoopEdge;
-  bool byMinWeight = false, byEars = false;
-  for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p) {
-    const uint32_t* P = parts.pos.data() + parts.offsets[p];
-    const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
-    Array<V3> pts, nb;
-    if (!pts.resize(m) || !nb.resize(m)) return oom();
-    for (uint32_t i = 0; i < m; ++i) {
-      pts[i] = vof(pos(lv[P[i]]));
-      const uint32_t* M = em.triangles().data() + 3 * size_t(it.nbTri[P[i]]);
-      nb[i] = unitNormal(vof(pos(M[0])), vof(pos(M[1])), vof(pos(M[2])));
-    }
-    auto forbidden = [&](uint32_t i, uint32_t j) { return edgeExists(lv[P[i]], lv[P[j]]); };
-    Array<uint32_t> local;
-    bool found = false;
-    Status s = m <= kMinWeightCap ? minWeight(m, pts.data(), nb.data(), forbidden, local, found)
-                                  : earClip(m, pts.data(), forbidden, local, found);
-    if (!s.ok()) return s;
-    (m <= kMinWeightCap ? byMinWeight : byEars) = true;
-    if (!found) {
-      ctx.skip(m <= kMinWeightCap ? "every triangulation would put a new inner edge on an existing edge (non-manifold)"
-                                  : "ear clipping found no triangulation (the loop has no best-fitting plane, or "
-                                    "every ear would put a new inner edge on an existing edge)");
-      return Status{};
-    }
-    for (size_t k = 0; k < local.size(); k += 3)
-      for (uint32_t c = 0; c < 3; ++c) {
-        const uint32_t i = local[k + c], j = local[k + nextC(c)];
-        if (!plain.tris.push_back(lv[P[i]])) return oom();
-        if (!sideLoopEdge.push_back(j == (i + 1) % m ? P[i] : kInvalid)) return oom();
-      }
-  }
-  Status s = linkPatch(plain, sideLoopEdge);
-  if (!s.ok()) return s;
+  bool byMinWeight = false, byEars = false, fellBack = false;
   std::string why;
-  s = check(*this, it, plain, why);
-  if (!s.ok()) return s;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const uint32_t cap = attempt == 0 ? kMinWeightCap : kMinWeightFallbackCap;
+    fellBack = attempt == 1;
+    plain.tris.clear();
+    byMinWeight = byEars = false;
+    Array<uint32_t> sideLoopEdge;
+    for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p) {
+      const uint32_t* P = parts.pos.data() + parts.offsets[p];
+      const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
+      Array<V3> pts, nb;
+      if (!pts.resize(m) || !nb.resize(m)) return oom();
+      for (uint32_t i = 0; i < m; ++i) {
+        pts[i] = vof(pos(lv[P[i]]));
+        const uint32_t* M = em.triangles().data() + 3 * size_t(it.nbTri[P[i]]);
+        nb[i] = unitNormal(vof(pos(M[0])), vof(pos(M[1])), vof(pos(M[2])));
+      }
+      auto forbidden = [&](uint32_t i, uint32_t j) { return edgeExists(lv[P[i]], lv[P[j]]); };
+      Array<uint32_t> local;
+      bool found = false;
+      Status s = m <= cap ? minWeight(m, pts.data(), nb.data(), forbidden, local, found)
+                          : earClip(m, pts.data(), forbidden, local, found);
+      if (!s.ok()) return s;
+      (m <= cap ? byMinWeight : byEars) = true;
+      if (!found) {
+        ctx.skip(m <= cap ? "every triangulation would put a new inner edge on an existing edge (non-manifold)"
+                          : "ear clipping found no triangulation (the loop has no best-fitting plane, or every ear "
+                            "would put a new inner edge on an existing edge)");
+        return Status{};
+      }
+      for (size_t k = 0; k < local.size(); k += 3)
+        for (uint32_t c = 0; c < 3; ++c) {
+          const uint32_t i = local[k + c], j = local[k + nextC(c)];
+          if (!plain.tris.push_back(lv[P[i]])) return oom();
+          if (!sideLoopEdge.push_back(j == (i + 1) % m ? P[i] : kInvalid)) return oom();
+        }
+    }
+    Status s = linkPatch(plain, sideLoopEdge);
+    if (!s.ok()) return s;
+    s = check(*this, it, plain, why);
+    if (!s.ok()) return s;
+    if (why.empty() || !byEars) break;
+    bool fallbackFits = true;
+    for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p)
+      fallbackFits = fallbackFits && parts.offsets[p + 1] - parts.offsets[p] <= kMinWeightFallbackCap;
+    if (!fallbackFits) break;
+  }
   if (!why.empty()) {
     ctx.skip(why);
     return Status{};
   }
+  Status s;
   // Refine and fair a copy; keep it when it passes the checks too.
   Patch refined;
   Patch* chosen = &plain;
@@ -1149,6 +1167,7 @@ Status Filler::fillItem(uint32_t h) {
   if (patch.nNew() > 0) action += detail::format(" and %u new vertices", patch.nNew());
   action += byMinWeight && byEars ? " (minimum weight and ear clipping"
             : byEars              ? " (ear clipping"
+            : fellBack            ? " (minimum weight, as ear clipping failed the checks"
                                   : " (minimum weight";
   if (chosen == &refined)
     action += ctx.options.fillFair ? ", refined and faired)" : ", refined)";
