@@ -9,7 +9,8 @@
 //      O(n^3) dynamic programming; weight = the largest dihedral angle, with the mesh across
 //      the loop's edges and inside the patch, then the area, compared lexicographically;
 //      inner edges that exist already are not used) up to kMinWeightCap edges, by ear
-//      clipping in the part's Newell plane above;
+//      clipping in the part's Newell plane above (and by minimum weight after all, up to
+//      kMinWeightFallbackCap edges, when the ear-clipped patch fails the checks);
 //   4. optionally refined (Liepa: centroid splits where the scale allows, the target being
 //      the mean length of the loop's edges, then Delaunay flips of the patch's inner edges)
 //      and faired (umbrella smoothing of the new vertices only, the loop fixed);
@@ -20,8 +21,9 @@
 //      meeting an existing triangle, an earlier fill's or another of its own other than in
 //      the corners and sides they share (the exact pair test of the intersection pass,
 //      against the triangles whose boxes overlap, found through a bounding-volume hierarchy
-//      built once per step). A refined patch that fails is replaced by the plain
-//      triangulation (the item says so); a plain one that fails skips the item;
+//      built once per step over the triangles near the loops). A refined patch that fails
+//      is replaced by the plain triangulation (the item says so); a plain one that fails
+//      skips the item;
 //   6. applied with addVertex and addTriangle. A refused edit means a check missed
 //      something: the item's triangles are removed again and it is skipped with the refusal.
 // The geometric decisions (zero area, fold-over, crossing) go through the exact predicates;
