@@ -88,6 +88,9 @@ class EditSession {
 
   // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
   val reserve(double vertices, double triangles) { return js::status(em_.reserve(u32(vertices), u32(triangles))); }
+  val setPosition(double v, double x, double y, double z) {
+    return js::status(em_.setPosition(u32(v), float(x), float(y), float(z)));
+  }
   val removeTriangle(double t) { return js::status(em_.removeTriangle(u32(t))); }
   val addVertex(double x, double y, double z) {
     uint32_t v = 0;
@@ -378,6 +381,7 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("setFormat", &EditSession::setFormat)
       .function("init", &EditSession::init)
       .function("reserve", &EditSession::reserve)
+      .function("setPosition", &EditSession::setPosition)
       .function("removeTriangle", &EditSession::removeTriangle)
       .function("addVertex", &EditSession::addVertex)
       .function("addTriangle", &EditSession::addTriangle)

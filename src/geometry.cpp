@@ -35,10 +35,7 @@ const char* intersectionKindName(IntersectionKind k) {
 
 namespace {
 
-struct Tri {
-  uint32_t v[3];
-  const float* p[3];
-};
+using geometry_detail::Tri;
 
 // The axis k along which a triangle projects without collapsing (its normal's coordinate
 // k is not zero), and the sign of that coordinate: orient2dIn(k, ...) * sign is then the
@@ -278,6 +275,12 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
   intersectionPoint(a, b, coplanar, pa.k, point);
   return int(kind);
 }
+
+}  // namespace
+
+int geometry_detail::trianglePairTest(const Tri& a, const Tri& b, double point[3]) { return testPair(a, b, point); }
+
+namespace {
 
 // ---------------------------------------------------------------------------
 // The bounding-volume hierarchy: the valid triangles sorted by the Morton code of their

@@ -25,6 +25,19 @@ inline const uint32_t* weldOf(const Topology* topo) {
   return topo && topo->tolerance > 0 ? topo->vertexWeld.data() : nullptr;
 }
 
+// A triangle for the exact pair test: its three vertex ids (corners that are one vertex
+// have one id) and positions. Its corners must be distinct and not collinear.
+struct Tri {
+  uint32_t v[3];
+  const float* p[3];
+};
+
+// The exact test of one pair (geometry.cpp, the one the intersection pass runs): -1 when
+// the closed triangles do not meet, or meet only in the corners and the side they share
+// (by id), or share all three corners; else the IntersectionKind. `point` gets a point of
+// the intersection (floating point, decides nothing).
+int trianglePairTest(const Tri& a, const Tri& b, double point[3]);
+
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
                topo->vertexWeld.size() != mesh.nVertices()))

@@ -234,4 +234,51 @@ int orient3dExpansion(const float* a, const float* b, const float* c, const floa
   return sign(n, acc);
 }
 
+int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e,
+                        const float* f) {
+  const D ux(b[0], a[0]), uy(b[1], a[1]), uz(b[2], a[2]);
+  const D vx(c[0], a[0]), vy(c[1], a[1]), vz(c[2], a[2]);
+  const D px(e[0], d[0]), py(e[1], d[1]), pz(e[2], d[2]);
+  const D qx(f[0], d[0]), qy(f[1], d[1]), qz(f[2], d[2]);
+  // Each normal coordinate is a cross term (at most 16 components); each product of two
+  // at most 2 * 16 * 16 + 1.
+  double n1[24], n2[24], t[2 * 16 * 16 + 1], acc[3 * (2 * 16 * 16 + 1)];
+  const D* U[3][4] = {{&uy, &vz, &uz, &vy}, {&uz, &vx, &ux, &vz}, {&ux, &vy, &uy, &vx}};
+  const D* P[3][4] = {{&py, &qz, &pz, &qy}, {&pz, &qx, &px, &qz}, {&px, &qy, &py, &qx}};
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int l1 = crossTerm(*U[k][0], *U[k][1], *U[k][2], *U[k][3], n1);
+    const int l2 = crossTerm(*P[k][0], *P[k][1], *P[k][2], *P[k][3], n2);
+    const int tn = mul(l1, n1, l2, n2, t);
+    if (n == 0) {
+      for (int i = 0; i < tn; ++i) acc[i] = t[i];
+      n = tn;
+    } else {
+      n = addTo(n, acc, tn, t);
+    }
+  }
+  return sign(n, acc);
+}
+
+int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f) {
+  // Each normal coordinate l - r is within 3u (|l| + |r|) of the true one (Shewchuk's
+  // orient2d bound, u = 2^-53); the dot product of the two then within about 9u of the sum
+  // over k of (|l1| + |r1|)(|l2| + |r2|). The filter allows 16u.
+  const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
+  const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  const double px = double(e[0]) - d[0], py = double(e[1]) - d[1], pz = double(e[2]) - d[2];
+  const double qx = double(f[0]) - d[0], qy = double(f[1]) - d[1], qz = double(f[2]) - d[2];
+  const double l1[3] = {uy * vz, uz * vx, ux * vy}, r1[3] = {uz * vy, ux * vz, uy * vx};
+  const double l2[3] = {py * qz, pz * qx, px * qy}, r2[3] = {pz * qy, px * qz, py * qx};
+  double dot = 0, perm = 0;
+  for (int k = 0; k < 3; ++k) {
+    dot += (l1[k] - r1[k]) * (l2[k] - r2[k]);
+    perm += (std::fabs(l1[k]) + std::fabs(r1[k])) * (std::fabs(l2[k]) + std::fabs(r2[k]));
+  }
+  const double bound = 1.7763568394002505e-15 * perm;  // 16u
+  if (dot > bound) return 1;
+  if (-dot > bound) return -1;
+  return normalsDotExpansion(a, b, c, d, e, f);
+}
+
 }  // namespace stltopo::pred

@@ -86,6 +86,13 @@ inline int normalSign(const float* a, const float* b, const float* c, int k) {
   return orient2d(a[i], a[j], b[i], b[j], c[i], c[j]);
 }
 
+// Sign of the dot product of the normals of triangles (a, b, c) and (d, e, f):
+// ((b - a) x (c - a)) . ((e - d) x (f - d)). < 0 when the normals make an angle of more than
+// 90 degrees; 0 when they are perpendicular or one triangle has no normal. A filter, then
+// expansion arithmetic (the degree-4 determinant does not fit the 128-bit integer path).
+int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
+int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
+
 // Whether a, b, c lie on one line (equal points included): (b - a) x (c - a) == 0.
 inline bool collinear(const float* a, const float* b, const float* c) {
   return normalSign(a, b, c, 0) == 0 && normalSign(a, b, c, 1) == 0 && normalSign(a, b, c, 2) == 0;

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -233,7 +235,21 @@ class RandomEditor {
         break;
       }
       default: {
-        if (pick_(4) != 0) { what = "nothing"; return ""; }
+        const uint32_t which = pick_(4);
+        if (which == 1) {  // move a vertex (perhaps a dead one, perhaps to a non-finite place)
+          uint32_t n = em_.nVertices();
+          if (n == 0) { what = "setPosition (no vertex)"; return ""; }
+          uint32_t v = pick_(n), w = pick_(n);
+          const float* p = em_.positions().data();
+          float x = p[3 * w] + 0.25f * float(pick_(5)), y = p[3 * w + 1] - 0.125f, z = p[3 * v + 2];
+          if (pick_(8) == 0) y = std::numeric_limits<float>::infinity();
+          std::snprintf(buf, sizeof buf, "setPosition(%u, %g, %g, %g)", v, x, y, z);
+          s = em_.setPosition(v, x, y, z);
+          if (s.ok() && (em_.positions()[3 * v] != x || em_.positions()[3 * v + 1] != y || em_.positions()[3 * v + 2] != z))
+            return std::string(buf) + " did not move the vertex there";
+          break;
+        }
+        if (which != 0) { what = "nothing"; return ""; }
         std::snprintf(buf, sizeof buf, "compact()");
         const std::string json = em_.infoJson("f");
         s = em_.compact();
@@ -276,6 +292,12 @@ class RandomEditor {
     // joined through an inconsistent edge stay non-manifold in each part, and a pair kept at
     // one end may be cut at the other end until that end is split too).
     if (op == 17 && after.nonManifoldEdges > before.nonManifoldEdges) return what + " added a non-manifold edge";
+    if (what.compare(0, 12, "setPosition(") == 0 &&  // by name: the op numbers change as edits are added
+        (after.triangles != before.triangles || after.vertices != before.vertices || after.edges != before.edges ||
+         after.boundaryEdges != before.boundaryEdges || after.nonManifoldEdges != before.nonManifoldEdges ||
+         after.inconsistentEdges != before.inconsistentEdges || after.holes != before.holes ||
+         after.seams != before.seams || after.shells != before.shells || after.degenerate != before.degenerate))
+      return what + " changed the topology's counts";
     if (!checkEachEdit) return "";
     std::string d = differenceFromRebuild(em_);
     return d.empty() ? "" : what + ": " + d;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cinttypes>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "stltopo/edit.h"
@@ -137,6 +138,80 @@ TEST(Edit, FillingAHoleBringsTheCubeBackToWatertightGenusZero) {
     ASSERT_TRUE(em.toMesh(m).ok());
     EXPECT_NEAR(m.volume, 1.0, 1e-12);
   }
+}
+
+// The perimeter of loop h, from the positions of its vertices (an independent sum).
+static double perimeterOf(EditableMesh& em, uint32_t h) {
+  const EditLoops& l = em.loops();
+  double sum = 0;
+  for (uint32_t i = l.loopOffsets[h]; i < l.loopOffsets[h + 1]; ++i) {
+    uint32_t e = l.loopHalfedges[i];
+    const float* a = em.positions().data() + 3 * size_t(em.vert()[e]);
+    const float* b = em.positions().data() + 3 * size_t(em.vert()[e ^ 1u]);
+    sum += std::hypot(double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]);
+  }
+  return sum;
+}
+
+TEST(Edit, SetPositionMovesOnlyTheVertexAndKeepsPerimetersUpToDate) {
+  EditableMesh em;
+  makeEditable(gen::cube(), em);
+  ASSERT_TRUE(em.removeTriangle(0).ok());  // a hole of three edges, sides 1, 1 and sqrt 2
+  ASSERT_EQ(em.loops().nLoops(), 1u);
+  EXPECT_NEAR(em.loops().loopPerimeter[0], 2 + std::sqrt(2.0), 1e-12);
+  const EditStats statsBefore = em.stats();
+  std::vector<float> positionsBefore(em.positions().begin(), em.positions().end());
+  // A vertex of the hole moves 2 away: the perimeter follows.
+  const uint32_t v = em.vert()[em.loops().loopHalfedge[0]];
+  const float x = positionsBefore[3 * v] + 2, y = positionsBefore[3 * v + 1], z = positionsBefore[3 * v + 2];
+  ASSERT_TRUE(em.setPosition(v, x, y, z).ok());
+  const double moved = em.loops().loopPerimeter[0];
+  EXPECT_GT(moved, 2 + std::sqrt(2.0) + 1);
+  EXPECT_NEAR(moved, perimeterOf(em, 0), 1e-12);
+  for (size_t i = 0; i < positionsBefore.size(); ++i)
+    EXPECT_EQ(em.positions()[i], i == 3 * v ? x : positionsBefore[i]) << i;
+  const EditStats& st = em.stats();
+  EXPECT_EQ(st.edges, statsBefore.edges);
+  EXPECT_EQ(st.holes, statsBefore.holes);
+  EXPECT_EQ(st.eulerCharacteristic, statsBefore.eulerCharacteristic);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // A vertex not on the hole: the perimeter stays.
+  uint32_t off = kInvalid;
+  for (uint32_t w = 0; w < em.nVertices() && off == kInvalid; ++w) {
+    bool onLoop = false;
+    for (uint32_t i = em.loops().loopOffsets[0]; i < em.loops().loopOffsets[1]; ++i)
+      onLoop = onLoop || em.vert()[em.loops().loopHalfedges[i]] == w;
+    if (!onLoop) off = w;
+  }
+  ASSERT_NE(off, kInvalid);
+  ASSERT_TRUE(em.setPosition(off, 1, 1, 3).ok());
+  EXPECT_EQ(em.loops().loopPerimeter[0], moved);
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  // With the loops stale (after an edit that changed the boundary) the move is seen when
+  // they are numbered again.
+  ASSERT_TRUE(em.removeTriangle(5).ok());
+  ASSERT_TRUE(em.setPosition(v, 5, 0, 0).ok());
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+  Mesh m;
+  ASSERT_TRUE(em.toMesh(m).ok());
+  EXPECT_EQ(m.bboxMax[0], 5.0f);
+  // Refused: out of range, non-finite; nothing changes.
+  Snapshot before(em);
+  EXPECT_EQ(em.setPosition(em.nVertices(), 0, 0, 0).code, Code::InvalidArgument);
+  EXPECT_EQ(em.setPosition(v, 0, std::numeric_limits<float>::quiet_NaN(), 0).code, Code::InvalidArgument);
+  EXPECT_EQ(em.setPosition(v, std::numeric_limits<float>::infinity(), 0, 0).code, Code::InvalidArgument);
+  EXPECT_TRUE(Snapshot(em) == before);
+  // A vertex that a collapse removed.
+  EditableMesh tor;
+  makeEditable(gen::torus(6, 5), tor);
+  ASSERT_TRUE(tor.collapseEdge(0).ok());
+  uint32_t dead = kInvalid;
+  for (uint32_t w = 0; w < tor.nVertices(); ++w)
+    if (!tor.vertexAlive(w)) dead = w;
+  ASSERT_NE(dead, kInvalid);
+  Snapshot torBefore(tor);
+  EXPECT_EQ(tor.setPosition(dead, 0, 0, 0).code, Code::InvalidArgument);
+  EXPECT_TRUE(Snapshot(tor) == torBefore);
 }
 
 TEST(Edit, CollapsingAnEdgeOfATetrahedronIsRefused) {

@@ -198,6 +198,12 @@ class EditableMesh {
   // --- Edits ---------------------------------------------------------------------------
   // A new vertex (unused until a triangle uses it). Vertex attributes get their default.
   Status addVertex(float x, float y, float z, uint32_t* out = nullptr);
+  // Moves vertex v to (x, y, z): geometry only. The triangles, the topology, the ids and
+  // every attribute stay as they are (a kept triangle normal is not recomputed, so it may
+  // no longer match); the perimeters of the boundary loops through v follow the move.
+  // Refused (InvalidArgument) for a dead or out-of-range vertex and for a non-finite
+  // coordinate. O(corners at v + the loops through v).
+  Status setPosition(uint32_t v, float x, float y, float z);
   // Removes triangle t. Its sides that had a partner become boundary sides: the hole grows,
   // appears, splits or joins another as the fan rule says. Its vertices stay.
   Status removeTriangle(uint32_t t);

@@ -77,6 +77,9 @@ std::string EditableMesh::infoJson(const std::string& file) { STLTOPO_WRITE(info
 
 Status EditableMesh::reserve(uint32_t vertices, uint32_t triangles) { STLTOPO_WRITE(reserve(vertices, triangles), noImpl()); }
 Status EditableMesh::addVertex(float x, float y, float z, uint32_t* out) { STLTOPO_WRITE(addVertex(x, y, z, out), noImpl()); }
+Status EditableMesh::setPosition(uint32_t v, float x, float y, float z) {
+  STLTOPO_WRITE(setPosition(v, x, y, z), noImpl());
+}
 Status EditableMesh::removeTriangle(uint32_t t) { STLTOPO_WRITE(removeTriangle(t), noImpl()); }
 Status EditableMesh::addTriangle(uint32_t a, uint32_t b, uint32_t c, uint32_t* out, bool allowNonManifold) {
   STLTOPO_WRITE(addTriangle(a, b, c, out, allowNonManifold), noImpl());

@@ -89,6 +89,7 @@ struct EditableMesh::Impl {
   std::string infoJson(const std::string& file);
   Status reserve(uint32_t vertices, uint32_t triangles);
   Status addVertex(float x, float y, float z, uint32_t* out = nullptr);
+  Status setPosition(uint32_t v, float x, float y, float z);
   Status removeTriangle(uint32_t t);
   Status addTriangle(uint32_t a, uint32_t b, uint32_t c, uint32_t* out = nullptr, bool allowNonManifold = false);
   Status flipEdge(uint32_t e);
@@ -329,6 +330,9 @@ struct EditableMesh::Impl {
   // their earliest triangle side, each from the twin of that side. faceOut (nullable)
   // receives kLoopFaceBit | loop for each boundary half-edge.
   static bool labelLoops(const M& m, EditLoops& out, uint32_t* faceOut);
+  // The perimeter of the loop through boundary half-edge e, summed in next order from e as
+  // labelLoops sums it (so that, from the loop's first half-edge, it equals a fresh build's).
+  static double loopPerimeter(const M& m, uint32_t e);
 
   // Edge-connected components of the live non-degenerate triangles (every shared edge
   // counts, paired or cut). kInvalid on allocation failure.

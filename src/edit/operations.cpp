@@ -141,6 +141,47 @@ Status EditableMesh::Impl::addVertex(float x, float y, float z, uint32_t* out) {
   return Status{};
 }
 
+Status EditableMesh::Impl::setPosition(uint32_t v, float x, float y, float z) {
+  Status s = Impl::checkVertex(*this, v);
+  if (!s.ok()) return s;
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+    return badArgument(detail::format("vertex %u needs finite coordinates", v));
+  positions_[3 * size_t(v)] = x;
+  positions_[3 * size_t(v) + 1] = y;
+  positions_[3 * size_t(v) + 2] = z;
+  // Nothing of the topology depends on positions but the loops' perimeters. Numbered loops
+  // through v get theirs summed again, from each loop's first half-edge as a fresh build
+  // sums them; stale loops get theirs when they are numbered. The boundary half-edges at v
+  // are the partners of v's triangle sides that have boundary partners.
+  if (loopsStale_) return Status{};
+  constexpr int kMaxLoops = 8;
+  uint32_t done[kMaxLoops];
+  int nDone = 0;
+  bool overflow = false;
+  Impl::forEachCorner(*this, v, [&](uint32_t q) {
+    const uint32_t t = q / 3, c = q % 3;
+    if (degenerate_[t] || overflow) return;
+    for (uint32_t side : {q, 3 * t + prevCorner(c)}) {
+      const uint32_t b = sideHalfedge_[side] ^ 1u;
+      if (!Impl::boundaryFace(face_[b])) continue;
+      const uint32_t h = face_[b] & ~kLoopFaceBit;
+      bool seen = false;
+      for (int i = 0; i < nDone; ++i) seen = seen || done[i] == h;
+      if (seen) continue;
+      if (nDone == kMaxLoops) {
+        overflow = true;
+        return;
+      }
+      done[nDone++] = h;
+      loops_.loopPerimeter[h] = Impl::loopPerimeter(*this, loops_.loopHalfedge[h]);
+    }
+  });
+  // More loops through one vertex than the list holds (a vertex pinching many holes): they
+  // are numbered and summed again when next read, O(n) once.
+  if (overflow) loopsStale_ = statsStale_ = true;
+  return Status{};
+}
+
 Status EditableMesh::Impl::removeTriangle(uint32_t t) {
   Status s = Impl::checkTriangle(*this, t);
   if (!s.ok()) return s;

@@ -347,6 +347,19 @@ void EditableMesh::Impl::refan(M& m, uint32_t u) {
   m.vertexNonManifold_[u] = nm;
 }
 
+double EditableMesh::Impl::loopPerimeter(const M& m, uint32_t e) {
+  double perim = 0;
+  uint32_t x = e;
+  do {
+    const float* a = m.positions_.data() + size_t(m.vert_[x]) * 3;
+    const float* b = m.positions_.data() + size_t(m.vert_[x ^ 1u]) * 3;
+    double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
+    perim += std::sqrt(dx * dx + dy * dy + dz * dz);
+    x = m.next_[x];
+  } while (x != e);
+  return perim;
+}
+
 bool EditableMesh::Impl::labelLoops(const M& m, EditLoops& out, uint32_t* faceOut) {
   out = EditLoops{};
   Array<uint64_t> seen;
@@ -359,19 +372,15 @@ bool EditableMesh::Impl::labelLoops(const M& m, EditLoops& out, uint32_t* faceOu
       if (!boundaryFace(m.face_[e]) || ((seen[e >> 6] >> (e & 63)) & 1u)) continue;
       uint32_t id = out.nLoops();
       bool seam = false;
-      double perim = 0;
       uint32_t x = e;
       do {
         seen[x >> 6] |= uint64_t(1) << (x & 63);
         if (faceOut) faceOut[x] = kLoopFaceBit | id;
         if (!out.loopHalfedges.push_back(x)) return false;
         if (m.pairKind_[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
-        const float* a = m.positions_.data() + size_t(m.vert_[x]) * 3;
-        const float* b = m.positions_.data() + size_t(m.vert_[x ^ 1u]) * 3;
-        double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
-        perim += std::sqrt(dx * dx + dy * dy + dz * dz);
         x = m.next_[x];
       } while (x != e);
+      const double perim = loopPerimeter(m, e);
       if (!out.loopHalfedge.push_back(e) || !out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) ||
           !out.loopIsSeam.push_back(seam ? 1 : 0) || !out.loopPerimeter.push_back(perim))
         return false;

@@ -127,6 +127,43 @@ test('a refused edit throws StlError edit-refused and changes nothing', async ()
   assert.throws(() => em.stats, (e) => e instanceof StlError && e.code === 'invalid-argument');
 });
 
+test('setPosition moves one vertex: the hole perimeter, volume and bbox follow; bad ids and coordinates are refused', async () => {
+  const mesh = await loadStlFile(cubeFile());
+  const em = await EditableMesh.from(mesh);
+  em.removeTriangle(0);
+  const hole = em.holes[0];
+  const v = hole.vertices[0];
+  const before = em.positions.slice();
+  const perimeterBefore = hole.perimeter;
+  // Out of the hole's plane, twice the cube's size: both of v's hole edges grow.
+  const size = em.stats.bbox.max[0] - em.stats.bbox.min[0];
+  const z = hole.vertices.map((w) => before[3 * w + 2]);
+  assert.ok(z.every((x) => x === z[0]), 'the hole lies in a plane z = const');
+  em.setPosition(v, before[3 * v], before[3 * v + 1], before[3 * v + 2] - 2 * size);
+  const after = em.positions;
+  for (let i = 0; i < before.length; ++i) assert.equal(after[i], i === 3 * v + 2 ? before[i] - 2 * size : before[i], `coordinate ${i}`);
+  assert.deepEqual(em.holes[0].vertices, hole.vertices);
+  let perimeter = 0;
+  const hv = em.holes[0].vertices;
+  for (let i = 0; i < hv.length; ++i) {
+    const a = hv[i], b = hv[(i + 1) % hv.length];
+    perimeter += Math.hypot(after[3 * a] - after[3 * b], after[3 * a + 1] - after[3 * b + 1], after[3 * a + 2] - after[3 * b + 2]);
+  }
+  assert.ok(Math.abs(em.holes[0].perimeter - perimeter) < 1e-9 * perimeter);
+  assert.ok(em.holes[0].perimeter > perimeterBefore + size);
+  const fresh = await freshStats(em);
+  for (const k of TOPO_KEYS) assert.deepEqual(em.stats[k], fresh[k], k);
+  assert.deepEqual(em.validate(), { ok: true });
+  const frozen = { pos: em.positions.slice(), stats: JSON.stringify(em.stats) };
+  assert.throws(() => em.setPosition(em.nVertices, 0, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.throws(() => em.setPosition(v, NaN, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.throws(() => em.setPosition(-1, 0, 0, 0), (e) => e instanceof StlError && e.code === 'invalid-argument');
+  assert.deepEqual(em.positions, frozen.pos);
+  assert.equal(JSON.stringify(em.stats), frozen.stats);
+  em.dispose();
+  mesh.dispose?.();
+});
+
 test('split, flip, collapse and reverse on a sphere keep it closed; compact renumbers', async () => {
   const em = await EditableMesh.from(await loadStlFile(fixture('test_sphere.stl')));
   const chi = em.stats.eulerCharacteristic;

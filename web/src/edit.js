@@ -212,6 +212,8 @@ export function createEditableMesh(getModule) {
 
     /** Room for more vertices and triangles, so that no later edit reallocates the arrays. */
     reserve(vertices, triangles) { check(this.#live().reserve(id(vertices, 'vertices'), id(triangles, 'triangles'))); }
+    /** Moves vertex v (geometry only: triangles, topology, ids and attributes stay). */
+    setPosition(v, x, y, z) { this.#edit(this.#live().setPosition(id(v, 'vertex'), x, y, z)); }
     removeTriangle(t) { this.#edit(this.#live().removeTriangle(id(t, 'triangle'))); }
     addVertex(x, y, z) { return this.#edit(this.#live().addVertex(x, y, z)); }
     /** Returns the new triangle id. options.nonManifold allows non-manifold and inconsistent edges. */

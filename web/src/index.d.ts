@@ -704,6 +704,8 @@ export declare class EditableMesh {
   halfedgeAlive(e: number): boolean;
   validate(): ValidateResult;
   reserve(vertices: number, triangles: number): void;
+  /** Moves vertex v: geometry only (triangles, topology, ids and attributes stay); the loops' perimeters follow. */
+  setPosition(v: number, x: number, y: number, z: number): void;
   removeTriangle(t: number): void;
   addVertex(x: number, y: number, z: number): number;
   addTriangle(a: number, b: number, c: number, options?: { nonManifold?: boolean }): number;

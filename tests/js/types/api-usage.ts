@@ -139,6 +139,7 @@ export async function editing(mesh: Mesh): Promise<number> {
   const em: EditableMesh = await EditableMesh.from(mesh, { tolerance: 0 });
   const indexed = await EditableMesh.from({ positions: new Float32Array(9), triangles: new Uint32Array([0, 1, 2]) });
   em.removeTriangle(0);
+  em.setPosition(0, 1, 2, 3);
   const filled: Uint32Array = em.fillHole(em.holes[0], { method: 'ear' });
   const v: number = em.splitEdge(0, 0.25) + em.collapseEdge(1) + em.addTriangle(0, 1, 2, { nonManifold: true });
   em.addAttribute('temp', 'vertex', new Float32Array(em.nVertices), { merge: (a, b, t) => [a[0] * (1 - t) + b[0] * t], split: 'average' });
