@@ -121,78 +121,109 @@ Status runZeroArea(StepContext& ctx) {
   if (!s.ok()) return s;
   EditableMesh& em = ctx.em;
   ctx.plan.note =
-      "flips the longest edge (the neighbour is cut at the middle corner: nothing moves), else collapses the shortest "
-      "edge (the middle corner moves onto its nearer end)";
-  for (uint32_t z : checks.zeroArea) {
-    // An earlier item may have changed it (a flip rewrites the neighbour).
-    if (!em.triangleAlive(z)) continue;
-    const uint32_t* c = em.triangles().data() + 3 * size_t(z);
-    uint32_t v[3] = {c[0], c[1], c[2]};
-    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
-    if (!pred::collinear(pos(em, v[0]), pos(em, v[1]), pos(em, v[2]))) continue;
-    // The middle corner, along the axis of the largest extent (where the three
-    // projections are distinct, as the points are distinct and collinear).
-    int axis = 0;
-    float best = -1;
-    for (int k = 0; k < 3; ++k) {
-      float lo = std::min({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
-      float hi = std::max({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
-      if (hi - lo > best) {
-        best = hi - lo;
-        axis = k;
+      "flips the longest edge (the neighbour is cut in two at the middle corner: nothing moves), in rounds while "
+      "neighbours that are zero-area too get flipped first; else, for a needle (the middle corner within a tenth of "
+      "the triangle's length of an end), collapses its shortest edge (that corner moves onto the end); other caps "
+      "are skipped";
+  std::vector<uint32_t> pending(checks.zeroArea.begin(), checks.zeroArea.end());
+  // Rounds of flips; a triangle whose neighbour across the longest edge is zero-area too
+  // waits for the next round (that neighbour may be flipped away first). When a round
+  // flips nothing, the rest is decided for good: a needle collapses, a cap is skipped.
+  for (bool final = false;;) {
+    std::vector<uint32_t> later;
+    bool progress = false;
+    for (uint32_t z : pending) {
+      // An earlier item may have changed it (a flip rewrites the neighbour).
+      if (!em.triangleAlive(z)) continue;
+      const uint32_t* c = em.triangles().data() + 3 * size_t(z);
+      uint32_t v[3] = {c[0], c[1], c[2]};
+      if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+      if (!pred::collinear(pos(em, v[0]), pos(em, v[1]), pos(em, v[2]))) continue;
+      // The middle corner, along the axis of the largest extent (where the three
+      // projections are distinct, as the points are distinct and collinear).
+      int axis = 0;
+      float best = -1;
+      for (int k = 0; k < 3; ++k) {
+        float lo = std::min({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
+        float hi = std::max({pos(em, v[0])[k], pos(em, v[1])[k], pos(em, v[2])[k]});
+        if (hi - lo > best) {
+          best = hi - lo;
+          axis = k;
+        }
       }
-    }
-    uint32_t sorted[3] = {v[0], v[1], v[2]};
-    std::sort(sorted, sorted + 3, [&](uint32_t a, uint32_t b) { return pos(em, a)[axis] < pos(em, b)[axis]; });
-    const uint32_t m = sorted[1], p = sorted[0], q = sorted[2];
-    ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z}, {m, p, q});
-    if (ctx.excluded()) continue;
-    std::string why;
-    // 1. Flip the longest edge p-q: the neighbour (q, p, d) becomes (m, p, d) + (d, q, m),
-    //    its two halves cut at m. Valid when d is off the line.
-    uint32_t e = sideOf(em, z, p, q);
-    if (e == kInvalid) e = sideOf(em, z, q, p);
-    if (e != kInvalid && !em.isBoundary(e ^ 1u)) {
-      uint32_t d = em.vert()[em.next()[em.next()[e ^ 1u]]];
-      if (pred::collinear(pos(em, p), pos(em, q), pos(em, d))) {
-        why = "the neighbour across the longest edge is zero-area too";
+      uint32_t sorted[3] = {v[0], v[1], v[2]};
+      std::sort(sorted, sorted + 3, [&](uint32_t a, uint32_t b) { return pos(em, a)[axis] < pos(em, b)[axis]; });
+      const uint32_t m = sorted[1], p = sorted[0], q = sorted[2];
+      // 1. Flip the longest edge p-q: the neighbour (q, p, d) becomes (m, p, d) + (d, q, m),
+      //    its two halves cut at m. Valid when d is off the line.
+      uint32_t e = sideOf(em, z, p, q);
+      if (e == kInvalid) e = sideOf(em, z, q, p);
+      std::string why;
+      bool flippable = false;
+      if (e != kInvalid && !em.isBoundary(e ^ 1u)) {
+        uint32_t d = em.vert()[em.next()[em.next()[e ^ 1u]]];
+        if (pred::collinear(pos(em, p), pos(em, q), pos(em, d))) {
+          if (!final) {
+            later.push_back(z);
+            continue;
+          }
+          why = "the neighbour across the longest edge is zero-area too";
+        } else {
+          flippable = true;
+        }
       } else {
+        why = "the longest edge is on a boundary";
+      }
+      ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z}, {m, p, q});
+      if (ctx.excluded()) continue;
+      if (flippable) {
         s = em.flipEdge(e);
         if (s.ok()) {
           ctx.plan.items.back().action += detail::format(": flip edge %u-%u", p, q);
+          progress = true;
           continue;
         }
         if (s.code != Code::EditRefused) return s;
         why = "flip: " + s.message;
       }
-    } else {
-      why = "the longest edge is on a boundary";
-    }
-    // 2. Collapse the middle corner onto its nearer end, else the farther one.
-    bool done = false;
-    uint32_t ends[2] = {p, q};
-    if (dist(pos(em, m), pos(em, q)) < dist(pos(em, m), pos(em, p))) std::swap(ends[0], ends[1]);
-    for (uint32_t end : ends) {
-      double moved = dist(pos(em, m), pos(em, end));
-      uint32_t h = sideOf(em, z, end, m);
-      double t = 0;  // end -> m: m merges into end, which stays
-      if (h == kInvalid) {
-        h = sideOf(em, z, m, end);
-        t = 1;  // m -> end: m moves onto end
+      // 2. A needle: collapse the middle corner onto its nearer end (else the farther one,
+      //    when that is as near), when it moves by at most a tenth of the triangle's length.
+      const double length = dist(pos(em, p), pos(em, q));
+      bool done = false;
+      uint32_t ends[2] = {p, q};
+      if (dist(pos(em, m), pos(em, q)) < dist(pos(em, m), pos(em, p))) std::swap(ends[0], ends[1]);
+      for (uint32_t end : ends) {
+        double moved = dist(pos(em, m), pos(em, end));
+        if (moved > 0.1 * length) {
+          why += detail::format("; not a needle: collapsing %u onto %u would move it by %g, more than a tenth of the "
+                                "triangle's length %g",
+                                m, end, moved, length);
+          break;
+        }
+        uint32_t h = sideOf(em, z, end, m);
+        double t = 0;  // end -> m: m merges into end, which stays
+        if (h == kInvalid) {
+          h = sideOf(em, z, m, end);
+          t = 1;  // m -> end: m moves onto end
+        }
+        if (h == kInvalid) continue;
+        s = em.collapseEdge(h, t);
+        if (s.ok()) {
+          RepairItem& it = ctx.plan.items.back();
+          it.action += detail::format(": collapse edge %u-%u (moves %g)", m, end, moved);
+          it.moved = moved;
+          done = true;
+          progress = true;
+          break;
+        }
+        if (s.code != Code::EditRefused) return s;
+        why += "; collapse " + detail::format("%u-%u: ", m, end) + s.message;
       }
-      if (h == kInvalid) continue;
-      s = em.collapseEdge(h, t);
-      if (s.ok()) {
-        RepairItem& it = ctx.plan.items.back();
-        it.action += detail::format(": collapse edge %u-%u (moves %g)", m, end, moved);
-        it.moved = moved;
-        done = true;
-        break;
-      }
-      if (s.code != Code::EditRefused) return s;
-      why += "; collapse " + detail::format("%u-%u: ", m, end) + s.message;
+      if (!done) ctx.skip(why);
     }
-    if (!done) ctx.skip(why);
+    if (later.empty()) break;
+    pending = std::move(later);
+    if (!progress) final = true;
   }
   return Status{};
 }
