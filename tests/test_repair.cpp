@@ -221,26 +221,28 @@ TEST(Repair, ZeroAreaSliverIsFlippedAway) {
 }
 
 TEST(Repair, ZeroAreaOnABoundaryCollapses) {
-  // An open square (0,0)-(2,1) whose bottom side is cut at m = (0.75, 0) into three
-  // triangles, plus a sliver (0, 1, m) below: its longest edge 0-1 is on the boundary, so
-  // the middle corner collapses onto its nearer end (0, 0.75 away).
+  // An open square (0,0)-(2,1) whose bottom side is cut at m = (0.125, 0) into three
+  // triangles, plus a sliver (0, 1, m) below: its longest edge 0-1 is on the boundary, and
+  // it is a needle (m within a tenth of its length of vertex 0), so the middle corner
+  // collapses onto its nearer end (0, 0.125 away). A cap (m = (0.75, 0)) is skipped.
   gen::Soup s;
-  s.v = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0.75f, 0, 0}};
+  s.v = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0.125f, 0, 0}};
   s.f = {{0, 4, 3}, {4, 1, 2}, {4, 2, 3}, {0, 1, 4}};
   Mesh m = meshOf(s);
   Outcome r = checkRepair(m, only({RepairStepKind::ZeroArea}), "strip with a boundary sliver");
   EXPECT_EQ(r.plan.before.zeroAreaTriangles, 1u);
   const RepairItem* it = firstDone(r.plan, RepairStepKind::ZeroArea);
-  if (it) {
-    EXPECT_NE(it->action.find("collapse"), std::string::npos) << it->action;
-    EXPECT_DOUBLE_EQ(it->moved, 0.75);
-    EXPECT_DOUBLE_EQ(r.log.steps[0].maxMoved, 0.75);
-    EXPECT_EQ(r.log.after.zeroAreaTriangles, 0u);
-  } else {
-    // Refused by the editor: listed with the reason, and nothing changed.
-    ASSERT_EQ(r.plan.steps[0].items.size(), 1u);
-    EXPECT_FALSE(r.plan.steps[0].items[0].reason.empty());
-  }
+  ASSERT_NE(it, nullptr);
+  EXPECT_NE(it->action.find("collapse"), std::string::npos) << it->action;
+  EXPECT_DOUBLE_EQ(it->moved, 0.125);
+  EXPECT_DOUBLE_EQ(r.log.steps[0].maxMoved, 0.125);
+  EXPECT_EQ(r.log.after.zeroAreaTriangles, 0u);
+  s.v[4] = {0.75f, 0, 0};
+  Outcome cap = checkRepair(meshOf(s), only({RepairStepKind::ZeroArea}), "strip with a boundary cap");
+  ASSERT_EQ(cap.plan.steps[0].items.size(), 1u);
+  EXPECT_TRUE(cap.plan.steps[0].items[0].skipped);
+  EXPECT_NE(cap.plan.steps[0].items[0].reason.find("not a needle"), std::string::npos) << cap.plan.steps[0].items[0].reason;
+  EXPECT_EQ(cap.log.after.zeroAreaTriangles, 1u);
 }
 
 TEST(Repair, OrientFlipsTheSmallerSide) {
