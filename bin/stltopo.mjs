@@ -15,13 +15,15 @@ const wasm = cliCalls(_internal);
 
 const USAGE =
   "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
-  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n" +
+  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N] FILE...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
   "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n" +
+  "  --threads N uses N threads (default: the machine's cores; 1: one thread); the output\n" +
+  "  is the same for every N.\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
@@ -141,6 +143,12 @@ async function main(argv) {
       const n = parseCUnsigned(v);
       if (n === null || n === 0n) return usageError(`stltopo: bad --max-bytes '${v}'\n`);
       a.maxBytes = Number(n);
+    } else if (!endOfOptions && s === '--threads') {
+      // Checked as the native CLI checks it; the wasm build runs on one thread for now.
+      const v = value('--threads');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n === 0n || n > 1024n) return usageError(`stltopo: bad --threads '${v}'\n`);
     } else if (!endOfOptions && s.length > 1 && s[0] === '-') {
       return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
     } else {

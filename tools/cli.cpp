@@ -23,13 +23,15 @@ namespace {
 
 const char* kUsage =
     "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n"
-    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] FILE...\n"
+    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N] FILE...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
     "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n"
+    "  --threads N uses N threads (default: the machine's cores; 1: one thread); the output\n"
+    "  is the same for every N.\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
@@ -46,6 +48,7 @@ struct Args {
   double tolerance = 0;
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
+  unsigned threads = 0;  // 0: the machine's cores
   std::vector<std::string> files;
 };
 
@@ -321,6 +324,19 @@ int main(int argc, char** argv) {
       unsigned long long n = std::strtoull(v, &end, 10);
       if (*end || n == 0) { std::fprintf(stderr, "stltopo: bad --max-bytes '%s'\n", v); return 2; }
       a.maxBytes = n;
+    } else if (!endOfOptions && s == "--threads") {
+      const char* v = value("--threads");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-' || n == 0 || n > 1024) { std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v); return 2; }
+      a.threads = unsigned(n);
+    } else if (!endOfOptions && s == "--test-parallel-grain") {
+      // Not in the usage: the tests make every threaded stage split small files with it.
+      const char* v = value("--test-parallel-grain");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-') { std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v); return 2; }
+      stltopo::setParallelGrainForTesting(size_t(n));
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
       return 2;
@@ -341,12 +357,15 @@ int main(int argc, char** argv) {
   stltopo::ReadOptions ro;
   ro.maxTriangles = a.maxTriangles;
   ro.maxBytes = a.maxBytes;
+  ro.threads = a.threads;
   stltopo::TopologyOptions to;
+  to.threads = a.threads;
   to.tolerance = a.tolerance;
   to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
   to.triangleShell = a.topology && (a.shells || defects || a.intersections);
   stltopo::IntersectionOptions io;
   io.maxPairs = a.maxPairs;
+  io.threads = a.threads;
   stltopo::ReportExtras extras;
   extras.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
   for (const std::string& file : a.files) {

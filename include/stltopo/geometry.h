@@ -66,6 +66,9 @@ struct IntersectionOptions {
   // is then Code::Aborted. Null: never called.
   bool (*progress)(void* user, double fraction) = nullptr;
   void* user = nullptr;
+  // Threads (ReadOptions::threads): 1 = one thread (the default), 0 = the machine's
+  // hardware threads. The result is the same for every value.
+  unsigned threads = 1;
 };
 
 // Self-intersections: pairs (i < j) of triangles, neither degenerate nor zero-area nor in
