@@ -252,9 +252,9 @@ TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
   std::string files;
   for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
     if (path.size() < 3 || path.compare(path.size() - 3, 3, ".md") != 0) files += " '" + path + "'";
-  for (const char* flags : {"info --json --shells --defects --intersections --max-pairs 1000", "info", "info --json --tolerance 0.001"}) {
+  for (const char* flags : {"info --json --shells --defects --intersections --max-pairs 1000", "info --tolerance 0.001"}) {
     const std::string one = cli(std::string(flags) + " --threads 1" + files);
-    EXPECT_NE(one.find("\"triangles\""), std::string::npos);
+    EXPECT_NE(one.find("triangles"), std::string::npos);
     for (const char* threads : {"2", "3", "8"})
       EXPECT_TRUE(cli(std::string(flags) + " --test-parallel-grain 1 --threads " + threads + files) == one)
           << flags << " --threads " << threads;
