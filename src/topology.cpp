@@ -20,6 +20,7 @@
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
+#include "parallel.h"
 #include "try_alloc.h"
 #include "weld_tolerance.h"
 
@@ -470,33 +471,56 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
 // hold all of its outgoing half-edges (more than one cycle). Leaves vertexHalfedge (the
 // chosen one, kInvalid if unused), vertexNonManifold, nUsedVertices and
 // nNonManifoldVertices. Returns invalid only if a cycle does not close.
-Status classifyVertices(uint32_t nv, Topology& out, Work& w) {
+Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   if (!out.vertexNonManifold.resize(nv)) return detail::oom(kArrays);
   const uint32_t* next = out.next.data();
   const Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* vh = out.vertexHalfedge.data();
   uint8_t* nm = out.vertexNonManifold.data();
-  uint32_t nUsed = 0, nNonManifold = 0;
-  for (uint32_t v = 0; v < nv; ++v) {
-    uint32_t e0 = vi[v].he, deg = vi[v].deg;
-    nm[v] = 0;
-    if (e0 == kInvalid) {
-      vh[v] = kInvalid;
-      continue;
+  // Vertices [v0, v1): their entries and counts; false when a cycle does not close.
+  auto classify = [&](uint32_t v0, uint32_t v1, uint32_t& nUsed, uint32_t& nNonManifold) {
+    for (uint32_t v = v0; v < v1; ++v) {
+      uint32_t e0 = vi[v].he, deg = vi[v].deg;
+      nm[v] = 0;
+      if (e0 == kInvalid) {
+        vh[v] = kInvalid;
+        continue;
+      }
+      e0 &= ~kBoundaryBit;
+      vh[v] = e0;
+      ++nUsed;
+      uint32_t x = e0, steps = 0;
+      do {
+        x = next[x ^ 1u];
+        if (++steps > deg) return false;
+      } while (x != e0);
+      if (steps != deg) {
+        nm[v] = 1;
+        ++nNonManifold;
+      }
     }
-    e0 &= ~kBoundaryBit;
-    vh[v] = e0;
-    ++nUsed;
-    uint32_t x = e0, steps = 0;
-    do {
-      x = next[x ^ 1u];
-      if (++steps > deg) return fail(Code::Invalid, "internal error: vertex loop did not close");
-    } while (x != e0);
-    if (steps != deg) {
-      nm[v] = 1;
-      ++nNonManifold;
+    return true;
+  };
+  uint32_t nUsed = 0, nNonManifold = 0;
+  bool closed = true;
+  // Threaded: vertex ranges, each on its own entries; the counts are sums.
+  const unsigned n = detail::partsFor(threads, nv, detail::parallelGrain(65536));
+  if (n <= 1) {
+    closed = classify(0, nv, nUsed, nNonManifold);
+  } else {
+    uint32_t used[detail::kMaxThreads] = {}, nonManifold[detail::kMaxThreads] = {};
+    bool ok[detail::kMaxThreads] = {};
+    detail::runParts(n, [&](unsigned part) {
+      ok[part] = classify(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)),
+                          used[part], nonManifold[part]);
+    });
+    for (unsigned part = 0; part < n; ++part) {
+      closed &= ok[part];
+      nUsed += used[part];
+      nNonManifold += nonManifold[part];
     }
   }
+  if (!closed) return fail(Code::Invalid, "internal error: vertex loop did not close");
   out.nUsedVertices = nUsed;
   out.nNonManifoldVertices = nNonManifold;
   w.vinfo.release();
@@ -517,6 +541,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (3 * nt >= kNone) return fail(Code::TooLarge, "too many triangles for the topology");
   // prev and face are only written, never read, by the passes, so they can be skipped.
   const bool full = options.prevAndFace;
+  const unsigned threads = detail::threadCount(options.threads);
   Work w;
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
@@ -526,7 +551,7 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (!(s = numberHalfedges(nt, nv, full, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
-  return classifyVertices(nv, out, w);
+  return classifyVertices(nv, threads, out, w);
 }
 
 }  // namespace stltopo

@@ -381,6 +381,9 @@ int main(int argc, char** argv) {
       s = stltopo::findShellsAndDefects(mesh, topo, a.shells && !a.intersections ? &shells : nullptr,
                                         defects ? &found : nullptr);
     if (s.ok() && a.topology && a.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, io);
+    // The report's triangle checks, on the threads (analyzeGeometry has them with --intersections).
+    stltopo::TriangleChecks checks;
+    const bool ownChecks = s.ok() && a.topology && !a.intersections && stltopo::checkTriangles(mesh, &topo, checks, a.threads).ok();
     if (!s.ok()) {
       rc = 1;
       if (a.json) std::printf("%s\n", stltopo::errorJson(file, s).c_str());
@@ -390,7 +393,7 @@ int main(int argc, char** argv) {
     const stltopo::Topology* t = a.topology ? &topo : nullptr;
     extras.shells = a.shells && t ? (a.intersections ? &geo.shells : &shells) : nullptr;
     extras.defects = defects && t ? &found : nullptr;
-    extras.checks = a.intersections && t ? &geo.checks : nullptr;
+    extras.checks = !t ? nullptr : a.intersections ? &geo.checks : ownChecks ? &checks : nullptr;
     extras.intersections = a.intersections && t ? &geo.intersections : nullptr;
     extras.nesting = a.intersections && t ? &geo.nesting : nullptr;
     extras.solid = geo.solid;

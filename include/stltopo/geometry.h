@@ -47,6 +47,9 @@ struct TriangleChecks {
 // InvalidArgument (a topology of another mesh); `out` is reset first. O(n) expected time
 // (a hash of the corner sets) and 12 bytes per triangle of work memory.
 Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out);
+// The same on `threads` threads (ReadOptions::threads: 0 = the machine's hardware threads):
+// the same result for every value.
+Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads);
 
 // The kind of an intersecting pair.
 enum class IntersectionKind : uint8_t {
