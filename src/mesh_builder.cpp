@@ -30,7 +30,7 @@ void Builder::dropArrays() {
 }
 
 bool Builder::growTable(uint32_t forVertices) {
-  if (partitioned) {
+  if (STLTOPO_THREADS && partitioned) {
     for (uint32_t p = 0; p < nParts(); ++p)
       if (!growPart(parts[p], forVertices / nParts() + 1)) return false;
     return true;

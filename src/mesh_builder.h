@@ -98,6 +98,7 @@ struct Builder {
   void releaseWeld() {
     table.release();
     recent.release();
+#if STLTOPO_THREADS
     for (Part& p : parts) p = Part{};
     partitioned = false;
     partBits = 0;
@@ -106,6 +107,7 @@ struct Builder {
     batchArea.release();
     batchVolume.release();
     for (Array<uint64_t>& a : batchNew) a.release();
+#endif
   }
   void dropArrays();
 
@@ -257,14 +259,18 @@ struct Builder {
         return false;
       }
     }
-    if (table.empty() && !partitioned && !growTable(64)) {
+    if (table.empty() && !(STLTOPO_THREADS && partitioned) && !growTable(64)) {
       error = oom("the weld table");
       return false;
     }
     uint32_t ids[3];
     for (int c = 0; c < 3; ++c) {
+#if STLTOPO_THREADS
       ids[c] = partitioned ? weldPartitioned(v[3 * c], v[3 * c + 1], v[3 * c + 2])
                            : weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
+#else
+      ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
+#endif
       if (ids[c] >= kNonFinite) {
         if (ids[c] == kInvalid) {
           error = oom("the vertex array");

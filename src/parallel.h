@@ -38,6 +38,10 @@ size_t parallelGrain(size_t dflt);
 // How many parts (at most `threads`) `items` work items split into with at least `grain`
 // items each; 1 when the stage should run its single-threaded path.
 inline unsigned partsFor(unsigned threads, size_t items, size_t grain) {
+#if !STLTOPO_THREADS
+  (void)threads, (void)items, (void)grain;
+  return 1;  // a constant: the compiler drops the threaded branches of the wasm build
+#endif
   if (threads <= 1) return 1;
   size_t p = grain ? items / grain : items;
   if (p > threads) p = threads;
