@@ -27,7 +27,11 @@ struct BinaryParser {
   uint64_t skipNeeded = 0;     // bytes needed to complete the current part when skipping
   Status contentError;         // e.g. non-finite: reported unless the file is also truncated
 
+#if STLTOPO_THREADS
   explicit BinaryParser(const ReadOptions& o) : b(o), threads(threadCount(o.threads)) {}
+#else
+  explicit BinaryParser(const ReadOptions& o) : b(o) {}
+#endif
 
   void startPart();
 

@@ -30,11 +30,13 @@ void Builder::dropArrays() {
 }
 
 bool Builder::growTable(uint32_t forVertices) {
-  if (STLTOPO_THREADS && partitioned) {
+#if STLTOPO_THREADS
+  if (partitioned) {
     for (uint32_t p = 0; p < nParts(); ++p)
       if (!growPart(parts[p], forVertices / nParts() + 1)) return false;
     return true;
   }
+#endif
   size_t want = 64;
   while (want < size_t(forVertices) * 2) want *= 2;
   if (want <= table.size()) return true;
@@ -53,6 +55,7 @@ bool Builder::growTable(uint32_t forVertices) {
   return true;
 }
 
+#if STLTOPO_THREADS
 bool Builder::growPart(Part& part, uint32_t forVertices) {
   size_t want = 64;
   while (want < size_t(forVertices) * 2) want *= 2;
@@ -333,6 +336,8 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
   if (opt.keepNormals) (void)mesh.normals.resize((size_t(t0) + count) * 3);
   return BatchResult::Done;
 }
+
+#endif  // STLTOPO_THREADS
 
 bool Builder::beginSolid(const char* name, size_t nameBytes, const PartColor* color) {
   Solid s;

@@ -65,6 +65,7 @@ struct Builder {
   bool solidOpen = false;
   Status error;  // sticky
 
+#if STLTOPO_THREADS
   // The partitioned weld table of a threaded read (ReadOptions::threads > 1), set up by the
   // parser before it reserves, in place of `table`: 2^partBits open-addressed tables (about
   // one per thread: large tables keep their huge pages), a key's chosen by the top partBits
@@ -88,6 +89,8 @@ struct Builder {
   Array<uint32_t> batchHashes;  // 3 per record: slotHash of the key
   Array<double> batchArea, batchVolume;  // per record: its figures, summed in order afterwards
   Array<uint64_t> batchNew[kMaxThreads];  // per thread: slot index << 32 | corner of each new key
+
+#endif
 
   explicit Builder(const ReadOptions& o) : opt(o) {}
 
@@ -114,6 +117,7 @@ struct Builder {
   static inline uint32_t slotHash(const Slot& k) { return hash3(k.x, k.y, k.z); }
 
   bool growTable(uint32_t forVertices);
+#if STLTOPO_THREADS
   static bool growPart(Part& part, uint32_t forVertices);
   // Moves the single table's vertices into parts for `threads` threads (partitioned =
   // true). False on allocation failure (nothing changed).
@@ -150,6 +154,7 @@ struct Builder {
   // one by one for the exact error.
   enum class BatchResult { Done, Failed, Fallback };
   BatchResult addBatchParallel(const uint8_t* rec, uint32_t count, unsigned threads);
+#endif
 
   // Batches of binary records: their corner hashes are computed once, up front, and used
   // to start loading the weld-table slots, so that the cache misses of a batch overlap
@@ -259,7 +264,11 @@ struct Builder {
         return false;
       }
     }
-    if (table.empty() && !(STLTOPO_THREADS && partitioned) && !growTable(64)) {
+#if STLTOPO_THREADS
+    if (table.empty() && !partitioned && !growTable(64)) {
+#else
+    if (table.empty() && !growTable(64)) {
+#endif
       error = oom("the weld table");
       return false;
     }
