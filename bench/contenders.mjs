@@ -29,7 +29,8 @@ export function contendersFor(c) {
 // ---------------------------------------------------------------------------
 // One measurement per contender
 
-export const cliArgs = (file) => [BIN.cli, 'info', '--json', file];
+// The CLI with its default threads (1), or with `--threads N` (0: the machine's cores).
+export const cliArgs = (file, threads = null) => [BIN.cli, 'info', '--json', ...(threads !== null ? ['--threads', String(threads)] : []), file];
 export const admeshArgs = (file) => [BIN.admesh, '-e', file];
 
 function parseAdmesh(text) {
@@ -55,7 +56,7 @@ function procstatMedian(c, args) {
 
 export const measure = {
   native(c) {
-    const r = run(BIN.stages, [c.file, String(1 + (small(c) ? Math.max(opt.warm, 5) : opt.warm)), '--json']);
+    const r = run(BIN.stages, [c.file, String(1 + (small(c) ? Math.max(opt.warm, 5) : opt.warm)), '--json', '--threads', '1']);
     if (r.status !== 0) throw new Error(`stltopo_stages: ${r.stderr}`);
     // The full topology (prev and face included) with the input streamed in 1 MiB chunks,
     // in a process of its own: its peak RSS above the RSS before the read.
@@ -67,7 +68,11 @@ export const measure = {
     const p = procstatMedian(c, cliArgs(c.file));
     if (p.status !== 0) throw new Error(`stltopo info exited ${p.status} (signal ${p.signal})`);
     const j = lastJsonLine(p.stdout);
-    return { wallMs: p.wallMs, cpuMs: p.userMs + p.sysMs, maxRssKiB: p.maxRssKiB, triangles: j.triangles, vertices: j.vertices, holes: j.holes, boundaryEdges: j.boundaryEdges };
+    // The same on every core, --threads 0 (issue 24: the threads' speed-up over one thread).
+    const all = procstatMedian(c, cliArgs(c.file, 0));
+    if (all.status !== 0) throw new Error(`stltopo info --threads 0 exited ${all.status} (signal ${all.signal})`);
+    return { wallMs: p.wallMs, cpuMs: p.userMs + p.sysMs, maxRssKiB: p.maxRssKiB, triangles: j.triangles, vertices: j.vertices, holes: j.holes, boundaryEdges: j.boundaryEdges,
+      allThreads: { wallMs: all.wallMs, cpuMs: all.userMs + all.sysMs } };
   },
   admesh(c) {
     const p = procstatMedian(c, admeshArgs(c.file));
@@ -99,6 +104,7 @@ export function idleRss(args) {
 export function describeSample(k, s) {
   if (s.timedOut) return `> ${s.capMs / 1000} s (time cap)`;
   if (k === 'native') return `first ${s.first.totalMs.toFixed(1)} ms, warm ${s.warm ? s.warm.totalMs.toFixed(1) : '-'} ms`;
-  if (k === 'native-cli' || k === 'admesh') return `${s.wallMs.toFixed(1)} ms, ${(s.maxRssKiB / 1024).toFixed(1)} MiB`;
+  if (k === 'native-cli') return `${s.wallMs.toFixed(1)} ms, ${(s.maxRssKiB / 1024).toFixed(1)} MiB; --threads 0: ${s.allThreads.wallMs.toFixed(1)} ms`;
+  if (k === 'admesh') return `${s.wallMs.toFixed(1)} ms, ${(s.maxRssKiB / 1024).toFixed(1)} MiB`;
   return `first ${s.firstMs.toFixed(1)} ms, warm ${s.warmMs.length ? s.warmMs.map((x) => x.toFixed(1)).join('/') : '-'} ms`;
 }

@@ -79,7 +79,12 @@ export function summarize(c, samples, idle) {
       reps: s.length, timeMs: wall, wallMs: wall, cpuMs: round(med(s, (x) => x.cpuMs)), mTrianglesPerSecond: mps(wall),
       peakRssKiB: rss, idleRssKiB: idleKiB, bytesPerTriangle: perTri((rss - idleKiB) * 1024),
     };
-    if (k === 'native-cli') Object.assign(out.contenders[k], { vertices: s[0].vertices, holes: s[0].holes, boundaryEdges: s[0].boundaryEdges });
+    if (k === 'native-cli') {
+      const one = s.filter((x) => x.allThreads);
+      Object.assign(out.contenders[k], { vertices: s[0].vertices, holes: s[0].holes, boundaryEdges: s[0].boundaryEdges,
+        allThreadsWallMs: one.length ? round(med(one, (x) => x.allThreads.wallMs)) : null,
+        allThreadsCpuMs: one.length ? round(med(one, (x) => x.allThreads.cpuMs)) : null });
+    }
     else Object.assign(out.contenders[k], { disconnectedEdges: s[0].disconnectedEdges });
   }
   for (const k of ['wasm-read', 'wasm-full', 'wasm-view', 'three', 'three-halfedge']) {
@@ -159,6 +164,9 @@ export function summarize(c, samples, idle) {
   R.wasmReadOverNativeRead = C.native ? div(t('wasm-read'), C.native.warm.readMs) : null;
   R.wasmFirstOverWarm = C['wasm-full'] ? div(C['wasm-full'].firstMs, C['wasm-full'].warmMs) : null;
   R.nativeCliVsAdmesh = div(t('admesh'), t('native-cli'));
+  // Issue 24: the CLI on the machine's cores against --threads 1 (same run, alternated).
+  // The default CLI runs on one thread; --threads 0 on every core.
+  R.nativeCliThreadsSpeedup = C['native-cli'] && C['native-cli'].allThreadsWallMs ? div(C['native-cli'].wallMs, C['native-cli'].allThreadsWallMs) : null;
   R.nativeCliVsAdmeshCpu = C.admesh && C['native-cli'] ? div(C.admesh.cpuMs, C['native-cli'].cpuMs) : null;
   R.nativeInProcessVsAdmesh = C.native ? div(t('admesh'), C.native.warm.totalMs) : null;
   R.nativeCliBytesPerTriangle = C['native-cli'] ? C['native-cli'].bytesPerTriangle : null;
@@ -241,11 +249,11 @@ export function reportTables({ env, results, writes, targets }) {
   md.push('### Time (ms; lower is better)');
   md.push('');
   md.push(table(
-    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'three.js + halfedge', '`admesh -e` (process)'],
+    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process; default 1 thread / --threads 0: all cores)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'three.js + halfedge', '`admesh -e` (process)'],
     results.map((r) => [
       r.id, mt(r.triangles || 0),
       C(r, 'native') ? ms(C(r, 'native').warm.totalMs) : '–',
-      C(r, 'native-cli') ? ms(C(r, 'native-cli').wallMs) : '–',
+      C(r, 'native-cli') ? `${ms(C(r, 'native-cli').wallMs)} / ${C(r, 'native-cli').allThreadsWallMs != null ? ms(C(r, 'native-cli').allThreadsWallMs) : '–'}` : '–',
       C(r, 'wasm-read') ? `${ms(C(r, 'wasm-read').firstMs)} / ${ms(C(r, 'wasm-read').warmMs)}` : '–',
       C(r, 'wasm-full') ? `${ms(C(r, 'wasm-full').firstMs)} / ${ms(C(r, 'wasm-full').warmMs)}` : '–',
       C(r, 'wasm-view') ? ms(C(r, 'wasm-view').timeMs) : '–',

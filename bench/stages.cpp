@@ -1,5 +1,6 @@
 // In-process stage timings through the C++ API.
-//   stltopo_stages FILE [REPS] [--json]
+//   stltopo_stages FILE [REPS] [--json] [--threads N]
+// --threads N: ReadOptions/TopologyOptions::threads (default 1; 0 = the machine's cores).
 // Stages: read (readStl: parse + exact weld), topology (buildTopology: pairing, boundary
 // loops, vertex loops, shells), report (infoJson: the stats). The file is read into memory
 // first, so no disk I/O is timed. Repetition 1 is the "first" call (fresh allocations, page
@@ -159,7 +160,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   int reps = argc > 2 && argv[2][0] != '-' ? std::max(1, std::atoi(argv[2])) : 5;
-  bool json = argc > 2 && !std::strcmp(argv[argc - 1], "--json");
+  bool json = false;
+  unsigned threads = 1;
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--json")) json = true;
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = unsigned(std::atoi(argv[++i]));
+  }
+  stltopo::ReadOptions ro;
+  ro.threads = threads;
+  stltopo::TopologyOptions to;
+  to.threads = threads;
   std::ifstream f(argv[1], std::ios::binary);
   if (!f) { std::fprintf(stderr, "cannot open %s\n", argv[1]); return 1; }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
@@ -170,11 +180,11 @@ int main(int argc, char** argv) {
     double c0 = cpuMs();
     auto t0 = Clock::now();
     stltopo::Mesh mesh;
-    stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
+    stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh, ro);
     auto t1 = Clock::now();
     if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
     stltopo::Topology topo;
-    s = stltopo::buildTopology(mesh, topo);
+    s = stltopo::buildTopology(mesh, topo, to);
     auto t2 = Clock::now();
     if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
     std::string j = stltopo::infoJson(argv[1], mesh, &topo);

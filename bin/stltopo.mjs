@@ -18,7 +18,7 @@ const wasm = cliCalls(_internal);
 
 const USAGE =
   "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
-  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N]\n" +
+  "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N]\n" +
   "                    [--jobs N] [--list LIST]... FILE|DIR...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
@@ -31,6 +31,8 @@ const USAGE =
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
   "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n" +
+  "  --threads N uses N threads per file (default 1; 0: the machine's cores); the output\n" +
+  "  is the same for every N (the npm CLI runs on one).\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
@@ -134,6 +136,12 @@ async function main(argv) {
       const v = value('--list');
       if (v === null) return;
       a.inputs.push({ path: v, list: true });
+    } else if (!endOfOptions && s === '--threads') {
+      // Checked as the native CLI checks it; the wasm build runs on one thread for now.
+      const v = value('--threads');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n > 1024n) return usageError(`stltopo: bad --threads '${v}'\n`);
     } else if (!endOfOptions && s.length > 1 && s[0] === '-') {
       return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
     } else {

@@ -31,6 +31,13 @@ inline void BinaryParser::startPart() {
     skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(n);
     return;
   }
+#if STLTOPO_THREADS
+  // A threaded read welds with the partitioned table: set up before the reservation sizes it.
+  if (threads > 1 && !b.partitioned && !b.enablePartitions(threads)) {
+    b.error = oom("the weld table");
+    return;
+  }
+#endif
   // Reserve only what the known input size can hold.
   if (b.opt.sizeHint > partStart + kHeaderBytes) {
     uint64_t fits = (b.opt.sizeHint - partStart - kHeaderBytes) / kRecordBytes;
@@ -86,12 +93,32 @@ void BinaryParser::feed(const uint8_t* p, size_t n) {
     uint64_t whole = std::min<uint64_t>(left, (n - i) / kRecordBytes);
     constexpr uint64_t kBatch = Builder::kBatchRecords;
     bool hashed = false;
-    for (uint64_t k = 0; k < whole && !skipping; ++k) {
-      if (k % kBatch == 0) {
+    uint64_t k = 0;
+#if STLTOPO_THREADS
+    if (threads > 1) {
+      // Threaded: batches of whole records (the same mesh as one at a time, below).
+      const uint64_t grain = parallelGrain(4096), batch = std::max<uint64_t>(grain * 16, 1024);
+      while (whole - k >= 2 * grain) {
+        uint32_t count = uint32_t(std::min<uint64_t>(batch, whole - k));
+        Builder::BatchResult r = b.addBatchParallel(p + i, count, threads);
+        if (r == Builder::BatchResult::Fallback) break;
+        if (r == Builder::BatchResult::Failed) {
+          addFailed();
+          break;
+        }
+        i += size_t(count) * kRecordBytes;
+        offset += uint64_t(count) * kRecordBytes;
+        partDone += count;
+        k += count;
+      }
+    }
+#endif
+    for (uint64_t k0 = k; k < whole && !skipping; ++k) {
+      if ((k - k0) % kBatch == 0) {
         hashed = !b.table.empty();
         if (hashed) b.prepareBatch(p + i, uint32_t(std::min<uint64_t>(kBatch, whole - k)));
       }
-      record(p + i, offset, hashed ? b.batchHash + 3 * (k % kBatch) : nullptr);
+      record(p + i, offset, hashed ? b.batchHash + 3 * ((k - k0) % kBatch) : nullptr);
       i += kRecordBytes;
       offset += kRecordBytes;
       ++partDone;

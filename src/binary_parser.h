@@ -27,7 +27,11 @@ struct BinaryParser {
   uint64_t skipNeeded = 0;     // bytes needed to complete the current part when skipping
   Status contentError;         // e.g. non-finite: reported unless the file is also truncated
 
+#if STLTOPO_THREADS
+  explicit BinaryParser(const ReadOptions& o) : b(o), threads(threadCount(o.threads)) {}
+#else
   explicit BinaryParser(const ReadOptions& o) : b(o) {}
+#endif
 
   void startPart();
 
@@ -42,16 +46,20 @@ struct BinaryParser {
       for (float& x : f) x = detail::bitCast<float>(__builtin_bswap32(detail::bitCast<uint32_t>(x)));
       attr = __builtin_bswap16(attr);
     }
-    if (!b.add(f, f + 3, attr, recOffset, 0, hashes)) {
-      // A size problem (truncated) outranks a content problem found before it, so keep
-      // counting bytes to learn whether the part is complete; drop the arrays.
-      contentError = b.error;
-      b.error = Status{};
-      b.dropArrays();
-      skipping = true;
-      skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(partCount);
-    }
+    if (!b.add(f, f + 3, attr, recOffset, 0, hashes)) addFailed();
   }
+
+  // After b.add() failed: a size problem (truncated) outranks a content problem found
+  // before it, so keep counting bytes to learn whether the part is complete; drop the arrays.
+  void addFailed() {
+    contentError = b.error;
+    b.error = Status{};
+    b.dropArrays();
+    skipping = true;
+    skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(partCount);
+  }
+
+  unsigned threads = 1;  // threadCount(ReadOptions::threads)
 
   void feed(const uint8_t* p, size_t n);
 

@@ -744,7 +744,7 @@ bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersect
 
 Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options) {
   out.solid = false;
-  Status s = checkTriangles(mesh, &topo, out.checks);
+  Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
   if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
   if (s.ok()) s = findShellsAndDefects(mesh, topo, &out.shells, nullptr);
   if (s.ok()) s = findShellNesting(mesh, topo, out.shells, out.intersections, out.nesting);

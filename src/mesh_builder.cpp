@@ -30,6 +30,13 @@ void Builder::dropArrays() {
 }
 
 bool Builder::growTable(uint32_t forVertices) {
+#if STLTOPO_THREADS
+  if (partitioned) {
+    for (uint32_t p = 0; p < nParts(); ++p)
+      if (!growPart(parts[p], forVertices / nParts() + 1)) return false;
+    return true;
+  }
+#endif
   size_t want = 64;
   while (want < size_t(forVertices) * 2) want *= 2;
   if (want <= table.size()) return true;
@@ -47,6 +54,290 @@ bool Builder::growTable(uint32_t forVertices) {
   mask = m;
   return true;
 }
+
+#if STLTOPO_THREADS
+bool Builder::growPart(Part& part, uint32_t forVertices) {
+  size_t want = 64;
+  while (want < size_t(forVertices) * 2) want *= 2;
+  if (want <= part.slots.size()) return true;
+  Array<Slot> t;
+  if (!t.assign(want, Slot{0, 0, 0, kInvalid})) return false;
+  uint32_t m = uint32_t(want - 1);
+  for (const Slot& slot : part.slots) {
+    if (slot.id == kInvalid) continue;
+    uint32_t i = slotHash(slot) & m;
+    while (t[i].id != kInvalid) i = (i + 1) & m;
+    t[i] = slot;
+  }
+  part.slots = std::move(t);
+  part.mask = m;
+  return true;
+}
+
+bool Builder::enablePartitions(unsigned threads) {
+  if (partitioned) return true;
+  uint32_t bits = 1;
+  while (bits < kMaxPartBits && (1u << bits) < threads) ++bits;
+  const uint32_t n = 1u << bits;
+  // Each part sized for its share of what the single table was sized for.
+  uint32_t per = uint32_t(std::min<size_t>(table.size() / 2 / n + 16, 1u << 30));
+  Part fresh[1u << kMaxPartBits];
+  for (uint32_t p = 0; p < n; ++p)
+    if (!growPart(fresh[p], per)) return false;
+  for (const Slot& slot : table) {
+    if (slot.id == kInvalid) continue;
+    uint32_t h = slotHash(slot);
+    Part& part = fresh[h >> (32 - bits)];
+    uint32_t i = h & part.mask;
+    while (part.slots[i].id != kInvalid) i = (i + 1) & part.mask;
+    part.slots[i] = slot;
+    ++part.count;
+  }
+  for (uint32_t p = 0; p < n; ++p) {
+    if (fresh[p].count * 2 > fresh[p].slots.size() && !growPart(fresh[p], fresh[p].count)) return false;
+  }
+  for (uint32_t p = 0; p < n; ++p) parts[p] = std::move(fresh[p]);
+  partBits = bits;
+  table.release();
+  recent.release();
+  mask = 0;
+  partitioned = true;
+  return true;
+}
+
+uint32_t Builder::weldPartitioned(float x, float y, float z) {
+  Slot k = keyOf(x, y, z);
+  uint32_t h = slotHash(k);
+  Part& part = partOf(h);
+  uint32_t i = h & part.mask;
+  for (;;) {
+    const Slot& slot = part.slots[i];
+    if (slot.id == kInvalid) break;
+    if (slot.x == k.x && slot.y == k.y && slot.z == k.z) return slot.id;
+    i = (i + 1) & part.mask;
+  }
+  if (!finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z)) return kNonFinite;
+  uint32_t id = appendVertex(x, y, z);
+  if (id == kInvalid) return kInvalid;
+  k.id = id;
+  part.slots[i] = k;
+  ++part.count;
+  if (size_t(part.count) * 2 > part.slots.size() && !growPart(part, part.count)) return kInvalid;
+  return id;
+}
+
+namespace {
+inline void decodeRecord(const uint8_t* r, float f[12], uint16_t& attr) {
+  std::memcpy(f, r, 48);
+  std::memcpy(&attr, r + 48, 2);
+  if constexpr (std::endian::native == std::endian::big) {
+    for (int i = 0; i < 12; ++i) f[i] = bitCast<float>(__builtin_bswap32(bitCast<uint32_t>(f[i])));
+    attr = __builtin_bswap16(attr);
+  }
+}
+}  // namespace
+
+Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t count, unsigned threads) {
+  const uint32_t t0 = mesh.nTriangles();
+  // The one-thread path owns every case that ends in an error of the input, and ids that
+  // would reach the pending bit.
+  if (uint64_t(t0) + count > opt.maxTriangles || uint64_t(mesh.nVertices()) + 3 * uint64_t(count) >= kPending)
+    return BatchResult::Fallback;
+  if (!partitioned && !enablePartitions(threads)) {
+    error = oom("the weld table");
+    return BatchResult::Failed;
+  }
+  const size_t nc = size_t(count) * 3;
+  if (!batchKeys.resize(nc) || !batchHashes.resize(nc) || !batchArea.resize(count) || !batchVolume.resize(count)) {
+    error = oom("the weld table");
+    return BatchResult::Failed;
+  }
+  {
+    size_t need = size_t(t0) + count, cap = mesh.triangles.capacity() / 3;
+    if (need > cap) {
+      cap = std::max<size_t>({64, cap * 2, need});
+      if (!mesh.triangles.reserve(cap * 3) || !mesh.attributes.reserve(cap) ||
+          (opt.keepNormals && !mesh.normals.reserve(cap * 3))) {
+        error = oom("the triangle array");
+        return BatchResult::Failed;
+      }
+    }
+  }
+  Slot* keys = batchKeys.data();
+  uint32_t* hashes = batchHashes.data();
+  double* area = batchArea.data();
+  double* volume = batchVolume.data();
+  uint16_t* attrs = mesh.attributes.data() + t0;  // within the capacity; the sizes are set at the end
+  float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
+
+  // 1. Decode, keys, hashes and figures, by record ranges.
+  const size_t grain = parallelGrain(4096);
+  const unsigned n1 = std::max(1u, partsFor(threads, count, grain));
+  struct RangeResult {
+    uint32_t mismatches = 0;
+    bool visCam = false, nonFinite = false;
+  } rr[kMaxThreads];
+  runParts(n1, [&](unsigned part) {
+    size_t r0 = partBegin(count, n1, part), r1 = partBegin(count, n1, part + 1);
+    RangeResult res;
+    for (size_t r = r0; r < r1; ++r) {
+      float f[12];
+      uint16_t attr;
+      decodeRecord(rec + 50 * r, f, attr);
+      bool finite = true;
+      for (int c = 0; c < 3; ++c) {
+        Slot k = keyOf(f[3 + 3 * c], f[4 + 3 * c], f[5 + 3 * c]);
+        finite &= finiteBits(k.x) & finiteBits(k.y) & finiteBits(k.z);
+        k.id = kInvalid;
+        keys[3 * r + c] = k;
+        hashes[3 * r + c] = slotHash(k);
+      }
+      if (!finite) {
+        res.nonFinite = true;
+        break;
+      }
+      TriangleFigures fig = triangleFigures(f + 3, f + 6, f + 9);
+      area[r] = fig.area;
+      volume[r] = fig.volume;
+      if (normalMismatch(f, fig)) ++res.mismatches;
+      if (attr & 0x8000u) res.visCam = true;
+      attrs[r] = attr;
+      if (normals) std::memcpy(normals + 3 * r, f, 3 * sizeof(float));
+    }
+    rr[part] = res;
+  });
+  for (unsigned p = 0; p < n1; ++p)
+    if (rr[p].nonFinite) return BatchResult::Fallback;
+
+  // 2. The weld, by parts: each thread takes the corners of its parts in corner order. A
+  // key seen before the batch gets its vertex id; a new key is stored with kPending | the
+  // first corner that has it, which the later corners with that key get too.
+  const unsigned n2 = std::max(1u, partsFor(threads, nc, grain));
+  bool partFailed[kMaxThreads] = {};
+  runParts(n2, [&](unsigned part) {
+    // As in weld(): a small cache of recent keys in front of the parts (neighbouring
+    // triangles share corners), and the slots of a window of corners prefetched together.
+    constexpr uint32_t kWindow = 64;
+    Slot recentKeys[kRecent];
+    for (Slot& r : recentKeys) r.id = kInvalid;
+    uint32_t window[kWindow];
+    Array<uint64_t>& fresh = batchNew[part];
+    fresh.clear();
+    // Which thread owns each part.
+    bool mine[1u << kMaxPartBits];
+    for (uint32_t p = 0; p < nParts(); ++p) mine[p] = p % n2 == part;
+    const uint32_t shift = 32 - partBits;
+    for (size_t c0 = 0; c0 < nc; c0 += kWindow) {
+      uint32_t nw = 0;
+      for (size_t c = c0; c < std::min(nc, c0 + kWindow); ++c) {
+        const uint32_t h = hashes[c];
+        if (!mine[h >> shift]) continue;
+        Slot& k = keys[c];
+        const Slot& r = recentKeys[h & (kRecent - 1)];
+        if (r.id != kInvalid && r.x == k.x && r.y == k.y && r.z == k.z) {
+          k.id = r.id;  // a key seen before (a new key in this window is not in the cache yet)
+          continue;
+        }
+        window[nw++] = uint32_t(c);
+#if !defined(__EMSCRIPTEN__)
+        const Part& P = parts[h >> shift];
+        __builtin_prefetch(&P.slots[h & P.mask]);
+#endif
+      }
+      for (uint32_t w = 0; w < nw; ++w) {
+        const uint32_t c = window[w], h = hashes[c];
+        Slot& k = keys[c];
+        Slot& r = recentKeys[h & (kRecent - 1)];
+        Part& P = parts[h >> shift];
+        uint32_t i = h & P.mask;
+        for (;;) {
+          const Slot& slot = P.slots[i];
+          if (slot.id == kInvalid) break;
+          if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
+            k.id = slot.id;
+            break;
+          }
+          i = (i + 1) & P.mask;
+        }
+        if (k.id == kInvalid) {
+          k.id = kPending | c;
+          P.slots[i] = k;
+          ++P.count;
+          if (!fresh.push_back(uint64_t(i) << 32 | c)) {
+            partFailed[part] = true;
+            return;
+          }
+          if (size_t(P.count) * 2 > P.slots.size()) {
+            if (!growPart(P, P.count)) {
+              partFailed[part] = true;
+              return;
+            }
+            // The part's new keys moved: find their slots again.
+            for (uint64_t& e : fresh) {
+              const uint32_t fc = uint32_t(e), fh = hashes[fc];
+              if (&parts[fh >> shift] != &P) continue;
+              const Slot& fk = keys[fc];
+              uint32_t j = fh & P.mask;
+              while (!(P.slots[j].x == fk.x && P.slots[j].y == fk.y && P.slots[j].z == fk.z)) j = (j + 1) & P.mask;
+              e = uint64_t(j) << 32 | fc;
+            }
+          }
+        }
+        r = k;
+      }
+    }
+  });
+  bool failed = false;
+  for (unsigned p = 0; p < n2; ++p) failed |= partFailed[p];
+  // 3. The numbering, in corner order: a corner that first had its key is a new vertex.
+  uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
+  for (size_t c = 0; c < nc && !failed; ++c) {
+    uint32_t id = keys[c].id;
+    if (id & kPending) {
+      uint32_t first = id & ~kPending;
+      if (first == c) {
+        float f[12];
+        uint16_t attr;
+        decodeRecord(rec + 50 * (c / 3), f, attr);
+        const float* q = f + 3 + 3 * (c % 3);
+        id = appendVertex(q[0], q[1], q[2]);
+        if (id == kInvalid) failed = true;
+      } else {
+        id = tri[first];
+      }
+    }
+    tri[c] = id;
+  }
+  if (failed) {  // the caller drops the arrays, the parts with them
+    error = oom("the vertex array");
+    return BatchResult::Failed;
+  }
+  // 4. The pending slots get their vertex ids, by parts again.
+  runParts(n2, [&](unsigned part) {
+    for (uint64_t e : batchNew[part]) {
+      const uint32_t c = uint32_t(e), i = uint32_t(e >> 32);
+      partOf(hashes[c]).slots[i].id = tri[c];
+    }
+  });
+  // The sums in triangle order: float64 addition is not associative.
+  double a = mesh.area, v = mesh.volume;
+  uint32_t mm = 0;
+  for (uint32_t r = 0; r < count; ++r) a += area[r];
+  for (uint32_t r = 0; r < count; ++r) v += volume[r];
+  mesh.area = a;
+  mesh.volume = v;
+  for (unsigned p = 0; p < n1; ++p) {
+    mm += rr[p].mismatches;
+    anyVisCamBit |= rr[p].visCam;
+  }
+  mesh.normalMismatches += mm;
+  (void)mesh.triangles.resize((size_t(t0) + count) * 3);
+  (void)mesh.attributes.resize(size_t(t0) + count);
+  if (opt.keepNormals) (void)mesh.normals.resize((size_t(t0) + count) * 3);
+  return BatchResult::Done;
+}
+
+#endif  // STLTOPO_THREADS
 
 bool Builder::beginSolid(const char* name, size_t nameBytes, const PartColor* color) {
   Solid s;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bit_cast.h"
+#include "parallel.h"
 #include "stltopo/mesh.h"
 #include "stltopo/read.h"
 #include "stltopo/status.h"
@@ -64,6 +65,33 @@ struct Builder {
   bool solidOpen = false;
   Status error;  // sticky
 
+#if STLTOPO_THREADS
+  // The partitioned weld table of a threaded read (ReadOptions::threads > 1), set up by the
+  // parser before it reserves, in place of `table`: 2^partBits open-addressed tables (about
+  // one per thread: large tables keep their huge pages), a key's chosen by the top partBits
+  // of its hash, so that each thread of a batch owns whole parts. A
+  // slot's id is a vertex id, or (during a batch only) kPending | the batch corner that
+  // first had the key. The vertex ids are those of the single table: first appearance in
+  // corner order.
+  static constexpr uint32_t kMaxPartBits = 6;
+  static constexpr uint32_t kPending = 0x80000000u;
+  struct Part {
+    Array<Slot> slots;
+    uint32_t mask = 0, count = 0;
+  };
+  Part parts[1u << kMaxPartBits];
+  uint32_t partBits = 0;
+  bool partitioned = false;
+  uint32_t nParts() const { return 1u << partBits; }
+  Part& partOf(uint32_t hash) { return parts[hash >> (32 - partBits)]; }
+  // The work arrays of a parallel batch, kept from one batch to the next.
+  Array<Slot> batchKeys;      // 3 per record: the corner's key; id: its vertex or kPending | first corner
+  Array<uint32_t> batchHashes;  // 3 per record: slotHash of the key
+  Array<double> batchArea, batchVolume;  // per record: its figures, summed in order afterwards
+  Array<uint64_t> batchNew[kMaxThreads];  // per thread: slot index << 32 | corner of each new key
+
+#endif
+
   explicit Builder(const ReadOptions& o) : opt(o) {}
 
   bool failed() const { return !error.ok(); }
@@ -73,12 +101,60 @@ struct Builder {
   void releaseWeld() {
     table.release();
     recent.release();
+#if STLTOPO_THREADS
+    for (Part& p : parts) p = Part{};
+    partitioned = false;
+    partBits = 0;
+    batchKeys.release();
+    batchHashes.release();
+    batchArea.release();
+    batchVolume.release();
+    for (Array<uint64_t>& a : batchNew) a.release();
+#endif
   }
   void dropArrays();
 
   static inline uint32_t slotHash(const Slot& k) { return hash3(k.x, k.y, k.z); }
 
   bool growTable(uint32_t forVertices);
+#if STLTOPO_THREADS
+  static bool growPart(Part& part, uint32_t forVertices);
+  // Moves the single table's vertices into parts for `threads` threads (partitioned =
+  // true). False on allocation failure (nothing changed).
+  bool enablePartitions(unsigned threads);
+  // weld() for the partitioned table, one corner at a time (records that straddle input
+  // chunks, short runs, and batches that need the exact error of the one-thread path).
+  uint32_t weldPartitioned(float x, float y, float z);
+  // Appends a vertex at the first-seen coordinates; its id, or kInvalid when the array
+  // cannot grow. Grows the bounding box as weld() does.
+  inline uint32_t appendVertex(float x, float y, float z) {
+    uint32_t id = mesh.nVertices();
+    size_t n = mesh.positions.size();
+    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
+      return kInvalid;
+    (void)mesh.positions.resize(n + 3);
+    float* q = mesh.positions.data() + n;
+    q[0] = x; q[1] = y; q[2] = z;
+    if (id == 0) {
+      for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        if (q[c] < mesh.bboxMin[c]) mesh.bboxMin[c] = q[c];
+        if (q[c] > mesh.bboxMax[c]) mesh.bboxMax[c] = q[c];
+      }
+    }
+    return id;
+  }
+
+  // A batch of `count` whole binary records at rec (the first at input offset `offset`) on
+  // `threads` threads: decoding and figures split by record ranges, the weld by parts, the
+  // vertex numbering in corner order. Done: added, exactly as add() one by one would;
+  // Failed: error is set (out-of-memory), as add() would have failed; Fallback: nothing
+  // was added (a record has a non-finite coordinate, or the ids would not fit): add them
+  // one by one for the exact error.
+  enum class BatchResult { Done, Failed, Fallback };
+  BatchResult addBatchParallel(const uint8_t* rec, uint32_t count, unsigned threads);
+#endif
 
   // Batches of binary records: their corner hashes are computed once, up front, and used
   // to start loading the weld-table slots, so that the cache misses of a batch overlap
@@ -188,13 +264,22 @@ struct Builder {
         return false;
       }
     }
+#if STLTOPO_THREADS
+    if (table.empty() && !partitioned && !growTable(64)) {
+#else
     if (table.empty() && !growTable(64)) {
+#endif
       error = oom("the weld table");
       return false;
     }
     uint32_t ids[3];
     for (int c = 0; c < 3; ++c) {
+#if STLTOPO_THREADS
+      ids[c] = partitioned ? weldPartitioned(v[3 * c], v[3 * c + 1], v[3 * c + 2])
+                           : weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
+#else
       ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
+#endif
       if (ids[c] >= kNonFinite) {
         if (ids[c] == kInvalid) {
           error = oom("the vertex array");

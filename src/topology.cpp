@@ -20,6 +20,7 @@
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
+#include "parallel.h"
 #include "try_alloc.h"
 #include "weld_tolerance.h"
 
@@ -149,11 +150,70 @@ Status weldCorners(const Mesh& mesh, const TopologyOptions& options, Topology& o
 // by their smaller vertex, entry (larger vertex << 31 | side << 1 | runs-low-to-high), in
 // file order within a bucket. Sorting a bucket thus groups its undirected edges with their
 // sides in file order.
-Status groupSidesByEdge(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
+Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work& w) {
   const uint32_t* C = w.C;
   if (!out.triangleDegenerate.resize(nt) || !w.offsets.assign(size_t(nv) + 1, 0)) return detail::oom(kArrays);
   uint8_t* degen = out.triangleDegenerate.data();
   Array<uint32_t>& offsets = w.offsets;
+  // Threaded: each part owns a range of vertices, reads every triangle and counts and puts
+  // only the sides whose smaller vertex it owns, in file order; so every bucket is the same.
+  const unsigned n = detail::partsFor(threads, nt, detail::parallelGrain(65536));
+  if (n > 1) {
+    uint32_t live[detail::kMaxThreads] = {}, degenerate[detail::kMaxThreads] = {};
+    detail::runParts(n, [&](unsigned part) {
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
+      const uint32_t t0 = uint32_t(detail::partBegin(nt, n, part)), t1 = uint32_t(detail::partBegin(nt, n, part + 1));
+      uint32_t* o = offsets.data();
+      uint32_t nLive = 0, nDegenerate = 0;
+      for (uint32_t t = 0; t < nt; ++t) {
+        uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+        bool d = a == b || b == c || a == c;
+        if (t >= t0 && t < t1) {
+          degen[t] = d;
+          nDegenerate += d;
+          if (!d) nLive += 3;
+        }
+        if (d) continue;
+        uint32_t m;
+        if ((m = std::min(a, b)) >= v0 && m < v1) ++o[m + 1];
+        if ((m = std::min(b, c)) >= v0 && m < v1) ++o[m + 1];
+        if ((m = std::min(c, a)) >= v0 && m < v1) ++o[m + 1];
+      }
+      live[part] = nLive;
+      degenerate[part] = nDegenerate;
+    });
+    uint32_t nLive = 0;
+    for (unsigned part = 0; part < n; ++part) {
+      nLive += live[part];
+      out.nDegenerate += degenerate[part];
+    }
+    for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+    w.nLive = nLive;
+    if (!w.keys.resize(nLive)) return detail::oom(kArrays);
+    Array<uint32_t> cursor;
+    if (!cursor.resize(nv)) return detail::oom(kArrays);
+    if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
+    uint64_t* K = w.keys.data();
+    detail::runParts(n, [&](unsigned part) {
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
+      uint32_t* cur = cursor.data();
+      auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
+        if (a < b) {
+          if (a >= v0 && a < v1) K[cur[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
+        } else if (b >= v0 && b < v1) {
+          K[cur[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
+        }
+      };
+      for (uint32_t t = 0; t < nt; ++t) {
+        if (degen[t]) continue;
+        uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+        put(3 * t, a, b);
+        put(3 * t + 1, b, c);
+        put(3 * t + 2, c, a);
+      }
+    });
+    return Status{};
+  }
   uint32_t nLive = 0;
   for (uint32_t t = 0; t < nt; ++t) {
     uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
@@ -196,18 +256,66 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
 // live side except the later side of each pair (numberHalfedges pushes that one before it
 // reads it), w.nCouples, the edge counts in `out`, and the unions of the triangles that
 // share an edge queued or done in w.uf (flushed at the end). Frees the CSR.
-Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
-  if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
-  UnionFind& uf = w.uf;
-  const uint32_t* offsets = w.offsets.data();
-  uint32_t nCouples = 0;
-  // Local counters: stores through P could alias the fields of `out`.
-  uint32_t nEdges = 0, nBoundaryEdges = 0, nInconsistentEdges = 0, nNonManifoldEdges = 0;
-  // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
-  Array<uint32_t> queue[2];
-  uint32_t* P = w.partner.data();
-  uint64_t* keys = w.keys.data();
-  for (uint32_t v = 0; v < nv; ++v) {
+// The counts of pairSides over a range of vertices.
+struct PairCounts {
+  uint32_t nCouples = 0, nEdges = 0, nBoundaryEdges = 0, nInconsistentEdges = 0, nNonManifoldEdges = 0;
+};
+
+// The union-find of pairSides on several threads: links by compare-and-swap (the larger
+// root under the smaller, so the roots and parent[t] <= t are those of UnionFind whatever
+// the order), path halving by compare-and-swap. Each thread queues its unions in batches
+// whose parent entries it prefetches, as UnionFind does.
+struct SharedUnionFind {
+  explicit SharedUnionFind(uint32_t* p) : parent(p) {}
+  uint32_t* parent;
+  static constexpr uint32_t kBatch = UnionFind::kBatch;
+  uint32_t pending[2 * kBatch];
+  uint32_t nPending = 0;
+  // The GCC/Clang atomic builtins (Emscripten's libc++ has no std::atomic_ref).
+  uint32_t load(uint32_t x) const { return __atomic_load_n(parent + x, __ATOMIC_RELAXED); }
+  bool swap(uint32_t x, uint32_t& expected, uint32_t desired) const {
+    return __atomic_compare_exchange_n(parent + x, &expected, desired, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+  }
+  uint32_t find(uint32_t x) const {
+    for (;;) {
+      uint32_t px = load(x);
+      if (px == x) return x;
+      uint32_t gx = load(px);
+      if (gx != px) swap(x, px, gx);
+      x = gx;
+    }
+  }
+  void unite(uint32_t a, uint32_t b) const {
+    for (;;) {
+      a = find(a);
+      b = find(b);
+      if (a == b) return;
+      if (a > b) std::swap(a, b);
+      uint32_t expected = b;
+      if (swap(b, expected, a)) return;
+    }
+  }
+  void uniteLater(uint32_t a, uint32_t b) {
+    pending[2 * nPending] = a;
+    pending[2 * nPending + 1] = b;
+    if (++nPending == kBatch) flush();
+  }
+  void flush() {
+#if !defined(__EMSCRIPTEN__)
+    for (uint32_t i = 0; i < 2 * nPending; ++i) __builtin_prefetch(parent + pending[i]);
+#endif
+    for (uint32_t i = 0; i < nPending; ++i) unite(pending[2 * i], pending[2 * i + 1]);
+    nPending = 0;
+  }
+};
+
+// pairSides over the buckets of vertices [v0, v1): sorts them, writes the partner words of
+// their sides, queues the unions in `uf`, adds to `c`. False when a queue cannot grow.
+template <class UF>
+bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys, uint32_t* P, UF& uf, PairCounts& counts,
+               Array<uint32_t> (&queue)[2]) {
+  PairCounts c = counts;  // a local copy: stores through P could alias `counts`
+  for (uint32_t v = v0; v < v1; ++v) {
     uint64_t* k0 = keys + offsets[v];
     uint32_t k = offsets[v + 1] - offsets[v];
     if (k == 0) continue;
@@ -225,25 +333,25 @@ Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
       uint32_t g1 = g0 + 1;
       while (g1 < k && (k0[g1] >> 31) == (k0[g0] >> 31)) ++g1;
       uint32_t m = g1 - g0;
-      ++nEdges;
+      ++c.nEdges;
       auto side = [&](uint32_t i) { return uint32_t(k0[i] >> 1) & kNone; };
       auto dir = [&](uint32_t i) { return int(k0[i] & 1u); };
       uint32_t s0 = side(g0);
       for (uint32_t i = g0 + 1; i < g1; ++i) uf.uniteLater(s0 / 3, side(i) / 3);
       if (m == 1) {
-        ++nBoundaryEdges;
+        ++c.nBoundaryEdges;
         P[s0] = partner::unpaired(EdgeKind::Boundary);
       } else if (m == 2) {
         uint32_t s1 = side(g0 + 1);
         if (dir(g0) != dir(g0 + 1)) {
           P[s0] = partner::paired(EdgeKind::Interior, s1);  // s0 < s1 (a group is sorted by side)
-          ++nCouples;
+          ++c.nCouples;
         } else {
-          ++nInconsistentEdges;
+          ++c.nInconsistentEdges;
           P[s0] = P[s1] = partner::unpaired(EdgeKind::Inconsistent);
         }
       } else {
-        ++nNonManifoldEdges;
+        ++c.nNonManifoldEdges;
         queue[0].clear();
         queue[1].clear();
         size_t head[2] = {0, 0};
@@ -254,21 +362,60 @@ Status pairSides(uint32_t nt, uint32_t nv, Topology& out, Work& w) {
           if (head[1 - d] < queue[1 - d].size()) {
             uint32_t o = queue[1 - d][head[1 - d]++];
             P[o] = partner::paired(EdgeKind::NonManifold, s);  // o < s (a group is sorted by side)
-            ++nCouples;
+            ++c.nCouples;
           } else if (!queue[d].push_back(s)) {
-            return detail::oom(kArrays);
+            return false;
           }
         }
       }
       g0 = g1;
     }
   }
+  counts = c;
+  return true;
+}
+
+Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work& w) {
+  if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
+  UnionFind& uf = w.uf;
+  const uint32_t* offsets = w.offsets.data();
+  uint32_t* P = w.partner.data();
+  uint64_t* keys = w.keys.data();
+  // Local counters: stores through P could alias the fields of `out`.
+  PairCounts c;
+  // Threaded: vertex ranges (a side is in the bucket of its edge's smaller vertex, so each
+  // part writes its own sides' words), the union-find shared; the counts are sums.
+  const unsigned n = detail::partsFor(threads, nv, detail::parallelGrain(65536));
+  if (n > 1) {
+    PairCounts counts[detail::kMaxThreads];
+    bool ok[detail::kMaxThreads] = {};
+    detail::runParts(n, [&](unsigned part) {
+      // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
+      Array<uint32_t> queue[2];
+      SharedUnionFind shared(uf.parent.data());
+      ok[part] = pairRange(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)), offsets,
+                           keys, P, shared, counts[part], queue);
+      shared.flush();
+    });
+    for (unsigned part = 0; part < n; ++part) {
+      if (!ok[part]) return detail::oom(kArrays);
+      c.nCouples += counts[part].nCouples;
+      c.nEdges += counts[part].nEdges;
+      c.nBoundaryEdges += counts[part].nBoundaryEdges;
+      c.nInconsistentEdges += counts[part].nInconsistentEdges;
+      c.nNonManifoldEdges += counts[part].nNonManifoldEdges;
+    }
+  } else {
+    // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
+    Array<uint32_t> queue[2];
+    if (!pairRange(0, nv, offsets, keys, P, uf, c, queue)) return detail::oom(kArrays);
+  }
   uf.flush();
-  w.nCouples = nCouples;
-  out.nEdges = nEdges;
-  out.nBoundaryEdges = nBoundaryEdges;
-  out.nInconsistentEdges = nInconsistentEdges;
-  out.nNonManifoldEdges = nNonManifoldEdges;
+  w.nCouples = c.nCouples;
+  out.nEdges = c.nEdges;
+  out.nBoundaryEdges = c.nBoundaryEdges;
+  out.nInconsistentEdges = c.nInconsistentEdges;
+  out.nNonManifoldEdges = c.nNonManifoldEdges;
   w.keys.release();
   w.offsets.release();
   return Status{};
@@ -470,33 +617,56 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
 // hold all of its outgoing half-edges (more than one cycle). Leaves vertexHalfedge (the
 // chosen one, kInvalid if unused), vertexNonManifold, nUsedVertices and
 // nNonManifoldVertices. Returns invalid only if a cycle does not close.
-Status classifyVertices(uint32_t nv, Topology& out, Work& w) {
+Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   if (!out.vertexNonManifold.resize(nv)) return detail::oom(kArrays);
   const uint32_t* next = out.next.data();
   const Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* vh = out.vertexHalfedge.data();
   uint8_t* nm = out.vertexNonManifold.data();
-  uint32_t nUsed = 0, nNonManifold = 0;
-  for (uint32_t v = 0; v < nv; ++v) {
-    uint32_t e0 = vi[v].he, deg = vi[v].deg;
-    nm[v] = 0;
-    if (e0 == kInvalid) {
-      vh[v] = kInvalid;
-      continue;
+  // Vertices [v0, v1): their entries and counts; false when a cycle does not close.
+  auto classify = [&](uint32_t v0, uint32_t v1, uint32_t& nUsed, uint32_t& nNonManifold) {
+    for (uint32_t v = v0; v < v1; ++v) {
+      uint32_t e0 = vi[v].he, deg = vi[v].deg;
+      nm[v] = 0;
+      if (e0 == kInvalid) {
+        vh[v] = kInvalid;
+        continue;
+      }
+      e0 &= ~kBoundaryBit;
+      vh[v] = e0;
+      ++nUsed;
+      uint32_t x = e0, steps = 0;
+      do {
+        x = next[x ^ 1u];
+        if (++steps > deg) return false;
+      } while (x != e0);
+      if (steps != deg) {
+        nm[v] = 1;
+        ++nNonManifold;
+      }
     }
-    e0 &= ~kBoundaryBit;
-    vh[v] = e0;
-    ++nUsed;
-    uint32_t x = e0, steps = 0;
-    do {
-      x = next[x ^ 1u];
-      if (++steps > deg) return fail(Code::Invalid, "internal error: vertex loop did not close");
-    } while (x != e0);
-    if (steps != deg) {
-      nm[v] = 1;
-      ++nNonManifold;
+    return true;
+  };
+  uint32_t nUsed = 0, nNonManifold = 0;
+  bool closed = true;
+  // Threaded: vertex ranges, each on its own entries; the counts are sums.
+  const unsigned n = detail::partsFor(threads, nv, detail::parallelGrain(65536));
+  if (n <= 1) {
+    closed = classify(0, nv, nUsed, nNonManifold);
+  } else {
+    uint32_t used[detail::kMaxThreads] = {}, nonManifold[detail::kMaxThreads] = {};
+    bool ok[detail::kMaxThreads] = {};
+    detail::runParts(n, [&](unsigned part) {
+      ok[part] = classify(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)),
+                          used[part], nonManifold[part]);
+    });
+    for (unsigned part = 0; part < n; ++part) {
+      closed &= ok[part];
+      nUsed += used[part];
+      nNonManifold += nonManifold[part];
     }
   }
+  if (!closed) return fail(Code::Invalid, "internal error: vertex loop did not close");
   out.nUsedVertices = nUsed;
   out.nNonManifoldVertices = nNonManifold;
   w.vinfo.release();
@@ -517,16 +687,17 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   if (3 * nt >= kNone) return fail(Code::TooLarge, "too many triangles for the topology");
   // prev and face are only written, never read, by the passes, so they can be skipped.
   const bool full = options.prevAndFace;
+  const unsigned threads = detail::threadCount(options.threads);
   Work w;
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
-  if (!(s = groupSidesByEdge(nt, nv, out, w)).ok()) return s;
-  if (!(s = pairSides(nt, nv, out, w)).ok()) return s;
+  if (!(s = groupSidesByEdge(nt, nv, threads, out, w)).ok()) return s;
+  if (!(s = pairSides(nt, nv, threads, out, w)).ok()) return s;
   numberShells(nt, options.triangleShell, out, w);
   if (!(s = numberHalfedges(nt, nv, full, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
-  return classifyVertices(nv, out, w);
+  return classifyVertices(nv, threads, out, w);
 }
 
 }  // namespace stltopo

@@ -1,7 +1,10 @@
 // The cheap geometric checks every report has (stltopo/geometry.h, checkTriangles):
 // zero-area triangles and duplicate groups. Its own file, so that the wasm core module links
 // it (the report) without the intersection pass.
+#include <cstring>
+
 #include "geometry_detail.h"
+#include "parallel.h"
 #include "predicates.h"
 #include "stltopo/geometry.h"
 
@@ -63,19 +66,57 @@ bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
 }
 
 Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out) {
+  return checkTriangles(mesh, topo, out, 1);
+}
+
+Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
   out = TriangleChecks{};
   if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
   const Welded w{mesh, weldOf(topo)};
   const uint32_t nt = mesh.nTriangles();
   const bool useTopology = topo && topo->triangleHalfedge.size() == nt && !topo->next.empty() && !topo->vert.empty();
   // Pass 1: zero-area triangles, and the candidates for a duplicate group (with a topology,
-  // only the triangles it cannot rule out: none in a clean mesh).
+  // only the triangles it cannot rule out: none in a clean mesh). Threaded: each part lists
+  // a range of triangles, and the lists are joined in range order.
   Array<uint32_t> cand;
-  for (uint32_t t = 0; t < nt; ++t) {
-    const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
-    if (a == b || b == c || a == c) continue;  // degenerate
-    if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !out.zeroArea.push_back(t)) return oom("the zero-area list");
-    if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !cand.push_back(t)) return oom("the duplicate candidates");
+  auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) -> Status {
+    for (uint32_t t = t0; t < t1; ++t) {
+      const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+      if (a == b || b == c || a == c) continue;  // degenerate
+      if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
+      if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !candidates.push_back(t)) return oom("the duplicate candidates");
+    }
+    return {};
+  };
+  const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
+  if (n <= 1) {
+    if (Status s = pass1(0, nt, out.zeroArea, cand); !s.ok()) return s;
+  } else {
+    struct PartLists {
+      Array<uint32_t> zeroArea, cand;
+      Status status;
+    };
+    PartLists lists[detail::kMaxThreads];
+    detail::runParts(n, [&](unsigned part) {
+      PartLists& l = lists[part];
+      l.status = pass1(uint32_t(detail::partBegin(nt, n, part)), uint32_t(detail::partBegin(nt, n, part + 1)), l.zeroArea, l.cand);
+    });
+    size_t nz = 0, ncand = 0;
+    for (unsigned part = 0; part < n; ++part) {
+      if (!lists[part].status.ok()) return lists[part].status;
+      nz += lists[part].zeroArea.size();
+      ncand += lists[part].cand.size();
+    }
+    if (!out.zeroArea.resize(nz)) return oom("the zero-area list");
+    if (!cand.resize(ncand)) return oom("the duplicate candidates");
+    nz = ncand = 0;
+    for (unsigned part = 0; part < n; ++part) {
+      const PartLists& l = lists[part];
+      if (l.zeroArea.size()) std::memcpy(out.zeroArea.data() + nz, l.zeroArea.data(), l.zeroArea.size() * sizeof(uint32_t));
+      if (l.cand.size()) std::memcpy(cand.data() + ncand, l.cand.data(), l.cand.size() * sizeof(uint32_t));
+      nz += l.zeroArea.size();
+      ncand += l.cand.size();
+    }
   }
   // Pass 2: the candidates into an open-addressed table keyed by their sorted corners;
   // rep[i] = the index of the lowest candidate with candidate i's corner set.

@@ -31,7 +31,7 @@ namespace {
 
 const char* kUsage =
     "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n"
-    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N]\n"
+    "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N]\n"
     "                    [--jobs N] [--list LIST]... FILE|DIR...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
@@ -44,6 +44,8 @@ const char* kUsage =
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
     "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n"
+    "  --threads N uses N threads per file (default 1; 0: the machine's cores); the output\n"
+    "  is the same for every N (the npm CLI runs on one).\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
@@ -70,6 +72,7 @@ struct Args {
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
   unsigned jobs = 1;
+  unsigned threads = 1;  // per file; 0: the machine's cores
   // The inputs in the order given: a FILE or DIR argument, or (list true) a --list LIST.
   struct Arg {
     std::string path;
@@ -219,6 +222,7 @@ std::string readList(const std::string& list, std::vector<Input>& out) {
 // What `info` does to every file (from the options of the command line).
 struct InfoConfig {
   bool json, topology, shells, defects, intersections;
+  unsigned threads;
   stltopo::ReadOptions ro;
   stltopo::TopologyOptions to;
   stltopo::IntersectionOptions io;
@@ -259,7 +263,10 @@ Result reportOne(const Input& in, const InfoConfig& c) {
   extras.maxDefects = c.maxDefects;
   extras.shells = c.shells && t ? (c.intersections ? &geo.shells : &shells) : nullptr;
   extras.defects = c.defects && t ? &found : nullptr;
-  extras.checks = c.intersections && t ? &geo.checks : nullptr;
+  // The report's triangle checks, on the threads (analyzeGeometry has them with --intersections).
+  stltopo::TriangleChecks checks;
+  const bool ownChecks = t && !c.intersections && c.threads != 1 && stltopo::checkTriangles(mesh, &topo, checks, c.threads).ok();
+  extras.checks = !t ? nullptr : c.intersections ? &geo.checks : ownChecks ? &checks : nullptr;
   extras.intersections = c.intersections && t ? &geo.intersections : nullptr;
   extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
   extras.solid = geo.solid;
@@ -713,6 +720,19 @@ int main(int argc, char** argv) {
       a.jobs = unsigned(n);
     } else if (!endOfOptions && s == "--list") {
       a.inputs.push_back({value("--list"), true});
+    } else if (!endOfOptions && s == "--threads") {
+      const char* v = value("--threads");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-' || n > 1024) { std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v); return 2; }
+      a.threads = unsigned(n);
+    } else if (!endOfOptions && s == "--test-parallel-grain") {
+      // Not in the usage: the tests make every threaded stage split small files with it.
+      const char* v = value("--test-parallel-grain");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);
+      if (*end || !*v || *v == '-') { std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v); return 2; }
+      stltopo::setParallelGrainForTesting(size_t(n));
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
       return 2;
@@ -760,8 +780,12 @@ int main(int argc, char** argv) {
   c.shells = a.shells;
   c.defects = defects;
   c.intersections = a.intersections;
+  c.threads = a.threads;
   c.ro.maxTriangles = a.maxTriangles;
   c.ro.maxBytes = a.maxBytes;
+  c.ro.threads = a.threads;
+  c.to.threads = a.threads;
+  c.io.threads = a.threads;
   c.to.tolerance = a.tolerance;
   c.to.prevAndFace = false;  // the report needs neither: 24 fewer bytes per triangle
   c.to.triangleShell = a.topology && (a.shells || defects || a.intersections);

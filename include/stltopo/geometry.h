@@ -47,6 +47,9 @@ struct TriangleChecks {
 // InvalidArgument (a topology of another mesh); `out` is reset first. O(n) expected time
 // (a hash of the corner sets) and 12 bytes per triangle of work memory.
 Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out);
+// The same on `threads` threads (ReadOptions::threads: 0 = the machine's hardware threads):
+// the same result for every value.
+Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads);
 
 // The kind of an intersecting pair.
 enum class IntersectionKind : uint8_t {
@@ -66,6 +69,9 @@ struct IntersectionOptions {
   // is then Code::Aborted. Null: never called.
   bool (*progress)(void* user, double fraction) = nullptr;
   void* user = nullptr;
+  // Threads (ReadOptions::threads): 1 = one thread (the default), 0 = the machine's
+  // hardware threads. The result is the same for every value.
+  unsigned threads = 1;
 };
 
 // Self-intersections: pairs (i < j) of triangles, neither degenerate nor zero-area nor in

@@ -18,6 +18,11 @@ struct ReadOptions {
                                      // and fail early); 0 = unknown. Never trusted beyond
                                      // what arrives.
   bool keepNormals = false;          // store the facet normals in Mesh::normals
+  // Threads for binary input (decoding, the per-triangle figures and the exact weld, in
+  // batches): 1 = one thread (the default); 0 = the machine's hardware threads. The mesh,
+  // its vertex numbering, warnings and errors are the same for every value. The wasm build
+  // always uses one.
+  unsigned threads = 1;
 };
 
 // Streaming reader. Feed bytes in chunks of any size (down to 1 byte), then call
@@ -53,5 +58,14 @@ class Reader {
 // Whole-buffer convenience: one feed() plus finish(), with sizeHint = size unless set; the
 // same codes, and `out` is untouched on failure.
 Status readStl(const uint8_t* data, size_t size, Mesh& out, const ReadOptions& options = {});
+
+// Test-only: the smallest number of work items (records, triangles, vertices) per part
+// before a threaded stage splits its work (0: each stage's default, the thousands). The
+// tests set 1, so that the threaded paths run on small inputs too. Process-wide; set it
+// while no read, topology or geometry call runs.
+void setParallelGrainForTesting(size_t items);
+// Test-only: how many times a stage has split its work over two or more threads since the
+// process started (so that a test can tell that the threaded paths ran).
+uint64_t parallelSplitsForTesting();
 
 }  // namespace stltopo

@@ -21,6 +21,10 @@ struct TopologyOptions {
   // true: also build Topology::triangleShell (the shell of each triangle, for the shell
   // report and extractShell): 4 more bytes per triangle in the result, and at the peak.
   bool triangleShell = false;
+  // Threads for the passes that split (ReadOptions::threads): 1 = one thread (the default),
+  // 0 = the machine's hardware threads. Every array, count and loop is the same for every
+  // value. The wasm build always uses one.
+  unsigned threads = 1;
 };
 
 // Edge classes per half-edge pair (index k = e >> 1).

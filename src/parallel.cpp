@@ -1,0 +1,139 @@
+// Fork-join over std::thread (src/parallel.h). The only file of the core that starts threads.
+#include "parallel.h"
+
+#include "stltopo/read.h"
+
+#include <atomic>
+#include <new>
+
+#if STLTOPO_THREADS
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#endif
+
+namespace stltopo::detail {
+
+namespace {
+std::atomic<size_t> gGrainForTesting{0};
+std::atomic<uint64_t> gSplits{0};
+}  // namespace
+
+void setParallelGrainForTesting(size_t items) { gGrainForTesting.store(items, std::memory_order_relaxed); }
+
+size_t parallelGrain(size_t dflt) {
+  size_t g = gGrainForTesting.load(std::memory_order_relaxed);
+  return g ? g : dflt;
+}
+
+unsigned threadCount(unsigned requested) {
+#if STLTOPO_THREADS
+  unsigned n = requested;
+  if (n == 0) {
+    n = std::thread::hardware_concurrency();
+    if (n == 0) n = 1;
+  }
+  return n < kMaxThreads ? n : kMaxThreads;
+#else
+  (void)requested;
+  return 1;
+#endif
+}
+
+uint64_t parallelSplitsForTesting() { return gSplits.load(std::memory_order_relaxed); }
+
+#if STLTOPO_THREADS
+namespace {
+
+// The threads of the process's parts: started on first use, kept for the next split (a
+// thread start and its stack's unmapping cost more than many a part), never ended (the
+// pool is never destroyed, so no thread is joined at exit). One split at a time uses it;
+// a split that finds it busy (another thread of the caller's) starts threads of its own.
+struct Pool {
+  std::mutex busy;  // held by the split that uses the pool
+  std::mutex m;
+  std::condition_variable wake, finished;
+  PartFn fn = nullptr;
+  void* ctx = nullptr;
+  unsigned parts = 0, pending = 0, nWorkers = 0;
+  uint64_t generation = 0;
+
+  void work(unsigned id) {  // worker `id` (1-based) runs part id of each split that has one
+    uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(m);
+    for (;;) {
+      wake.wait(lock, [&] { return generation != seen; });
+      seen = generation;
+      if (id >= parts) continue;
+      PartFn f = fn;
+      void* c = ctx;
+      lock.unlock();
+      f(c, id);
+      lock.lock();
+      if (--pending == 0) finished.notify_one();
+    }
+  }
+
+  // Runs parts [0, n); false when the pool is busy (nothing ran).
+  bool run(unsigned n, PartFn f, void* c) {
+    std::unique_lock<std::mutex> job(busy, std::try_to_lock);
+    if (!job.owns_lock()) return false;
+    while (nWorkers + 1 < n && nWorkers + 1 < kMaxThreads) {
+      try {
+        std::thread(&Pool::work, this, nWorkers + 1).detach();
+      } catch (...) {  // no thread (resources, memory): the caller runs the parts without one
+        break;
+      }
+      ++nWorkers;
+    }
+    const unsigned withWorker = n - 1 < nWorkers ? n - 1 : nWorkers;
+    {
+      std::lock_guard<std::mutex> lock(m);
+      fn = f;
+      ctx = c;
+      parts = withWorker + 1;
+      pending = withWorker;
+      ++generation;
+    }
+    wake.notify_all();
+    f(c, 0);
+    for (unsigned i = withWorker + 1; i < n; ++i) f(c, i);
+    std::unique_lock<std::mutex> lock(m);
+    finished.wait(lock, [&] { return pending == 0; });
+    return true;
+  }
+};
+
+}  // namespace
+#endif
+
+void runPartsImpl(unsigned n, PartFn fn, void* ctx) {
+  gSplits.fetch_add(1, std::memory_order_relaxed);
+#if STLTOPO_THREADS
+  static Pool* pool = new (std::nothrow) Pool;
+  if (pool && pool->run(n, fn, ctx)) return;
+  std::thread threads[kMaxThreads];
+  bool started[kMaxThreads] = {};
+  for (unsigned i = 1; i < n && i < kMaxThreads; ++i) {
+    try {
+      threads[i] = std::thread(fn, ctx, i);
+      started[i] = true;
+    } catch (...) {  // no thread (resources, memory): the part runs on the caller below
+    }
+  }
+  fn(ctx, 0);
+  for (unsigned i = 1; i < n; ++i) {
+    if (i < kMaxThreads && started[i]) threads[i].join();
+    else fn(ctx, i);
+  }
+#else
+  for (unsigned i = 0; i < n; ++i) fn(ctx, i);
+#endif
+}
+
+}  // namespace stltopo::detail
+
+namespace stltopo {
+void setParallelGrainForTesting(size_t items) { detail::setParallelGrainForTesting(items); }
+uint64_t parallelSplitsForTesting() { return detail::parallelSplitsForTesting(); }
+}  // namespace stltopo

@@ -1,0 +1,269 @@
+// Threads give the output of one thread (issue 24): every array, count, status and report
+// of every fixture, fuzz seed and generated mesh, read, built and checked with 1, 2, 3 and
+// 8 threads, compared byte for byte. setParallelGrainForTesting(1) makes every threaded
+// stage split even the smallest input, and the tests check that the splits happened.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "stl_gen.h"
+#include "stltopo/stltopo.h"
+
+#ifndef STLTOPO_FIXTURES
+#error "STLTOPO_FIXTURES must name the tests/fixtures directory"
+#endif
+
+namespace {
+
+// The bytes of everything a configuration produces, for byte comparison.
+struct Dump {
+  std::string out;
+  template <class T>
+  void arr(const char* name, const stltopo::Array<T>& a) {
+    out += name;
+    out += '=';
+    out += std::to_string(a.size());
+    out += ':';
+    if (a.size()) out.append(reinterpret_cast<const char*>(a.data()), a.size() * sizeof(T));
+    out += '\n';
+  }
+  template <class T>
+  void val(const char* name, const T& v) {
+    out += name;
+    out += '=';
+    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+    out += '\n';
+  }
+  void status(const char* name, const stltopo::Status& s) {
+    out += name;
+    out += '=';
+    out += stltopo::codeName(s.code);
+    out += ' ' + s.message + ' ' + std::to_string(s.offset) + ' ' + std::to_string(s.line) + ' ' +
+           std::to_string(s.triangle) + ' ' + std::to_string(s.element) + '\n';
+  }
+};
+
+void dumpTopology(Dump& d, const stltopo::Topology& t) {
+  d.arr("next", t.next); d.arr("prev", t.prev); d.arr("vert", t.vert); d.arr("face", t.face);
+  d.arr("pairKind", t.pairKind); d.arr("triangleHalfedge", t.triangleHalfedge);
+  d.arr("vertexHalfedge", t.vertexHalfedge); d.arr("vertexWeld", t.vertexWeld);
+  d.arr("loopHalfedge", t.loopHalfedge); d.arr("loopOffsets", t.loopOffsets);
+  d.arr("loopHalfedges", t.loopHalfedges); d.arr("loopIsSeam", t.loopIsSeam);
+  d.arr("loopPerimeter", t.loopPerimeter); d.arr("triangleDegenerate", t.triangleDegenerate);
+  d.arr("vertexNonManifold", t.vertexNonManifold); d.arr("triangleShell", t.triangleShell);
+  uint32_t counts[] = {t.nTriangles, t.nVertices, t.nEdges, t.nBoundaryEdges, t.nNonManifoldEdges,
+                       t.nInconsistentEdges, t.nNonManifoldVertices, t.nDegenerate, t.nShells,
+                       t.nUsedVertices, t.nHoles, t.nSeams, t.nWeldedVertices};
+  d.val("counts", counts);
+  d.val("tolerance", t.tolerance);
+}
+
+// Reads `bytes` (whole, or fed in `chunk`-byte pieces) with `threads` threads and builds
+// every topology, the checks, the intersections and the reports from it.
+std::string run(const std::string& bytes, unsigned threads, size_t chunk, bool everything) {
+  Dump d;
+  stltopo::ReadOptions ro;
+  ro.threads = threads;
+  ro.keepNormals = true;
+  stltopo::Mesh m;
+  stltopo::Status s = chunk ? gen::readChunked(bytes, chunk, m, ro) : gen::read(bytes, m, ro);
+  d.status("read", s);
+  if (!s.ok()) return d.out;
+  d.arr("positions", m.positions); d.arr("triangles", m.triangles); d.arr("attributes", m.attributes);
+  d.arr("normals", m.normals); d.arr("colors", m.colors); d.arr("colorValid", m.colorValid);
+  d.val("format", m.format); d.val("colorConvention", m.colorConvention);
+  d.val("normalMismatches", m.normalMismatches); d.val("area", m.area); d.val("volume", m.volume);
+  d.val("bboxMin", m.bboxMin); d.val("bboxMax", m.bboxMax);
+  for (const stltopo::Solid& so : m.solids) d.out += so.name + ' ' + std::to_string(so.firstTriangle) + ' ' + std::to_string(so.triangleCount) + '\n';
+  for (const stltopo::Status& w : m.warnings) d.status("warning", w);
+  if (!everything) return d.out;
+  for (int mode = 0; mode < 3; ++mode) {
+    stltopo::TopologyOptions to;
+    to.threads = threads;
+    to.triangleShell = true;
+    to.prevAndFace = mode != 1;
+    to.tolerance = mode == 2 ? 1e-3 : 0;
+    stltopo::Topology t;
+    s = stltopo::buildTopology(m, t, to);
+    d.status("topology", s);
+    if (!s.ok()) continue;
+    dumpTopology(d, t);
+    d.out += stltopo::infoJson("f", m, &t) + '\n';
+    if (mode != 0) continue;  // the geometry and the extras once, on the exact weld
+    stltopo::IntersectionOptions io;
+    io.threads = threads;
+    io.maxPairs = 1000;
+    stltopo::GeometryReport geo;
+    s = stltopo::analyzeGeometry(m, t, geo, io);
+    d.status("geometry", s);
+    if (s.ok()) {
+      d.arr("zeroArea", geo.checks.zeroArea); d.arr("duplicateOffsets", geo.checks.duplicateOffsets);
+      d.arr("duplicateTriangles", geo.checks.duplicateTriangles);
+      d.arr("duplicateOrientation", geo.checks.duplicateOrientation);
+      d.arr("pairs", geo.intersections.pairs); d.arr("kinds", geo.intersections.kinds);
+      d.arr("points", geo.intersections.points); d.arr("triangleIntersects", geo.intersections.triangleIntersects);
+      uint64_t ic[] = {geo.intersections.nCrossing, geo.intersections.nTouching, geo.intersections.nCoplanar,
+                       geo.intersections.nIntersectingTriangles, geo.intersections.complete};
+      d.val("intersectionCounts", ic);
+      stltopo::Defects defects;
+      s = stltopo::findShellsAndDefects(m, t, nullptr, &defects);
+      d.status("defects", s);
+      stltopo::ReportExtras extras;
+      extras.shells = &geo.shells;
+      extras.defects = s.ok() ? &defects : nullptr;
+      extras.checks = &geo.checks;
+      extras.intersections = &geo.intersections;
+      extras.nesting = &geo.nesting;
+      extras.solid = geo.solid;
+      d.out += stltopo::infoJson("f", m, &t, extras) + '\n';
+    }
+  }
+  d.out += stltopo::infoJson("f", m, nullptr) + '\n';
+  return d.out;
+}
+
+// Every input in one configuration against one thread, whole and streamed.
+void expectSameForAllThreads(const std::string& name, const std::string& bytes) {
+  const bool small = bytes.size() < (size_t(1) << 20);
+  const std::string one = run(bytes, 1, 0, true);
+  for (unsigned threads : {2u, 3u, 8u})
+    EXPECT_TRUE(run(bytes, threads, 0, true) == one) << name << ": " << threads << " threads differ from one";
+  // Streamed in pieces: records straddle the pieces, and the batches start anywhere.
+  for (size_t chunk : {size_t(173), size_t(4096)}) {
+    if (!small && chunk < 4096) continue;
+    EXPECT_TRUE(run(bytes, 3, chunk, false) == run(bytes, 1, chunk, false)) << name << ": " << chunk << "-byte pieces";
+  }
+}
+
+std::vector<std::string> filesUnder(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::recursive_directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file()) out.push_back(it->path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Sets the test grain for one test and restores the default afterwards.
+struct SmallGrain {
+  explicit SmallGrain(size_t g) { stltopo::setParallelGrainForTesting(g); }
+  ~SmallGrain() { stltopo::setParallelGrainForTesting(0); }
+};
+
+#if defined(STLTOPO_WASM_TESTS)
+constexpr bool kThreaded = false;  // the wasm build has no threads: every count is one thread
+#else
+constexpr bool kThreaded = true;
+#endif
+
+TEST(Threads, FixturesAreTheSameForEveryThreadCount) {
+  SmallGrain grain(1);
+  const uint64_t splits = stltopo::parallelSplitsForTesting();
+  size_t n = 0;
+  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) continue;
+    expectSameForAllThreads(path, gen::readFile(path));
+    ++n;
+  }
+  EXPECT_GT(n, 50u);
+  if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits + 100) << "the threaded paths did not run";
+}
+
+TEST(Threads, FuzzSeedsAreTheSameForEveryThreadCount) {
+  SmallGrain grain(1);
+  size_t n = 0;
+  for (const std::string& path : filesUnder(std::string(STLTOPO_FIXTURES) + "/../fuzz/seeds")) {
+    expectSameForAllThreads(path, gen::readFile(path));
+    ++n;
+  }
+  EXPECT_GT(n, 20u);
+}
+
+// Generated meshes at the stages' own grain (no test grain) and at grain 1: grid order and
+// shuffled, with holes, -0 and +0, several binary parts, a non-finite coordinate late in the
+// file (the threaded read must give the one-thread error), and a truncated file.
+TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
+  gen::Soup t = gen::torus(120, 90, {7, 500, 501, 3000});
+  std::string grid = gen::binary(t);
+  gen::Soup sh = t;
+  std::mt19937 rng(5);
+  std::shuffle(sh.f.begin(), sh.f.end(), rng);
+  for (size_t i = 0; i < sh.f.size(); i += 3) std::rotate(sh.f[i].begin(), sh.f[i].begin() + 1, sh.f[i].end());
+  std::string shuffled = gen::binary(sh);
+  gen::Soup zeros = gen::cube();
+  for (auto& v : zeros.v)
+    for (float& x : v)
+      if (x == 0) x = -0.0f;
+  gen::Soup both = gen::cube();
+  gen::append(both, zeros);
+  gen::append(both, t);
+  std::string signedZeros = gen::binary(both);
+  std::string parts = grid + gen::binary(sh, "COLOR=\x10\x20\x30\xff second part") + grid;
+  std::string nonFinite = shuffled;
+  {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&nonFinite[84 + 50 * 15000 + 12 + 12 + 4], &nan, 4);  // triangle 15000, corner 1, y
+  }
+  std::string truncated = shuffled.substr(0, shuffled.size() - 75);
+  std::string withWords = grid;
+  for (size_t r = 0; r < 2000; ++r) withWords[84 + 50 * r * 7 + 49] = char(0x80 | (r & 0x7f));
+  const std::pair<const char*, const std::string*> cases[] = {
+      {"grid", &grid}, {"shuffled", &shuffled}, {"signed zeros", &signedZeros}, {"parts", &parts},
+      {"non-finite", &nonFinite}, {"truncated", &truncated}, {"viscam words", &withWords}};
+  for (size_t g : {size_t(0), size_t(1), size_t(64)}) {
+    SmallGrain grain(g);
+    const uint64_t splits = stltopo::parallelSplitsForTesting();
+    for (const auto& [name, bytes] : cases) expectSameForAllThreads(std::string(name) + " grain " + std::to_string(g), *bytes);
+    if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits) << "grain " << g;
+  }
+  // The non-finite case is an error, and the same one.
+  stltopo::Mesh m;
+  stltopo::ReadOptions ro;
+  ro.threads = 3;
+  stltopo::Status s = gen::read(nonFinite, m, ro);
+  EXPECT_EQ(s.code, stltopo::Code::NonFinite);
+  EXPECT_EQ(s.triangle, 15000u);
+}
+
+#if defined(STLTOPO_CLI) && !defined(STLTOPO_WASM_TESTS)  // the CLI runs as a subprocess: not in wasm
+// The CLI's stdout and exit status for `args` (file names quoted by the caller).
+std::string cli(const std::string& args) {
+  std::string cmd = std::string("'") + STLTOPO_CLI + "' " + args + " 2>&1; echo \"exit $?\"";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return "popen failed";
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  ::pclose(p);
+  return out;
+}
+
+// The whole CLI, all fixtures in one call per flag set: --threads 1 against 2, 3 and 8 with
+// the stages split down to single items.
+TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
+  std::string files;
+  for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
+    if (path.size() < 3 || path.compare(path.size() - 3, 3, ".md") != 0) files += " '" + path + "'";
+  for (const char* flags : {"info --json --shells --defects --intersections --max-pairs 1000", "info --tolerance 0.001"}) {
+    const std::string one = cli(std::string(flags) + " --threads 1" + files);
+    EXPECT_NE(one.find("triangles"), std::string::npos);
+    for (const char* threads : {"2", "3", "8"})
+      EXPECT_TRUE(cli(std::string(flags) + " --test-parallel-grain 1 --threads " + threads + files) == one)
+          << flags << " --threads " << threads;
+  }
+  // 0: the machine's cores (the default is 1).
+  EXPECT_EQ(cli("info --json --threads 0" + files), cli("info --json" + files));
+  EXPECT_NE(cli("info --threads -1 x.stl").find("bad --threads '-1'"), std::string::npos);
+  EXPECT_NE(cli("info --threads 1025 x.stl").find("bad --threads '1025'"), std::string::npos);
+}
+#endif
+
+}  // namespace
