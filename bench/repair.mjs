@@ -30,9 +30,10 @@ const median = (v) => [...v].sort((a, b) => a - b)[Math.floor(v.length / 2)];
 const WASM_CHILD = `
 import { readFileSync } from 'node:fs';
 import { loadStl, planRepair, EditableMesh } from 'stltopo';
-const bytes = readFileSync(process.argv[1]);
-const intersections = process.argv[2] === '1';
+const bytes = readFileSync(process.argv[2]);
+const intersections = process.argv[3] === '1';
 const t = () => performance.now() / 1000;
+await loadStl(bytes); // warm: the module's compilation is not the load's
 let t0 = t();
 const mesh = await loadStl(bytes);
 const load = t() - t0;
