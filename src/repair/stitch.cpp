@@ -380,7 +380,12 @@ Status mergePairs(StepContext& ctx) {
     if (ctx.excluded()) return Status{};
     Status st = em.stitch(keep.data(), gone.data(), uint32_t(keep.size()), edgesT.data(), vertsT.data(),
                           uint32_t(edgesT.size()), false);
-    if (st.code == Code::EditRefused) ctx.skip(reasonOf(st));
+    // The editor refuses (edit-refused), or finds the T-junctions inconsistent
+    // (invalid-argument: a vertex splitting an edge twice): either way nothing changed.
+    if (st.code == Code::EditRefused || st.code == Code::InvalidArgument) {
+      ctx.skip(reasonOf(st));
+      return Status::error(Code::EditRefused, st.message);
+    }
     return st;
   };
   for (size_t b = 0; b < order.size();) {
@@ -456,7 +461,7 @@ Status closeTJunctions(StepContext& ctx) {
       ctx.begin(std::move(action), {tri}, {c.v, c.a, c.b});
       if (ctx.excluded()) continue;
       Status st = em.splitEdgeAt(c.he, c.v, false);
-      if (st.code == Code::EditRefused) {
+      if (st.code == Code::EditRefused || st.code == Code::InvalidArgument) {
         ctx.skip(reasonOf(st));
         continue;
       }

@@ -104,6 +104,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   RepairPlan plan;
   Status s = planRepair(m, o, plan);
   if (!s.ok()) {
+    if (s.code != Code::OutOfMemory && s.code != Code::Aborted) std::fprintf(stderr, "plan: %s\n", s.message.c_str());
     FUZZ_CHECK(s.code == Code::OutOfMemory || s.code == Code::Aborted);
     return 0;
   }
