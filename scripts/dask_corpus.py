@@ -187,8 +187,12 @@ def main(argv):
 
     cluster = None
     if local is not None:
+        # Only the reports go to stdout and stderr: Dask's own messages are silenced (a
+        # LocalCluster's shutdown can log an ERROR line about a worker the scheduler has
+        # already dropped, which is not a failure of any file).
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
         cluster = LocalCluster(n_workers=local, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
         client = Client(cluster)
     else:
         client = Client(scheduler)
