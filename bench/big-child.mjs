@@ -32,7 +32,7 @@ async function inNode() {
   try {
     m = await loadStlFile(file, o);
   } catch (e) {
-    return out({ ok: false, ms: Math.round(performance.now() - t0), error: `${e.code}: ${e.message}` });
+    return out({ ok: false, ms: Math.round(performance.now() - t0), error: e.message });
   }
   const ms = Math.round(performance.now() - t0);
   const r = { ok: true, ms, triangles: m.nTriangles, holes: m.stats.holes, ...firstRead(m) };
@@ -64,7 +64,7 @@ async function inChromium() {
           return { ok: true, ms, firstReadMs: Math.round(performance.now() - t1), checksum: s, triangles: m.nTriangles,
             holes: m.stats.holes, validate: v.ok ? 'ok' : v.code };
         } catch (e) {
-          return { ok: false, ms: Math.round(performance.now() - t0), error: `${e.code}: ${e.message}` };
+          return { ok: false, ms: Math.round(performance.now() - t0), error: e.message };
         }
       });
       return out(r);
