@@ -4,7 +4,11 @@
 // Every decision goes through the exact predicates of predicates.h. Constructed points
 // (an intersection's "point") are the only floating-point results, and decide nothing.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "geometry_detail.h"
 #include "predicates.h"
@@ -276,6 +280,67 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
   return int(kind);
 }
 
+// The corners two triangles share, by welded id (three distinct ids each, from arrays with
+// at least one more element after them): bit i of ma when a's corner i is one of b's, bit j
+// of mb when b's corner j is one of a's.
+inline void sharedCorners(const uint32_t* ca, const uint32_t* cb, unsigned& ma, unsigned& mb) {
+#if defined(__SSE2__)
+  const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cb));  // the 4th lane is not b's
+  const unsigned e0 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[0])), vb)))) & 7;
+  const unsigned e1 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[1])), vb)))) & 7;
+  const unsigned e2 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[2])), vb)))) & 7;
+  mb = e0 | e1 | e2;
+  ma = unsigned(e0 != 0) | unsigned(e1 != 0) << 1 | unsigned(e2 != 0) << 2;
+#else
+  ma = mb = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const unsigned eq = ca[i] == cb[j];
+      ma |= eq << i;
+      mb |= eq << j;
+    }
+#endif
+}
+
+// Whether testPair(a, b) returns -1 for a reason the corners they share (ma, mb:
+// sharedCorners) decide with few exact signs, for the neighbours that make up nearly all the candidate pairs of a mesh: all
+// three corners shared; a shared side with the fourth corners off each other's plane; one
+// shared corner with the side opposite it of neither triangle meeting the other (the same
+// sign tests, in the same order, as testPair's). False says nothing: testPair decides (it
+// finds a pair that is not rejected here again, so the kind and the point are its own).
+bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
+  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};  // the lowest set bit
+  static constexpr int8_t kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};  // (i + 1) % 3, (i + 2) % 3
+  if (ma == 0) return false;
+  if (ma == 7) return true;
+  if (ma & (ma - 1)) {  // a shared side: apart unless b's third corner is in a's plane
+    const int d = kLow[~mb & 7];
+    return pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[d]) != 0;
+  }
+  const int ia = kLow[ma], ib = kLow[mb];
+  const int b1 = kNext[ib], b2 = kPrev[ib];
+  const pred::Plane planeA(a.p[0], a.p[1], a.p[2]);
+  const int sb1 = planeA.side(b.p[b1]), sb2 = planeA.side(b.p[b2]);
+  if (sb1 * sb2 > 0) return true;
+  const int a1 = kNext[ia], a2 = kPrev[ia];
+  const pred::Plane planeB(b.p[0], b.p[1], b.p[2]);
+  const int sa1 = planeB.side(a.p[a1]), sa2 = planeB.side(a.p[a2]);
+  if (sa1 * sa2 > 0) return true;
+  if (sb1 * sb2 < 0 && sa1 * sa2 < 0) {
+    // Each straddles the other's plane strictly: the planes meet in a line L through the
+    // shared corner s, and a meets L in a segment [s, X] (X inside a's opposite side), b in
+    // [s, Y] (Y inside b's). They share more than s exactly when X and Y lie on one side of s
+    // on L, that is when Y lies on the side of line s a1 (in a's plane) that a2 lies on; or
+    // on the side of the plane (s, a1, b1) that a2 lies on (it is not a's plane, as b1 is off
+    // it). Y lies strictly between b1, which is in that plane, and b2: on b2's side. Neither
+    // sign is 0 (a2 off the plane; b2 in it would put L = line s a1 in b's plane, but a1 is
+    // off it). This is what testPair's segTri(b, a1, a2) || segTri(a, b1, b2) finds then.
+    const float* s0 = a.p[ia];
+    return pred::orient3d(s0, a.p[a1], b.p[b1], b.p[b2]) != pred::orient3d(s0, a.p[a1], b.p[b1], a.p[a2]);
+  }
+  return !(segTri(b, a.p[a1], a.p[a2], sa1, sa2) || segTri(a, b.p[b1], b.p[b2], sb1, sb2));
+}
+
 }  // namespace
 
 int geometry_detail::trianglePairTest(const Tri& a, const Tri& b, double point[3]) { return testPair(a, b, point); }
@@ -308,6 +373,54 @@ struct Bvh {
 inline bool overlaps(const Box& a, const Box& b) {
   return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
          b.lo[2] <= a.hi[2];
+}
+
+// The boxes of the sorted positions as six float arrays (lo x, y, z, hi x, y, z), each of
+// n + kLeaf entries: the ones past n are NaN, which overlaps nothing, so that kLeaf boxes can
+// be read from any position below n.
+struct BoxColumns {
+  Array<float> v;
+  size_t stride = 0;
+  const float* col(int k) const { return v.data() + size_t(k) * stride; }
+};
+
+// Bit i set when the box of position first + i (i < kLeaf) overlaps `b` (closed boxes, as
+// overlaps()); positions past the leaf's end must be masked off by the caller.
+inline uint32_t overlapMask(const BoxColumns& c, uint32_t first, const Box& b) {
+  static_assert(kLeaf == 8, "two groups of four");
+#if defined(__SSE2__)
+  uint32_t m = 0;
+  for (int half = 0; half < 2; ++half) {
+    const size_t q = first + 4 * size_t(half);
+    __m128 ok = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(c.col(0) + q), _mm_set1_ps(b.hi[0])),
+                           _mm_cmpge_ps(_mm_loadu_ps(c.col(3) + q), _mm_set1_ps(b.lo[0])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_loadu_ps(c.col(1) + q), _mm_set1_ps(b.hi[1])));
+    ok = _mm_and_ps(ok, _mm_cmpge_ps(_mm_loadu_ps(c.col(4) + q), _mm_set1_ps(b.lo[1])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_loadu_ps(c.col(2) + q), _mm_set1_ps(b.hi[2])));
+    ok = _mm_and_ps(ok, _mm_cmpge_ps(_mm_loadu_ps(c.col(5) + q), _mm_set1_ps(b.lo[2])));
+    m |= uint32_t(_mm_movemask_ps(ok)) << (4 * half);
+  }
+  return m;
+#else
+  uint32_t m = 0;
+  for (uint32_t i = 0; i < kLeaf; ++i) {
+    const size_t q = first + i;
+    m |= uint32_t((c.col(0)[q] <= b.hi[0]) & (c.col(3)[q] >= b.lo[0]) & (c.col(1)[q] <= b.hi[1]) &
+                  (c.col(4)[q] >= b.lo[1]) & (c.col(2)[q] <= b.hi[2]) & (c.col(5)[q] >= b.lo[2]))
+         << i;
+  }
+  return m;
+#endif
+}
+
+inline int lowestBit(uint32_t m) {
+#if defined(__GNUC__)
+  return __builtin_ctz(m);
+#else
+  int i = 0;
+  while (!(m & 1)) m >>= 1, ++i;
+  return i;
+#endif
 }
 
 uint32_t spread10(uint32_t x) {  // 10 bits to every third of 30
@@ -448,12 +561,22 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
   valid.release();
   const uint32_t n = uint32_t(bvh.tri.size());
-  // The corners of each sorted position, welded: the pair tests read only these, the boxes
-  // and the positions.
+  // The corners of each sorted position, welded (one more entry: sharedCorners reads four),
+  // and the boxes as columns: the pair tests read only these and the positions.
   Array<uint32_t> corner;
-  if (!corner.resize(3 * size_t(n))) return oom("the intersection hierarchy");
+  if (!corner.resize(3 * size_t(n) + 1)) return oom("the intersection hierarchy");
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
+  corner[3 * size_t(n)] = 0;
+  BoxColumns boxes;
+  boxes.stride = size_t(n) + kLeaf;
+  if (!boxes.v.assign(6 * boxes.stride, std::nanf(""))) return oom("the intersection hierarchy");
+  for (uint32_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      boxes.v[size_t(k) * boxes.stride + i] = bvh.box[i].lo[k];
+      boxes.v[size_t(k + 3) * boxes.stride + i] = bvh.box[i].hi[k];
+    }
+  bvh.box.release();
   auto triAt = [&](uint32_t q) {
     Tri x;
     for (int c = 0; c < 3; ++c) {
@@ -462,6 +585,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     }
     return x;
   };
+  auto boxAt = [&](uint32_t q) {
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo[k] = boxes.col(k)[q], b.hi[k] = boxes.col(k + 3)[q];
+    return b;
+  };
   const uint64_t maxFound = options.maxPairs;
   const uint64_t maxWork = 8 * options.maxPairs + 64 * uint64_t(nt);
   uint64_t work = 0, sinceProgress = 0;
@@ -469,13 +597,17 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   bool stop = false, cancelled = false, outOfMemory = false;
   // Tests sorted positions p < q whose boxes overlap.
   auto testPositions = [&](uint32_t p, uint32_t q) {
-    if (!overlaps(bvh.box[p], bvh.box[q])) return;
     if (++work > maxWork) {
       stop = true;
       return;
     }
+    unsigned ma, mb;
+    sharedCorners(&corner[3 * size_t(p)], &corner[3 * size_t(q)], ma, mb);
+    if (ma == 7) return;  // one duplicate group (testPair: -1)
+    const Tri a = triAt(p), b = triAt(q);
+    if (ma && neighboursApart(a, b, ma, mb)) return;
     Found f;
-    const int kind = testPair(triAt(p), triAt(q), f.point);
+    const int kind = testPair(a, b, f.point);
     if (kind < 0) return;
     const uint32_t ti = bvh.tri[p], tj = bvh.tri[q];
     f.key = ti < tj ? uint64_t(ti) << 32 | tj : uint64_t(tj) << 32 | ti;
@@ -485,6 +617,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       return;
     }
     if (found.size() >= maxFound) stop = true;
+  };
+  // Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
+  // p's), in increasing order, until the pass stops.
+  auto testMask = [&](uint32_t p, uint32_t first, uint32_t mask) {
+    for (; mask && !stop; mask &= mask - 1) testPositions(p, first + uint32_t(lowestBit(mask)));
   };
   // A self-join of the hierarchy: (node, node) pairs on an explicit stack; a pair of the
   // same node stands for the pairs inside it. Each pair of positions is tested once. A pop
@@ -507,21 +644,27 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
         todo[sp++] = uint64_t(r) << 32 | r;
         todo[sp++] = uint64_t(l) << 32 | l;
       } else {
-        for (uint32_t p = A.first; p < A.end && !stop; ++p)
-          for (uint32_t q = p + 1; q < A.end && !stop; ++q) testPositions(p, q);
+        // The pairs p < q inside the leaf, p-major, as two nested loops over positions.
+        const uint32_t all = (1u << (A.end - A.first)) - 1;
+        for (uint32_t p = A.first; p < A.end && !stop; ++p) {
+          const uint32_t later = all & ~((2u << (p - A.first)) - 1);
+          if (later) testMask(p, A.first, overlapMask(boxes, A.first, boxAt(p)) & later);
+        }
         sinceProgress += A.end - A.first;
       }
       continue;
     }
     if (!overlaps(A.box, B.box)) continue;
     if (!A.right && !B.right) {
-      // Only the members of each leaf whose box meets the other leaf's box can pair.
-      uint32_t qs[kLeaf], nq = 0;
-      for (uint32_t q = B.first; q < B.end; ++q)
-        if (overlaps(bvh.box[q], A.box)) qs[nq++] = q;
-      for (uint32_t p = A.first; p < A.end && nq && !stop; ++p) {
-        if (!overlaps(bvh.box[p], B.box)) continue;
-        for (uint32_t k = 0; k < nq && !stop; ++k) testPositions(p, qs[k]);
+      // Only the members of each leaf whose box meets the other leaf's box can pair; p-major,
+      // q increasing, as two nested loops over positions.
+      const uint32_t qs = overlapMask(boxes, B.first, A.box) & ((1u << (B.end - B.first)) - 1);
+      if (qs) {
+        uint32_t ps = overlapMask(boxes, A.first, B.box) & ((1u << (A.end - A.first)) - 1);
+        for (; ps && !stop; ps &= ps - 1) {
+          const uint32_t p = A.first + uint32_t(lowestBit(ps));
+          testMask(p, B.first, overlapMask(boxes, B.first, boxAt(p)) & qs);
+        }
       }
       sinceProgress += A.end - A.first;
     } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
@@ -635,6 +778,13 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
     nCand += candidate[s];
   }
   if (nCand == 0) return {};
+  if (nCand == 1) {
+    // One candidate: no other candidate's triangles can surround it (the rays below only
+    // count the other candidates' triangles), so it is at the top level; no hierarchy needed.
+    for (uint32_t s = 0; s < ns; ++s)
+      if (candidate[s]) out.depth[s] = 0;
+    return {};
+  }
   // Shells that share a vertex are never nested: per vertex, its first shell; a pair is
   // recorded when a vertex is used by another one.
   Array<uint32_t> vshell;
