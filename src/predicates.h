@@ -53,16 +53,17 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
 // floating-point determinant and bound, and the same exact fallback.
 struct Plane {
   const float *a, *b, *c;
+  double ax, ay, az;  // a, as doubles (the same values)
   double nx, ny, nz, px, py, pz;
-  Plane(const float* a_, const float* b_, const float* c_) : a(a_), b(b_), c(c_) {
-    const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
-    const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  Plane(const float* a_, const float* b_, const float* c_) : a(a_), b(b_), c(c_), ax(a[0]), ay(a[1]), az(a[2]) {
+    const double ux = double(b[0]) - ax, uy = double(b[1]) - ay, uz = double(b[2]) - az;
+    const double vx = double(c[0]) - ax, vy = double(c[1]) - ay, vz = double(c[2]) - az;
     const double m1 = uy * vz, m2 = uz * vy, m3 = uz * vx, m4 = ux * vz, m5 = ux * vy, m6 = uy * vx;
     nx = m1 - m2, ny = m3 - m4, nz = m5 - m6;
     px = std::fabs(m1) + std::fabs(m2), py = std::fabs(m3) + std::fabs(m4), pz = std::fabs(m5) + std::fabs(m6);
   }
   int side(const float* d) const {
-    const double wx = double(d[0]) - a[0], wy = double(d[1]) - a[1], wz = double(d[2]) - a[2];
+    const double wx = double(d[0]) - ax, wy = double(d[1]) - ay, wz = double(d[2]) - az;
     const double det = wx * nx + wy * ny + wz * nz;
     const double bound = 7.7715611723761027e-16 * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz);
     if (det > bound) return 1;

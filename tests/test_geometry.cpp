@@ -10,7 +10,8 @@
 #include <set>
 #include <tuple>
 
-#include "predicates.h"  // private (src/): the exact stages, compared below
+#include "geometry_detail.h"  // private (src/): the pair test, compared below
+#include "predicates.h"       // private (src/): the exact stages, compared below
 #include "stl_gen.h"
 #include "stltopo/stltopo.h"
 
@@ -413,6 +414,79 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
   EXPECT_GT(kinds["touching"], 100);
   EXPECT_GT(kinds["coplanar"], 100);
   EXPECT_GT(dupGroups, 100u);
+}
+
+// Two triangles that share one corner and straddle each other's planes: they cross exactly
+// when the lines where each meets the other's plane leave the shared corner the same way.
+TEST(Geometry, SharedCornerStraddlesCrossOnlyWhenTheyLeaveTheCornerTheSameWay) {
+  Result same, opposite, touching;
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {1, 1, 2}, {1, 1, -2}}}}), same);
+  EXPECT_EQ(pairsOf(same.geo.intersections), std::vector<std::string>({"0 1 crossing"}));
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {-1, -1, 2}, {-1, -1, -2}}}}), opposite);
+  EXPECT_EQ(pairsOf(opposite.geo.intersections), std::vector<std::string>{});
+  // The far side of one ending exactly on the other's far side: still crossing (each has
+  // corners strictly on both sides of the other's plane).
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {2, 2, 2}, {2, 2, -2}}}}), touching);
+  EXPECT_EQ(pairsOf(touching.geo.intersections), std::vector<std::string>({"0 1 crossing"}));
+}
+
+// The pass decides pairs that share corners (nearly every candidate pair of a mesh) by a few
+// exact signs before the full pair test; it must agree with that test on every pair: on an
+// integer grid (corners in the other's plane, on its sides) and with random coordinates
+// (strict straddles), sharing a corner or a side, with the kind and the point of the full test.
+TEST(Geometry, NeighbourPairsAgreeWithTheFullPairTest) {
+  std::mt19937 rng(2024);
+  std::map<std::string, int> seen;
+  for (int round = 0; round < 20000; ++round) {
+    const bool grid = round % 2 == 0;
+    const bool side = round % 3 == 0;
+    const bool flat = grid && round % 5 < 2;  // all in the plane z = 0
+    auto coord = [&]() -> float {
+      return grid ? float(int(rng() % 5) - 2) : float(int(rng() % 2001) - 1000) / 256.0f;
+    };
+    auto point = [&]() -> std::array<float, 3> { return {coord(), coord(), flat ? 0.0f : coord()}; };
+    std::array<float, 3> s0 = point(), s1 = point(), a1 = point(), a2 = point(), b2 = point();
+    // a = (s0, a1, a2), b = (s0, s1, b2) or, sharing the side s0 a1, (a1, s0, b2); the corner
+    // order of b varies.
+    std::array<std::array<float, 3>, 3> ta{{s0, a1, a2}};
+    std::array<std::array<float, 3>, 3> tb = side ? std::array<std::array<float, 3>, 3>{{a1, s0, b2}}
+                                                  : std::array<std::array<float, 3>, 3>{{s0, s1, b2}};
+    std::rotate(tb.begin(), tb.begin() + rng() % 3, tb.end());
+    Soup soup = tris({ta, tb});
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+    stltopo::Topology topo;
+    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+    stltopo::TriangleChecks checks;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
+    if (!checks.zeroArea.empty() || topo.nDegenerate || checks.nDuplicateTriangles) continue;
+    stltopo::Intersections x;
+    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
+    stltopo::geometry_detail::Tri t[2];
+    for (int i = 0; i < 2; ++i)
+      for (int c = 0; c < 3; ++c) {
+        t[i].v[c] = mesh.triangles[3 * i + c];
+        t[i].p[c] = mesh.positions.data() + 3 * size_t(t[i].v[c]);
+      }
+    int shared = 0;
+    for (uint32_t u : t[0].v)
+      for (uint32_t v : t[1].v) shared += u == v;
+    double p01[3], p10[3];
+    const int k01 = stltopo::geometry_detail::trianglePairTest(t[0], t[1], p01);
+    const int k10 = stltopo::geometry_detail::trianglePairTest(t[1], t[0], p10);
+    ASSERT_EQ(k01, k10) << "round " << round;
+    ASSERT_EQ(x.nPairs(), k01 < 0 ? 0u : 1u) << "round " << round << ", sharing " << shared;
+    if (k01 >= 0) {
+      ASSERT_EQ(int(x.kinds[0]), k01) << "round " << round;
+      const bool same01 = std::equal(p01, p01 + 3, x.points.data()), same10 = std::equal(p10, p10 + 3, x.points.data());
+      ASSERT_TRUE(same01 || same10) << "round " << round;
+    }
+    ++seen[std::to_string(shared) + (k01 < 0 ? " apart" : std::string(" ") + stltopo::intersectionKindName(stltopo::IntersectionKind(k01)))];
+  }
+  // Every outcome, often: fold-overs across a side, and crossings, touchings, coplanar
+  // overlaps and misses at a corner.
+  for (const char* k : {"2 apart", "2 coplanar", "1 apart", "1 crossing", "1 touching", "1 coplanar"})
+    EXPECT_GT(seen[k], 100) << k;
 }
 
 // The exact predicates where floating point alone fails: coordinates far apart in scale.
