@@ -489,6 +489,45 @@ TEST(Geometry, NeighbourPairsAgreeWithTheFullPairTest) {
     EXPECT_GT(seen[k], 100) << k;
 }
 
+// Triangles with no shared corner whose corners lie off each other's planes (the pass's
+// strict-straddle test) and, on a coarse grid, on them (the side-by-side test), against the
+// integer brute force; kinds included.
+TEST(Geometry, UnsharedPairsAgainstIntegerBruteForce) {
+  std::mt19937 rng(777);
+  std::map<std::string, int> kinds;
+  for (int round = 0; round < 4000; ++round) {
+    const int range = round % 4 == 0 ? 3 : 60;  // -range..range
+    const int nt = 2 + int(rng() % 3);
+    std::vector<std::array<P, 3>> t;
+    Soup soup;
+    for (int i = 0; i < nt; ++i) {
+      std::array<P, 3> x;
+      for (auto& c : x)
+        for (auto& k : c) k = int64_t(rng() % (2 * range + 1)) - range;
+      t.push_back(x);
+      uint32_t b = uint32_t(soup.v.size());
+      for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
+      soup.f.push_back({b, b + 1, b + 2});
+    }
+    Brute want = brute(t);
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+    stltopo::Topology topo;
+    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+    stltopo::TriangleChecks checks;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
+    stltopo::Intersections x;
+    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
+    std::set<std::tuple<uint32_t, uint32_t, std::string>> got;
+    for (size_t i = 0; i < x.nPairs(); ++i)
+      got.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    ASSERT_EQ(got, want.pairs) << "round " << round;
+    for (auto& g : got) ++kinds[std::get<2>(g)];
+  }
+  EXPECT_GT(kinds["crossing"], 500);
+  EXPECT_GT(kinds["touching"], 30);
+}
+
 // The exact predicates where floating point alone fails: coordinates far apart in scale.
 TEST(Geometry, PredicatesAreExactAcrossScales) {
   // A triangle in the plane z = 0 with huge coordinates, and a point 2^-20 above it
