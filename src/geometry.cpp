@@ -119,17 +119,24 @@ bool segTri(const Tri& t, const float* p, const float* q) {
   return segTri(t, p, q, pred::orient3d(t.p[0], t.p[1], t.p[2], p), pred::orient3d(t.p[0], t.p[1], t.p[2], q));
 }
 
-// Closed coplanar triangles (both in one plane).
+// Closed coplanar triangles (both in one plane): whether they meet. Two disjoint triangles
+// in a plane lie strictly on either side of the line of one of their sides (separating
+// axes), and meeting ones do not, so they meet exactly when no side line of either one has
+// the whole other triangle strictly on its outer side.
 bool triTri2d(const Projection& pr, const Tri& a, const Tri& b) {
-  for (int i = 0; i < 3; ++i)
-    if (pointInTri2d(pr, a, b.p[i])) return true;
-  Projection pb{pr.k, orient2dIn(pr.k, b.p[0], b.p[1], b.p[2])};
-  for (int i = 0; i < 3; ++i)
-    if (pointInTri2d(pb, b, a.p[i])) return true;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (segSeg2d(pr.k, a.p[i], a.p[(i + 1) % 3], b.p[j], b.p[(j + 1) % 3])) return true;
-  return false;
+  const Tri* t[2] = {&a, &b};
+  for (int s = 0; s < 2; ++s) {
+    const Tri& x = *t[s];
+    const Tri& y = *t[1 - s];
+    const int sg = s == 0 ? pr.sign : orient2dIn(pr.k, x.p[0], x.p[1], x.p[2]);
+    for (int e = 0; e < 3; ++e) {
+      bool separated = true;
+      for (int i = 0; i < 3 && separated; ++i)
+        if (orient2dIn(pr.k, x.p[e], x.p[(e + 1) % 3], y.p[i]) * sg >= 0) separated = false;
+      if (separated) return false;
+    }
+  }
+  return true;
 }
 
 // Whether the open interiors of two coplanar triangles meet: no side line of either one
@@ -328,6 +335,39 @@ inline void sharedCorners(const uint32_t* ca, const uint32_t* cb, unsigned& ma, 
 #endif
 }
 
+#if defined(__GNUC__)
+#define STLTOPO_NOINLINE __attribute__((noinline))
+#else
+#define STLTOPO_NOINLINE
+#endif
+
+// neighboursApart for two triangles in one plane (a flat stretch of a mesh) that share the
+// side whose corners are a's bits in ma (d: b's third corner): a fold-over exactly when the
+// third corners lie on one side of the shared side, as testPair decides it (a's projection,
+// the shared corners in a's order). Out of line: the common path stays small.
+STLTOPO_NOINLINE bool flatSideApart(const Tri& a, const Tri& b, unsigned ma, int d) {
+  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};
+  const int s0 = kLow[ma], s1 = kLow[ma & (ma - 1)], c = kLow[~ma & 7];
+  const Projection pa = projectionOf(a.p[0], a.p[1], a.p[2]);
+  return orient2dIn(pa.k, a.p[s0], a.p[s1], a.p[c]) != orient2dIn(pa.k, a.p[s0], a.p[s1], b.p[d]);
+}
+
+// neighboursApart for two triangles in one plane that share the corner s (a's corner ia, b's
+// ib). Each lies in its closed wedge at s and fills it near s, so they share more than s
+// exactly when the wedges do, that is when a side ray of one lies in the other's closed wedge
+// (both are narrower than a half-plane).
+STLTOPO_NOINLINE bool flatCornerApart(const Tri& a, const Tri& b, int ia, int ib) {
+  const Projection pa = projectionOf(a.p[0], a.p[1], a.p[2]);
+  const float* s0 = a.p[ia];
+  const float *a1 = a.p[(ia + 1) % 3], *a2 = a.p[(ia + 2) % 3], *b1 = b.p[(ib + 1) % 3], *b2 = b.p[(ib + 2) % 3];
+  auto inWedge = [&](const float* u, const float* v, int sg, const float* x) {
+    return orient2dIn(pa.k, s0, u, x) * sg >= 0 && orient2dIn(pa.k, s0, x, v) * sg >= 0;
+  };
+  const int sgA = orient2dIn(pa.k, s0, a1, a2), sgB = orient2dIn(pa.k, s0, b1, b2);
+  return !(inWedge(a1, a2, sgA, b1) || inWedge(a1, a2, sgA, b2) || inWedge(b1, b2, sgB, a1) ||
+           inWedge(b1, b2, sgB, a2));
+}
+
 // Whether testPair(a, b) returns -1 for a reason the corners they share (ma, mb:
 // sharedCorners) decide with few exact signs, for the neighbours that make up nearly all the candidate pairs of a mesh: all
 // three corners shared; a shared side with the fourth corners off each other's plane; one
@@ -341,7 +381,7 @@ bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
   if (ma == 7) return true;
   if (ma & (ma - 1)) {  // a shared side: apart unless b's third corner is in a's plane
     const int d = kLow[~mb & 7];
-    return pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[d]) != 0;
+    return pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[d]) != 0 || flatSideApart(a, b, ma, d);
   }
   const int ia = kLow[ma], ib = kLow[mb];
   const int b1 = kNext[ib], b2 = kPrev[ib];
@@ -349,9 +389,12 @@ bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
   const int sb1 = planeA.side(b.p[b1]), sb2 = planeA.side(b.p[b2]);
   if (sb1 * sb2 > 0) return true;
   const int a1 = kNext[ia], a2 = kPrev[ia];
-  const pred::Plane planeB(b.p[0], b.p[1], b.p[2]);
-  const int sa1 = planeB.side(a.p[a1]), sa2 = planeB.side(a.p[a2]);
-  if (sa1 * sa2 > 0) return true;
+  int sa1 = 0, sa2 = 0;  // with b in a's plane (a flat stretch), a is in b's
+  if (sb1 != 0 || sb2 != 0) {
+    const pred::Plane planeB(b.p[0], b.p[1], b.p[2]);
+    sa1 = planeB.side(a.p[a1]), sa2 = planeB.side(a.p[a2]);
+    if (sa1 * sa2 > 0) return true;
+  }
   if (sb1 * sb2 < 0 && sa1 * sa2 < 0) {
     // Each straddles the other's plane strictly: the planes meet in a line L through the
     // shared corner s, and a meets L in a segment [s, X] (X inside a's opposite side), b in
@@ -364,6 +407,7 @@ bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
     const float* s0 = a.p[ia];
     return pred::orient3d(s0, a.p[a1], b.p[b1], b.p[b2]) != pred::orient3d(s0, a.p[a1], b.p[b1], a.p[a2]);
   }
+  if (sb1 == 0 && sb2 == 0) return flatCornerApart(a, b, ia, ib);
   return !(segTri(b, a.p[a1], a.p[a2], sa1, sa2) || segTri(a, b.p[b1], b.p[b2], sb1, sb2));
 }
 

@@ -21,6 +21,12 @@ int orient3dExact(const float* a, const float* b, const float* c, const float* d
 int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy);
 int orient3dExpansion(const float* a, const float* b, const float* c, const float* d);
 
+// A zero bound decides exactly too (zeroTerms): the bound is 0 only when every product in the
+// determinant is 0, and a computed product of float32 differences is 0 only when a factor is
+// exactly 0 (a difference of two floats rounds to 0 only when they are equal, and no product
+// of at most three of them underflows), so the exact determinant is 0. Points on one axis-
+// aligned line or plane (a flat face of a CAD part) are decided so without the exact stage.
+
 // Sign of (b - a) x (c - a) in the plane (ax, ay) ...: > 0 when a, b, c turn
 // counter-clockwise.
 inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -29,6 +35,7 @@ inline int orient2d(double ax, double ay, double bx, double by, double cx, doubl
   const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));  // (3 + 16 eps) eps
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  if (bound == 0) return 0;  // zeroTerms
   return orient2dExact(ax, ay, bx, by, cx, cy);
 }
 
@@ -45,6 +52,7 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
   const double bound = 7.7715611723761027e-16 * perm;  // (7 + 56 eps) eps
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  if (bound == 0) return 0;  // zeroTerms
   return orient3dExact(a, b, c, d);
 }
 
@@ -68,6 +76,7 @@ struct Plane {
     const double bound = 7.7715611723761027e-16 * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz);
     if (det > bound) return 1;
     if (-det > bound) return -1;
+    if (bound == 0) return 0;  // zeroTerms
     return orient3dExact(a, b, c, d);
   }
 };

@@ -570,7 +570,7 @@ TEST(Geometry, ExactStagesAgree) {
     };
     std::array<float, 3> a, b, c, d;
     pt(a), pt(b), pt(c), pt(d);
-    switch (round % 4) {
+    switch (round % 5) {
       case 0: break;  // random
       case 1:         // d in the plane of a, b, c (up to float rounding)
         for (int k = 0; k < 3; ++k) d[k] = a[k] + 0.5f * (b[k] - a[k]) + 0.25f * (c[k] - a[k]);
@@ -583,15 +583,31 @@ TEST(Geometry, ExactStagesAgree) {
         for (auto* p : {&a, &b, &c, &d})
           for (float& x : *p) x = std::ldexp(float(int(rng() % 5) - 2), scale);
         break;
+      case 4: {  // in one axis-aligned plane, often on one axis-aligned line: the filters'
+                 // zero-bound shortcut (an exact 0 without the exact stage)
+        const int k = int(rng() % 3);
+        for (auto* p : {&b, &c, &d}) (*p)[k] = a[k];
+        if (rng() % 2)
+          for (auto* p : {&b, &d}) (*p)[(k + 1) % 3] = a[(k + 1) % 3];
+        if (rng() % 2) d = rng() % 2 ? a : b;
+        break;
+      }
     }
+    const stltopo::pred::Plane plane(a.data(), b.data(), c.data());
     const int e = stltopo::pred::orient3dExpansion(a.data(), b.data(), c.data(), d.data());
     const int x = stltopo::pred::orient3dExact(a.data(), b.data(), c.data(), d.data());
     ASSERT_EQ(x, e) << "round " << round;
     const int f = stltopo::pred::orient3d(a.data(), b.data(), c.data(), d.data());
     ASSERT_EQ(f, e) << "round " << round;
+    ASSERT_EQ(plane.side(d.data()), e) << "round " << round;
     const int e2 = stltopo::pred::orient2dExpansion(a[0], a[1], b[0], b[1], d[0], d[1]);
     ASSERT_EQ(stltopo::pred::orient2dExact(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
     ASSERT_EQ(stltopo::pred::orient2d(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
+    for (int k = 1; k < 3; ++k) {
+      const int i = k, j = (k + 1) % 3;
+      const int e3 = stltopo::pred::orient2dExpansion(a[i], a[j], b[i], b[j], d[i], d[j]);
+      ASSERT_EQ(stltopo::pred::orient2d(a[i], a[j], b[i], b[j], d[i], d[j]), e3) << "round " << round;
+    }
     zeros += e == 0;
     ++compared;
   }
