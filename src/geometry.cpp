@@ -434,17 +434,6 @@ struct Node {
   uint32_t right;       // index of the right child; 0 for a leaf
 };
 
-struct Bvh {
-  Array<uint32_t> tri;  // sorted position -> triangle id
-  Array<Box> box;       // sorted position -> its box
-  Array<Node> nodes;
-};
-
-inline bool overlaps(const Box& a, const Box& b) {
-  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
-         b.lo[2] <= a.hi[2];
-}
-
 // The boxes of the sorted positions as six float arrays (lo x, y, z, hi x, y, z), each of
 // n + kLeaf entries: the ones past n are NaN, which overlaps nothing, so that kLeaf boxes can
 // be read from any position below n.
@@ -453,6 +442,24 @@ struct BoxColumns {
   size_t stride = 0;
   const float* col(int k) const { return v.data() + size_t(k) * stride; }
 };
+
+struct Bvh {
+  Array<uint32_t> tri;  // sorted position -> triangle id
+  Array<Box> box;       // sorted position -> its box (when not columnar)
+  BoxColumns columns;   // the same boxes as columns (when columnar: the intersection pass)
+  Array<Node> nodes;
+  Box boxAt(uint32_t i) const {
+    if (columns.stride == 0) return box[i];
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo[k] = columns.col(k)[i], b.hi[k] = columns.col(k + 3)[i];
+    return b;
+  }
+};
+
+inline bool overlaps(const Box& a, const Box& b) {
+  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
+         b.lo[2] <= a.hi[2];
+}
 
 // Bit i set when the box of position first + i (i < kLeaf) overlaps `b` (closed boxes, as
 // overlaps()); positions past the leaf's end must be masked off by the caller.
@@ -522,23 +529,32 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
       m.box.hi[k] = std::max(l.hi[k], r.hi[k]);
     }
   } else {
-    Box b = bvh.box[first];
-    for (uint32_t i = first + 1; i < end; ++i)
+    Box b = bvh.boxAt(first);
+    for (uint32_t i = first + 1; i < end; ++i) {
+      const Box c = bvh.boxAt(i);
       for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min(b.lo[k], bvh.box[i].lo[k]);
-        b.hi[k] = std::max(b.hi[k], bvh.box[i].hi[k]);
+        b.lo[k] = std::min(b.lo[k], c.lo[k]);
+        b.hi[k] = std::max(b.hi[k], c.hi[k]);
       }
+    }
     n.box = b;
   }
   return id;
 }
 
 // Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
-Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh) {
+// columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box.
+Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar) {
   const uint32_t nt = w.mesh.nTriangles();
   uint32_t n = 0;
   for (uint32_t t = 0; t < nt; ++t) n += valid[t];
-  if (!bvh.tri.resize(n) || !bvh.box.resize(n)) return oom("the intersection hierarchy");
+  if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
+  if (columnar) {
+    bvh.columns.stride = size_t(n) + kLeaf;
+    if (!bvh.columns.v.assign(6 * bvh.columns.stride, std::nanf(""))) return oom("the intersection hierarchy");
+  } else if (!bvh.box.resize(n)) {
+    return oom("the intersection hierarchy");
+  }
   if (n == 0) return {};
   Array<uint64_t> keys, tmp;
   if (!keys.resize(n) || !tmp.resize(n)) return oom("the intersection hierarchy");
@@ -578,11 +594,19 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh) {
   for (uint32_t j = 0; j < n; ++j) {
     const uint32_t t = uint32_t(keys[j]);
     bvh.tri[j] = t;
-    Box& b = bvh.box[j];
+    Box b;
     for (int k = 0; k < 3; ++k) {
       const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
       b.lo[k] = std::min({a, c, d});
       b.hi[k] = std::max({a, c, d});
+    }
+    if (columnar) {
+      for (int k = 0; k < 3; ++k) {
+        bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
+        bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+      }
+    } else {
+      bvh.box[j] = b;
     }
   }
   keys.release();
@@ -628,7 +652,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     valid[t] = 0;
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  if (Status s = buildBvh(w, valid, bvh, true); !s.ok()) return s;
   valid.release();
   const uint32_t n = uint32_t(bvh.tri.size());
   // The corners of each sorted position, welded (one more entry: sharedCorners reads four),
@@ -638,15 +662,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
   corner[3 * size_t(n)] = 0;
-  BoxColumns boxes;
-  boxes.stride = size_t(n) + kLeaf;
-  if (!boxes.v.assign(6 * boxes.stride, std::nanf(""))) return oom("the intersection hierarchy");
-  for (uint32_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) {
-      boxes.v[size_t(k) * boxes.stride + i] = bvh.box[i].lo[k];
-      boxes.v[size_t(k + 3) * boxes.stride + i] = bvh.box[i].hi[k];
-    }
-  bvh.box.release();
+  const BoxColumns& boxes = bvh.columns;
   auto triAt = [&](uint32_t q) {
     Tri x;
     for (int c = 0; c < 3; ++c) {
@@ -881,7 +897,7 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
     valid[t] = s != kInvalid && candidate[s];
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  if (Status s = buildBvh(w, valid, bvh, false); !s.ok()) return s;
   valid.release();
   // One ray per candidate shell, from its lowest triangle's first corner; the parity of
   // the crossings per other shell says whether that shell contains it.
