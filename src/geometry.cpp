@@ -4,7 +4,11 @@
 // Every decision goes through the exact predicates of predicates.h. Constructed points
 // (an intersection's "point") are the only floating-point results, and decide nothing.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "geometry_detail.h"
 #include "predicates.h"
@@ -115,17 +119,24 @@ bool segTri(const Tri& t, const float* p, const float* q) {
   return segTri(t, p, q, pred::orient3d(t.p[0], t.p[1], t.p[2], p), pred::orient3d(t.p[0], t.p[1], t.p[2], q));
 }
 
-// Closed coplanar triangles (both in one plane).
+// Closed coplanar triangles (both in one plane): whether they meet. Two disjoint triangles
+// in a plane lie strictly on either side of the line of one of their sides (separating
+// axes), and meeting ones do not, so they meet exactly when no side line of either one has
+// the whole other triangle strictly on its outer side.
 bool triTri2d(const Projection& pr, const Tri& a, const Tri& b) {
-  for (int i = 0; i < 3; ++i)
-    if (pointInTri2d(pr, a, b.p[i])) return true;
-  Projection pb{pr.k, orient2dIn(pr.k, b.p[0], b.p[1], b.p[2])};
-  for (int i = 0; i < 3; ++i)
-    if (pointInTri2d(pb, b, a.p[i])) return true;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (segSeg2d(pr.k, a.p[i], a.p[(i + 1) % 3], b.p[j], b.p[(j + 1) % 3])) return true;
-  return false;
+  const Tri* t[2] = {&a, &b};
+  for (int s = 0; s < 2; ++s) {
+    const Tri& x = *t[s];
+    const Tri& y = *t[1 - s];
+    const int sg = s == 0 ? pr.sign : orient2dIn(pr.k, x.p[0], x.p[1], x.p[2]);
+    for (int e = 0; e < 3; ++e) {
+      bool separated = true;
+      for (int i = 0; i < 3 && separated; ++i)
+        if (orient2dIn(pr.k, x.p[e], x.p[(e + 1) % 3], y.p[i]) * sg >= 0) separated = false;
+      if (separated) return false;
+    }
+  }
+  return true;
 }
 
 // Whether the open interiors of two coplanar triangles meet: no side line of either one
@@ -209,6 +220,30 @@ void intersectionPoint(const Tri& a, const Tri& b, bool coplanar, int k, double 
   for (int c = 0; c < 3; ++c) out[c] = n ? sum[c] / n : double(a.p[0][c]);
 }
 
+// Whether two closed triangles with no corner in the other's plane, each with corners on
+// both sides of the other's plane, meet (after Guigue and Devillers, "Faster triangle-triangle
+// intersection tests", 2003, with exact signs): each meets the other's plane in a segment on
+// the line L where the planes meet, and the two segments overlap unless one of two
+// orientations says that one lies wholly before the other along L. (The signs were checked
+// against the side-by-side test on random integer triangles, exactly; the tests compare
+// the pass with an integer brute force.) sa: a's corners against
+// b's plane, sb: b's against a's (orient3d signs, none 0).
+bool strictStraddlesMeet(const Tri& a, const Tri& b, const int sa[3], const int sb[3]) {
+  // The corner alone on its side: the one whose sign differs from the next two's.
+  const int i = sa[1] == sa[2] ? 0 : sa[0] == sa[2] ? 1 : 2;
+  const int j = sb[1] == sb[2] ? 0 : sb[0] == sb[2] ? 1 : 2;
+  // Each triangle from its lone corner, the other two swapped when the other triangle's lone
+  // corner lies on the negative side of its plane (flipping the plane puts it on the positive).
+  const float* p = a.p[i];
+  const float* q = a.p[(i + (sb[j] > 0 ? 1 : 2)) % 3];
+  const float* r = a.p[(i + (sb[j] > 0 ? 2 : 1)) % 3];
+  const float* u = b.p[j];
+  const float* v = b.p[(j + (sa[i] > 0 ? 1 : 2)) % 3];
+  const float* w = b.p[(j + (sa[i] > 0 ? 2 : 1)) % 3];
+  if (pred::orient3d(p, q, u, v) > 0) return false;
+  return pred::orient3d(p, r, u, w) >= 0;
+}
+
 // Tests one pair. Returns -1 when they do not intersect (or share all three corners),
 // else the IntersectionKind; `point` gets a point of the intersection.
 int testPair(const Tri& a, const Tri& b, double point[3]) {
@@ -257,6 +292,8 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
     hit = segTri(b, a.p[a1], a.p[a2], sa[a1], sa[a2]) || segTri(a, b.p[b1], b.p[b2], sb[b1], sb[b2]);
   } else if (coplanar) {
     hit = triTri2d(pa, a, b);
+  } else if (sa[0] && sa[1] && sa[2] && sb[0] && sb[1] && sb[2]) {
+    hit = strictStraddlesMeet(a, b, sa, sb);
   } else {
     // Non-coplanar closed triangles meet iff a side of one meets the other.
     hit = false;
@@ -274,6 +311,104 @@ int testPair(const Tri& a, const Tri& b, double point[3]) {
   }
   intersectionPoint(a, b, coplanar, pa.k, point);
   return int(kind);
+}
+
+// The corners two triangles share, by welded id (three distinct ids each, from arrays with
+// at least one more element after them): bit i of ma when a's corner i is one of b's, bit j
+// of mb when b's corner j is one of a's.
+inline void sharedCorners(const uint32_t* ca, const uint32_t* cb, unsigned& ma, unsigned& mb) {
+#if defined(__SSE2__)
+  const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cb));  // the 4th lane is not b's
+  const unsigned e0 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[0])), vb)))) & 7;
+  const unsigned e1 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[1])), vb)))) & 7;
+  const unsigned e2 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[2])), vb)))) & 7;
+  mb = e0 | e1 | e2;
+  ma = unsigned(e0 != 0) | unsigned(e1 != 0) << 1 | unsigned(e2 != 0) << 2;
+#else
+  ma = mb = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const unsigned eq = ca[i] == cb[j];
+      ma |= eq << i;
+      mb |= eq << j;
+    }
+#endif
+}
+
+#if defined(__GNUC__)
+#define STLTOPO_NOINLINE __attribute__((noinline))
+#else
+#define STLTOPO_NOINLINE
+#endif
+
+// neighboursApart for two triangles in one plane (a flat stretch of a mesh) that share the
+// side whose corners are a's bits in ma (d: b's third corner): a fold-over exactly when the
+// third corners lie on one side of the shared side, as testPair decides it (a's projection,
+// the shared corners in a's order). Out of line: the common path stays small.
+STLTOPO_NOINLINE bool flatSideApart(const Tri& a, const Tri& b, unsigned ma, int d) {
+  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};
+  const int s0 = kLow[ma], s1 = kLow[ma & (ma - 1)], c = kLow[~ma & 7];
+  const Projection pa = projectionOf(a.p[0], a.p[1], a.p[2]);
+  return orient2dIn(pa.k, a.p[s0], a.p[s1], a.p[c]) != orient2dIn(pa.k, a.p[s0], a.p[s1], b.p[d]);
+}
+
+// neighboursApart for two triangles in one plane that share the corner s (a's corner ia, b's
+// ib). Each lies in its closed wedge at s and fills it near s, so they share more than s
+// exactly when the wedges do, that is when a side ray of one lies in the other's closed wedge
+// (both are narrower than a half-plane).
+STLTOPO_NOINLINE bool flatCornerApart(const Tri& a, const Tri& b, int ia, int ib) {
+  const Projection pa = projectionOf(a.p[0], a.p[1], a.p[2]);
+  const float* s0 = a.p[ia];
+  const float *a1 = a.p[(ia + 1) % 3], *a2 = a.p[(ia + 2) % 3], *b1 = b.p[(ib + 1) % 3], *b2 = b.p[(ib + 2) % 3];
+  auto inWedge = [&](const float* u, const float* v, int sg, const float* x) {
+    return orient2dIn(pa.k, s0, u, x) * sg >= 0 && orient2dIn(pa.k, s0, x, v) * sg >= 0;
+  };
+  const int sgA = orient2dIn(pa.k, s0, a1, a2), sgB = orient2dIn(pa.k, s0, b1, b2);
+  return !(inWedge(a1, a2, sgA, b1) || inWedge(a1, a2, sgA, b2) || inWedge(b1, b2, sgB, a1) ||
+           inWedge(b1, b2, sgB, a2));
+}
+
+// Whether testPair(a, b) returns -1 for a reason the corners they share (ma, mb:
+// sharedCorners) decide with few exact signs, for the neighbours that make up nearly all the candidate pairs of a mesh: all
+// three corners shared; a shared side with the fourth corners off each other's plane; one
+// shared corner with the side opposite it of neither triangle meeting the other (the same
+// sign tests, in the same order, as testPair's). False says nothing: testPair decides (it
+// finds a pair that is not rejected here again, so the kind and the point are its own).
+bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
+  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};  // the lowest set bit
+  static constexpr int8_t kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};  // (i + 1) % 3, (i + 2) % 3
+  if (ma == 0) return false;
+  if (ma == 7) return true;
+  if (ma & (ma - 1)) {  // a shared side: apart unless b's third corner is in a's plane
+    const int d = kLow[~mb & 7];
+    return pred::orient3d(a.p[0], a.p[1], a.p[2], b.p[d]) != 0 || flatSideApart(a, b, ma, d);
+  }
+  const int ia = kLow[ma], ib = kLow[mb];
+  const int b1 = kNext[ib], b2 = kPrev[ib];
+  const pred::Plane planeA(a.p[0], a.p[1], a.p[2]);
+  const int sb1 = planeA.side(b.p[b1]), sb2 = planeA.side(b.p[b2]);
+  if (sb1 * sb2 > 0) return true;
+  const int a1 = kNext[ia], a2 = kPrev[ia];
+  int sa1 = 0, sa2 = 0;  // with b in a's plane (a flat stretch), a is in b's
+  if (sb1 != 0 || sb2 != 0) {
+    const pred::Plane planeB(b.p[0], b.p[1], b.p[2]);
+    sa1 = planeB.side(a.p[a1]), sa2 = planeB.side(a.p[a2]);
+    if (sa1 * sa2 > 0) return true;
+  }
+  if (sb1 * sb2 < 0 && sa1 * sa2 < 0) {
+    // Each straddles the other's plane strictly: the planes meet in a line L through the
+    // shared corner s, and a meets L in a segment [s, X] (X inside a's opposite side), b in
+    // [s, Y] (Y inside b's). They share more than s exactly when X and Y lie on one side of s
+    // on L, that is when Y lies on the side of line s a1 (in a's plane) that a2 lies on; or
+    // on the side of the plane (s, a1, b1) that a2 lies on (it is not a's plane, as b1 is off
+    // it). Y lies strictly between b1, which is in that plane, and b2: on b2's side. Neither
+    // sign is 0 (a2 off the plane; b2 in it would put L = line s a1 in b's plane, but a1 is
+    // off it). This is what testPair's segTri(b, a1, a2) || segTri(a, b1, b2) finds then.
+    const float* s0 = a.p[ia];
+    return pred::orient3d(s0, a.p[a1], b.p[b1], b.p[b2]) != pred::orient3d(s0, a.p[a1], b.p[b1], a.p[a2]);
+  }
+  if (sb1 == 0 && sb2 == 0) return flatCornerApart(a, b, ia, ib);
+  return !(segTri(b, a.p[a1], a.p[a2], sa1, sa2) || segTri(a, b.p[b1], b.p[b2], sb1, sb2));
 }
 
 }  // namespace
@@ -299,15 +434,70 @@ struct Node {
   uint32_t right;       // index of the right child; 0 for a leaf
 };
 
+// The boxes of the sorted positions as six float arrays (lo x, y, z, hi x, y, z), each of
+// n + kLeaf entries: the ones past n are NaN, which overlaps nothing, so that kLeaf boxes can
+// be read from any position below n.
+struct BoxColumns {
+  Array<float> v;
+  size_t stride = 0;
+  const float* col(int k) const { return v.data() + size_t(k) * stride; }
+};
+
 struct Bvh {
   Array<uint32_t> tri;  // sorted position -> triangle id
-  Array<Box> box;       // sorted position -> its box
+  Array<Box> box;       // sorted position -> its box (when not columnar)
+  BoxColumns columns;   // the same boxes as columns (when columnar: the intersection pass)
   Array<Node> nodes;
+  Box boxAt(uint32_t i) const {
+    if (columns.stride == 0) return box[i];
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo[k] = columns.col(k)[i], b.hi[k] = columns.col(k + 3)[i];
+    return b;
+  }
 };
 
 inline bool overlaps(const Box& a, const Box& b) {
   return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
          b.lo[2] <= a.hi[2];
+}
+
+// Bit i set when the box of position first + i (i < kLeaf) overlaps `b` (closed boxes, as
+// overlaps()); positions past the leaf's end must be masked off by the caller.
+inline uint32_t overlapMask(const BoxColumns& c, uint32_t first, const Box& b) {
+  static_assert(kLeaf == 8, "two groups of four");
+#if defined(__SSE2__)
+  uint32_t m = 0;
+  for (int half = 0; half < 2; ++half) {
+    const size_t q = first + 4 * size_t(half);
+    __m128 ok = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(c.col(0) + q), _mm_set1_ps(b.hi[0])),
+                           _mm_cmpge_ps(_mm_loadu_ps(c.col(3) + q), _mm_set1_ps(b.lo[0])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_loadu_ps(c.col(1) + q), _mm_set1_ps(b.hi[1])));
+    ok = _mm_and_ps(ok, _mm_cmpge_ps(_mm_loadu_ps(c.col(4) + q), _mm_set1_ps(b.lo[1])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_loadu_ps(c.col(2) + q), _mm_set1_ps(b.hi[2])));
+    ok = _mm_and_ps(ok, _mm_cmpge_ps(_mm_loadu_ps(c.col(5) + q), _mm_set1_ps(b.lo[2])));
+    m |= uint32_t(_mm_movemask_ps(ok)) << (4 * half);
+  }
+  return m;
+#else
+  uint32_t m = 0;
+  for (uint32_t i = 0; i < kLeaf; ++i) {
+    const size_t q = first + i;
+    m |= uint32_t((c.col(0)[q] <= b.hi[0]) & (c.col(3)[q] >= b.lo[0]) & (c.col(1)[q] <= b.hi[1]) &
+                  (c.col(4)[q] >= b.lo[1]) & (c.col(2)[q] <= b.hi[2]) & (c.col(5)[q] >= b.lo[2]))
+         << i;
+  }
+  return m;
+#endif
+}
+
+inline int lowestBit(uint32_t m) {
+#if defined(__GNUC__)
+  return __builtin_ctz(m);
+#else
+  int i = 0;
+  while (!(m & 1)) m >>= 1, ++i;
+  return i;
+#endif
 }
 
 uint32_t spread10(uint32_t x) {  // 10 bits to every third of 30
@@ -339,23 +529,32 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
       m.box.hi[k] = std::max(l.hi[k], r.hi[k]);
     }
   } else {
-    Box b = bvh.box[first];
-    for (uint32_t i = first + 1; i < end; ++i)
+    Box b = bvh.boxAt(first);
+    for (uint32_t i = first + 1; i < end; ++i) {
+      const Box c = bvh.boxAt(i);
       for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min(b.lo[k], bvh.box[i].lo[k]);
-        b.hi[k] = std::max(b.hi[k], bvh.box[i].hi[k]);
+        b.lo[k] = std::min(b.lo[k], c.lo[k]);
+        b.hi[k] = std::max(b.hi[k], c.hi[k]);
       }
+    }
     n.box = b;
   }
   return id;
 }
 
 // Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
-Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh) {
+// columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box.
+Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar) {
   const uint32_t nt = w.mesh.nTriangles();
   uint32_t n = 0;
   for (uint32_t t = 0; t < nt; ++t) n += valid[t];
-  if (!bvh.tri.resize(n) || !bvh.box.resize(n)) return oom("the intersection hierarchy");
+  if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
+  if (columnar) {
+    bvh.columns.stride = size_t(n) + kLeaf;
+    if (!bvh.columns.v.assign(6 * bvh.columns.stride, std::nanf(""))) return oom("the intersection hierarchy");
+  } else if (!bvh.box.resize(n)) {
+    return oom("the intersection hierarchy");
+  }
   if (n == 0) return {};
   Array<uint64_t> keys, tmp;
   if (!keys.resize(n) || !tmp.resize(n)) return oom("the intersection hierarchy");
@@ -395,11 +594,19 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh) {
   for (uint32_t j = 0; j < n; ++j) {
     const uint32_t t = uint32_t(keys[j]);
     bvh.tri[j] = t;
-    Box& b = bvh.box[j];
+    Box b;
     for (int k = 0; k < 3; ++k) {
       const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
       b.lo[k] = std::min({a, c, d});
       b.hi[k] = std::max({a, c, d});
+    }
+    if (columnar) {
+      for (int k = 0; k < 3; ++k) {
+        bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
+        bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+      }
+    } else {
+      bvh.box[j] = b;
     }
   }
   keys.release();
@@ -445,15 +652,17 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     valid[t] = 0;
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  if (Status s = buildBvh(w, valid, bvh, true); !s.ok()) return s;
   valid.release();
   const uint32_t n = uint32_t(bvh.tri.size());
-  // The corners of each sorted position, welded: the pair tests read only these, the boxes
-  // and the positions.
+  // The corners of each sorted position, welded (one more entry: sharedCorners reads four),
+  // and the boxes as columns: the pair tests read only these and the positions.
   Array<uint32_t> corner;
-  if (!corner.resize(3 * size_t(n))) return oom("the intersection hierarchy");
+  if (!corner.resize(3 * size_t(n) + 1)) return oom("the intersection hierarchy");
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
+  corner[3 * size_t(n)] = 0;
+  const BoxColumns& boxes = bvh.columns;
   auto triAt = [&](uint32_t q) {
     Tri x;
     for (int c = 0; c < 3; ++c) {
@@ -462,6 +671,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     }
     return x;
   };
+  auto boxAt = [&](uint32_t q) {
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo[k] = boxes.col(k)[q], b.hi[k] = boxes.col(k + 3)[q];
+    return b;
+  };
   const uint64_t maxFound = options.maxPairs;
   const uint64_t maxWork = 8 * options.maxPairs + 64 * uint64_t(nt);
   uint64_t work = 0, sinceProgress = 0;
@@ -469,13 +683,17 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   bool stop = false, cancelled = false, outOfMemory = false;
   // Tests sorted positions p < q whose boxes overlap.
   auto testPositions = [&](uint32_t p, uint32_t q) {
-    if (!overlaps(bvh.box[p], bvh.box[q])) return;
     if (++work > maxWork) {
       stop = true;
       return;
     }
+    unsigned ma, mb;
+    sharedCorners(&corner[3 * size_t(p)], &corner[3 * size_t(q)], ma, mb);
+    if (ma == 7) return;  // one duplicate group (testPair: -1)
+    const Tri a = triAt(p), b = triAt(q);
+    if (ma && neighboursApart(a, b, ma, mb)) return;
     Found f;
-    const int kind = testPair(triAt(p), triAt(q), f.point);
+    const int kind = testPair(a, b, f.point);
     if (kind < 0) return;
     const uint32_t ti = bvh.tri[p], tj = bvh.tri[q];
     f.key = ti < tj ? uint64_t(ti) << 32 | tj : uint64_t(tj) << 32 | ti;
@@ -485,6 +703,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       return;
     }
     if (found.size() >= maxFound) stop = true;
+  };
+  // Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
+  // p's), in increasing order, until the pass stops.
+  auto testMask = [&](uint32_t p, uint32_t first, uint32_t mask) {
+    for (; mask && !stop; mask &= mask - 1) testPositions(p, first + uint32_t(lowestBit(mask)));
   };
   // A self-join of the hierarchy: (node, node) pairs on an explicit stack; a pair of the
   // same node stands for the pairs inside it. Each pair of positions is tested once. A pop
@@ -507,21 +730,27 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
         todo[sp++] = uint64_t(r) << 32 | r;
         todo[sp++] = uint64_t(l) << 32 | l;
       } else {
-        for (uint32_t p = A.first; p < A.end && !stop; ++p)
-          for (uint32_t q = p + 1; q < A.end && !stop; ++q) testPositions(p, q);
+        // The pairs p < q inside the leaf, p-major, as two nested loops over positions.
+        const uint32_t all = (1u << (A.end - A.first)) - 1;
+        for (uint32_t p = A.first; p < A.end && !stop; ++p) {
+          const uint32_t later = all & ~((2u << (p - A.first)) - 1);
+          if (later) testMask(p, A.first, overlapMask(boxes, A.first, boxAt(p)) & later);
+        }
         sinceProgress += A.end - A.first;
       }
       continue;
     }
     if (!overlaps(A.box, B.box)) continue;
     if (!A.right && !B.right) {
-      // Only the members of each leaf whose box meets the other leaf's box can pair.
-      uint32_t qs[kLeaf], nq = 0;
-      for (uint32_t q = B.first; q < B.end; ++q)
-        if (overlaps(bvh.box[q], A.box)) qs[nq++] = q;
-      for (uint32_t p = A.first; p < A.end && nq && !stop; ++p) {
-        if (!overlaps(bvh.box[p], B.box)) continue;
-        for (uint32_t k = 0; k < nq && !stop; ++k) testPositions(p, qs[k]);
+      // Only the members of each leaf whose box meets the other leaf's box can pair; p-major,
+      // q increasing, as two nested loops over positions.
+      const uint32_t qs = overlapMask(boxes, B.first, A.box) & ((1u << (B.end - B.first)) - 1);
+      if (qs) {
+        uint32_t ps = overlapMask(boxes, A.first, B.box) & ((1u << (A.end - A.first)) - 1);
+        for (; ps && !stop; ps &= ps - 1) {
+          const uint32_t p = A.first + uint32_t(lowestBit(ps));
+          testMask(p, B.first, overlapMask(boxes, B.first, boxAt(p)) & qs);
+        }
       }
       sinceProgress += A.end - A.first;
     } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
@@ -635,6 +864,13 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
     nCand += candidate[s];
   }
   if (nCand == 0) return {};
+  if (nCand == 1) {
+    // One candidate: no other candidate's triangles can surround it (the rays below only
+    // count the other candidates' triangles), so it is at the top level; no hierarchy needed.
+    for (uint32_t s = 0; s < ns; ++s)
+      if (candidate[s]) out.depth[s] = 0;
+    return {};
+  }
   // Shells that share a vertex are never nested: per vertex, its first shell; a pair is
   // recorded when a vertex is used by another one.
   Array<uint32_t> vshell;
@@ -661,7 +897,7 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
     valid[t] = s != kInvalid && candidate[s];
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh); !s.ok()) return s;
+  if (Status s = buildBvh(w, valid, bvh, false); !s.ok()) return s;
   valid.release();
   // One ray per candidate shell, from its lowest triangle's first corner; the parity of
   // the crossings per other shell says whether that shell contains it.

@@ -21,6 +21,12 @@ int orient3dExact(const float* a, const float* b, const float* c, const float* d
 int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy);
 int orient3dExpansion(const float* a, const float* b, const float* c, const float* d);
 
+// A zero bound decides exactly too (zeroTerms): the bound is 0 only when every product in the
+// determinant is 0, and a computed product of float32 differences is 0 only when a factor is
+// exactly 0 (a difference of two floats rounds to 0 only when they are equal, and no product
+// of at most three of them underflows), so the exact determinant is 0. Points on one axis-
+// aligned line or plane (a flat face of a CAD part) are decided so without the exact stage.
+
 // Sign of (b - a) x (c - a) in the plane (ax, ay) ...: > 0 when a, b, c turn
 // counter-clockwise.
 inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -29,6 +35,7 @@ inline int orient2d(double ax, double ay, double bx, double by, double cx, doubl
   const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));  // (3 + 16 eps) eps
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  if (bound == 0) return 0;  // zeroTerms
   return orient2dExact(ax, ay, bx, by, cx, cy);
 }
 
@@ -45,6 +52,7 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
   const double bound = 7.7715611723761027e-16 * perm;  // (7 + 56 eps) eps
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  if (bound == 0) return 0;  // zeroTerms
   return orient3dExact(a, b, c, d);
 }
 
@@ -53,20 +61,22 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
 // floating-point determinant and bound, and the same exact fallback.
 struct Plane {
   const float *a, *b, *c;
+  double ax, ay, az;  // a, as doubles (the same values)
   double nx, ny, nz, px, py, pz;
-  Plane(const float* a_, const float* b_, const float* c_) : a(a_), b(b_), c(c_) {
-    const double ux = double(b[0]) - a[0], uy = double(b[1]) - a[1], uz = double(b[2]) - a[2];
-    const double vx = double(c[0]) - a[0], vy = double(c[1]) - a[1], vz = double(c[2]) - a[2];
+  Plane(const float* a_, const float* b_, const float* c_) : a(a_), b(b_), c(c_), ax(a[0]), ay(a[1]), az(a[2]) {
+    const double ux = double(b[0]) - ax, uy = double(b[1]) - ay, uz = double(b[2]) - az;
+    const double vx = double(c[0]) - ax, vy = double(c[1]) - ay, vz = double(c[2]) - az;
     const double m1 = uy * vz, m2 = uz * vy, m3 = uz * vx, m4 = ux * vz, m5 = ux * vy, m6 = uy * vx;
     nx = m1 - m2, ny = m3 - m4, nz = m5 - m6;
     px = std::fabs(m1) + std::fabs(m2), py = std::fabs(m3) + std::fabs(m4), pz = std::fabs(m5) + std::fabs(m6);
   }
   int side(const float* d) const {
-    const double wx = double(d[0]) - a[0], wy = double(d[1]) - a[1], wz = double(d[2]) - a[2];
+    const double wx = double(d[0]) - ax, wy = double(d[1]) - ay, wz = double(d[2]) - az;
     const double det = wx * nx + wy * ny + wz * nz;
     const double bound = 7.7715611723761027e-16 * (std::fabs(wx) * px + std::fabs(wy) * py + std::fabs(wz) * pz);
     if (det > bound) return 1;
     if (-det > bound) return -1;
+    if (bound == 0) return 0;  // zeroTerms
     return orient3dExact(a, b, c, d);
   }
 };

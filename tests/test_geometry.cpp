@@ -10,7 +10,8 @@
 #include <set>
 #include <tuple>
 
-#include "predicates.h"  // private (src/): the exact stages, compared below
+#include "geometry_detail.h"  // private (src/): the pair test, compared below
+#include "predicates.h"       // private (src/): the exact stages, compared below
 #include "stl_gen.h"
 #include "stltopo/stltopo.h"
 
@@ -415,6 +416,118 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
   EXPECT_GT(dupGroups, 100u);
 }
 
+// Two triangles that share one corner and straddle each other's planes: they cross exactly
+// when the lines where each meets the other's plane leave the shared corner the same way.
+TEST(Geometry, SharedCornerStraddlesCrossOnlyWhenTheyLeaveTheCornerTheSameWay) {
+  Result same, opposite, touching;
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {1, 1, 2}, {1, 1, -2}}}}), same);
+  EXPECT_EQ(pairsOf(same.geo.intersections), std::vector<std::string>({"0 1 crossing"}));
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {-1, -1, 2}, {-1, -1, -2}}}}), opposite);
+  EXPECT_EQ(pairsOf(opposite.geo.intersections), std::vector<std::string>{});
+  // The far side of one ending exactly on the other's far side: still crossing (each has
+  // corners strictly on both sides of the other's plane).
+  analyze(tris({{{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}}}, {{{0, 0, 0}, {2, 2, 2}, {2, 2, -2}}}}), touching);
+  EXPECT_EQ(pairsOf(touching.geo.intersections), std::vector<std::string>({"0 1 crossing"}));
+}
+
+// The pass decides pairs that share corners (nearly every candidate pair of a mesh) by a few
+// exact signs before the full pair test; it must agree with that test on every pair: on an
+// integer grid (corners in the other's plane, on its sides) and with random coordinates
+// (strict straddles), sharing a corner or a side, with the kind and the point of the full test.
+TEST(Geometry, NeighbourPairsAgreeWithTheFullPairTest) {
+  std::mt19937 rng(2024);
+  std::map<std::string, int> seen;
+  for (int round = 0; round < 20000; ++round) {
+    const bool grid = round % 2 == 0;
+    const bool side = round % 3 == 0;
+    const bool flat = grid && round % 5 < 2;  // all in the plane z = 0
+    auto coord = [&]() -> float {
+      return grid ? float(int(rng() % 5) - 2) : float(int(rng() % 2001) - 1000) / 256.0f;
+    };
+    auto point = [&]() -> std::array<float, 3> { return {coord(), coord(), flat ? 0.0f : coord()}; };
+    std::array<float, 3> s0 = point(), s1 = point(), a1 = point(), a2 = point(), b2 = point();
+    // a = (s0, a1, a2), b = (s0, s1, b2) or, sharing the side s0 a1, (a1, s0, b2); the corner
+    // order of b varies.
+    std::array<std::array<float, 3>, 3> ta{{s0, a1, a2}};
+    std::array<std::array<float, 3>, 3> tb = side ? std::array<std::array<float, 3>, 3>{{a1, s0, b2}}
+                                                  : std::array<std::array<float, 3>, 3>{{s0, s1, b2}};
+    std::rotate(tb.begin(), tb.begin() + rng() % 3, tb.end());
+    Soup soup = tris({ta, tb});
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+    stltopo::Topology topo;
+    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+    stltopo::TriangleChecks checks;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
+    if (!checks.zeroArea.empty() || topo.nDegenerate || checks.nDuplicateTriangles) continue;
+    stltopo::Intersections x;
+    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
+    stltopo::geometry_detail::Tri t[2];
+    for (int i = 0; i < 2; ++i)
+      for (int c = 0; c < 3; ++c) {
+        t[i].v[c] = mesh.triangles[3 * i + c];
+        t[i].p[c] = mesh.positions.data() + 3 * size_t(t[i].v[c]);
+      }
+    int shared = 0;
+    for (uint32_t u : t[0].v)
+      for (uint32_t v : t[1].v) shared += u == v;
+    double p01[3], p10[3];
+    const int k01 = stltopo::geometry_detail::trianglePairTest(t[0], t[1], p01);
+    const int k10 = stltopo::geometry_detail::trianglePairTest(t[1], t[0], p10);
+    ASSERT_EQ(k01, k10) << "round " << round;
+    ASSERT_EQ(x.nPairs(), k01 < 0 ? 0u : 1u) << "round " << round << ", sharing " << shared;
+    if (k01 >= 0) {
+      ASSERT_EQ(int(x.kinds[0]), k01) << "round " << round;
+      const bool same01 = std::equal(p01, p01 + 3, x.points.data()), same10 = std::equal(p10, p10 + 3, x.points.data());
+      ASSERT_TRUE(same01 || same10) << "round " << round;
+    }
+    ++seen[std::to_string(shared) + (k01 < 0 ? " apart" : std::string(" ") + stltopo::intersectionKindName(stltopo::IntersectionKind(k01)))];
+  }
+  // Every outcome, often: fold-overs across a side, and crossings, touchings, coplanar
+  // overlaps and misses at a corner.
+  for (const char* k : {"2 apart", "2 coplanar", "1 apart", "1 crossing", "1 touching", "1 coplanar"})
+    EXPECT_GT(seen[k], 100) << k;
+}
+
+// Triangles with no shared corner whose corners lie off each other's planes (the pass's
+// strict-straddle test) and, on a coarse grid, on them (the side-by-side test), against the
+// integer brute force; kinds included.
+TEST(Geometry, UnsharedPairsAgainstIntegerBruteForce) {
+  std::mt19937 rng(777);
+  std::map<std::string, int> kinds;
+  for (int round = 0; round < 4000; ++round) {
+    const int range = round % 4 == 0 ? 3 : 60;  // -range..range
+    const int nt = 2 + int(rng() % 3);
+    std::vector<std::array<P, 3>> t;
+    Soup soup;
+    for (int i = 0; i < nt; ++i) {
+      std::array<P, 3> x;
+      for (auto& c : x)
+        for (auto& k : c) k = int64_t(rng() % (2 * range + 1)) - range;
+      t.push_back(x);
+      uint32_t b = uint32_t(soup.v.size());
+      for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
+      soup.f.push_back({b, b + 1, b + 2});
+    }
+    Brute want = brute(t);
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+    stltopo::Topology topo;
+    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+    stltopo::TriangleChecks checks;
+    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
+    stltopo::Intersections x;
+    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
+    std::set<std::tuple<uint32_t, uint32_t, std::string>> got;
+    for (size_t i = 0; i < x.nPairs(); ++i)
+      got.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    ASSERT_EQ(got, want.pairs) << "round " << round;
+    for (auto& g : got) ++kinds[std::get<2>(g)];
+  }
+  EXPECT_GT(kinds["crossing"], 500);
+  EXPECT_GT(kinds["touching"], 30);
+}
+
 // The exact predicates where floating point alone fails: coordinates far apart in scale.
 TEST(Geometry, PredicatesAreExactAcrossScales) {
   // A triangle in the plane z = 0 with huge coordinates, and a point 2^-20 above it
@@ -457,7 +570,7 @@ TEST(Geometry, ExactStagesAgree) {
     };
     std::array<float, 3> a, b, c, d;
     pt(a), pt(b), pt(c), pt(d);
-    switch (round % 4) {
+    switch (round % 5) {
       case 0: break;  // random
       case 1:         // d in the plane of a, b, c (up to float rounding)
         for (int k = 0; k < 3; ++k) d[k] = a[k] + 0.5f * (b[k] - a[k]) + 0.25f * (c[k] - a[k]);
@@ -470,15 +583,31 @@ TEST(Geometry, ExactStagesAgree) {
         for (auto* p : {&a, &b, &c, &d})
           for (float& x : *p) x = std::ldexp(float(int(rng() % 5) - 2), scale);
         break;
+      case 4: {  // in one axis-aligned plane, often on one axis-aligned line: the filters'
+                 // zero-bound shortcut (an exact 0 without the exact stage)
+        const int k = int(rng() % 3);
+        for (auto* p : {&b, &c, &d}) (*p)[k] = a[k];
+        if (rng() % 2)
+          for (auto* p : {&b, &d}) (*p)[(k + 1) % 3] = a[(k + 1) % 3];
+        if (rng() % 2) d = rng() % 2 ? a : b;
+        break;
+      }
     }
+    const stltopo::pred::Plane plane(a.data(), b.data(), c.data());
     const int e = stltopo::pred::orient3dExpansion(a.data(), b.data(), c.data(), d.data());
     const int x = stltopo::pred::orient3dExact(a.data(), b.data(), c.data(), d.data());
     ASSERT_EQ(x, e) << "round " << round;
     const int f = stltopo::pred::orient3d(a.data(), b.data(), c.data(), d.data());
     ASSERT_EQ(f, e) << "round " << round;
+    ASSERT_EQ(plane.side(d.data()), e) << "round " << round;
     const int e2 = stltopo::pred::orient2dExpansion(a[0], a[1], b[0], b[1], d[0], d[1]);
     ASSERT_EQ(stltopo::pred::orient2dExact(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
     ASSERT_EQ(stltopo::pred::orient2d(a[0], a[1], b[0], b[1], d[0], d[1]), e2) << "round " << round;
+    for (int k = 1; k < 3; ++k) {
+      const int i = k, j = (k + 1) % 3;
+      const int e3 = stltopo::pred::orient2dExpansion(a[i], a[j], b[i], b[j], d[i], d[j]);
+      ASSERT_EQ(stltopo::pred::orient2d(a[i], a[j], b[i], b[j], d[i], d[j]), e3) << "round " << round;
+    }
     zeros += e == 0;
     ++compared;
   }
