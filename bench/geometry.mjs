@@ -17,7 +17,10 @@ const BIN = {
   cli: path.join(BUILD, 'stltopo'),
   procstat: path.join(BUILD, 'bench/procstat'),
   genmesh: path.join(BUILD, 'bench/genmesh'),
-  cgal: path.join(BUILD, 'bench/judge/stltopo_cgal_pmp'),
+  // bench/CMakeLists.txt builds it into bench/judge, unless the tests (STLTOPO_BUILD_TESTS)
+  // defined the target first, in tests/judge.
+  cgal: ['bench/judge', 'tests/judge'].map((d) => path.join(BUILD, d, 'stltopo_cgal_pmp')).find((f) => fs.existsSync(f))
+    || path.join(BUILD, 'bench/judge/stltopo_cgal_pmp'),
 };
 const SIZES = { '100k': 100000, '1M': 1000000, '4M': 4000000 };
 const opt = { sizes: ['100k', '1M'], reps: 3, out: path.join(root, 'bench/results/geometry-latest.json') };
