@@ -14,15 +14,6 @@
 #include "triangle_figures.h"
 #include "try_alloc.h"
 
-// Allocation failures of std containers are caught where exceptions exist (as in src/edit/).
-#if defined(__cpp_exceptions)
-#define STLTOPO_TRY try
-#define STLTOPO_CATCH catch (...)
-#else
-#define STLTOPO_TRY if (true)
-#define STLTOPO_CATCH else
-#endif
-
 namespace stltopo {
 
 namespace {

@@ -14,6 +14,7 @@ import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { preview } from 'vite';
 import { loadStl, EditableMesh, REPAIR_DEFAULTS } from 'stltopo';
+import { damagedTorus, indexedStl } from '../js/helpers.mjs';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const artifacts = path.join(root, 'test-artifacts');
@@ -52,40 +53,6 @@ after(async () => {
   await browser?.close();
   await site?.close();
 });
-
-/**
- * A torus grid as a binary STL with damage: triangles removed (holes), flipped (inconsistent
- * edges) and repeated (duplicates). The generator of tests/js/repair.test.mjs.
- */
-function damagedTorusStl(n, m, seed) {
-  const positions = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
-      positions.push([(3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v)]);
-    }
-  }
-  let s = seed;
-  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
-  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
-  const tris = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
-        const r = rnd();
-        if (r < 0.02) continue;
-        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
-        tris.push(t);
-        if (r > 0.98) tris.push(t);
-      }
-    }
-  }
-  const buf = Buffer.alloc(84 + 50 * tris.length);
-  buf.write('damaged torus', 0);
-  buf.writeUInt32LE(tris.length, 80);
-  tris.forEach((t, i) => t.forEach((v, k) => positions[v].forEach((x, c) => buf.writeFloatLE(x, 84 + 50 * i + 12 + 12 * k + 4 * c))));
-  return buf;
-}
 
 async function newPage() {
   const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
@@ -166,7 +133,8 @@ function expectedPlan(plan) {
 }
 
 test('Repair panel: plan, untick an item, preview, apply (the log\'s figures, the result drawn), download, undo back to the file', async () => {
-  const bytes = damagedTorusStl(30, 12, 5);
+  const t = damagedTorus(30, 12, 5);
+  const bytes = indexedStl(t.positions, t.triangles, 'damaged torus');
   const page = await newPage();
   await openWith(page, { name: 'damaged-torus.stl', buffer: bytes });
   const loadedStats = await pageStats(page);
