@@ -43,10 +43,10 @@ using stltopo::Code;
 using stltopo::Status;
 
 // The topology's counts that are not array lengths: meta() hands them to JS as `counts`, and
-// setCounts() takes them back for validate() on uploaded arrays.
+// setCounts() takes them back for validate() on uploaded arrays. The counts of
+// stltopo/counts.h, and the weld's.
 #define STLTOPO_TOPOLOGY_COUNTS(X) \
-  X(nEdges) X(nBoundaryEdges) X(nNonManifoldEdges) X(nInconsistentEdges) X(nNonManifoldVertices) \
-  X(nDegenerate) X(nShells) X(nUsedVertices) X(nHoles) X(nSeams) X(nWeldedVertices)
+  STLTOPO_COUNTS(X) STLTOPO_OTHER_COUNTS(X) X(nWeldedVertices, weldedVertices, "")
 
 // The result arrays that cross to JS, one line each:
 //   X(name, part, group, key, element, width, when, flags, doc)
@@ -260,7 +260,7 @@ class Session {
     o.set("warnings", warnings);
     if (hasTopology_) {
       val c = val::object();
-#define STLTOPO_COUNT(name) c.set(#name, val(topo_.name));
+#define STLTOPO_COUNT(count, name, doc) c.set(#count, val(topo_.count));
       STLTOPO_TOPOLOGY_COUNTS(STLTOPO_COUNT)
 #undef STLTOPO_COUNT
       c.set("tolerance", val(topo_.tolerance));
@@ -328,7 +328,7 @@ class Session {
   void setCounts(const val& c) {
     topo_.nTriangles = mesh_.nTriangles();
     topo_.nVertices = mesh_.nVertices();
-#define STLTOPO_COUNT(name) topo_.name = c[#name].as<uint32_t>();
+#define STLTOPO_COUNT(count, name, doc) topo_.count = c[#count].as<uint32_t>();
     STLTOPO_TOPOLOGY_COUNTS(STLTOPO_COUNT)
 #undef STLTOPO_COUNT
     topo_.tolerance = c["tolerance"].as<double>();
