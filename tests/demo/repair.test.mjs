@@ -7,46 +7,21 @@
 // merged plan nothing until they are): every expectation comes from the Node plan.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
-import net from 'node:net';
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { preview } from 'vite';
 import { loadStl, EditableMesh, REPAIR_DEFAULTS } from 'stltopo';
 import { damagedTorus, indexedStl } from '../js/helpers.mjs';
+import { root, artifacts, startSite, launchChromium, newPage as openPage, closePage, settle, pageStats } from './demo-page.mjs';
 
-const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const artifacts = path.join(root, 'test-artifacts');
-const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
 const REMOVE_UNCONNECTED = path.join(root, 'tests/judge/admesh/block/remove-unconnected-bad.stl'); // 3 shells, 2 tiny
 
 let site;
 let siteUrl;
 let browser;
 
-async function freePort() {
-  return new Promise((resolve, reject) => {
-    const srv = net.createServer();
-    srv.once('error', reject);
-    srv.listen(0, '127.0.0.1', () => {
-      const { port } = srv.address();
-      srv.close(() => resolve(port));
-    });
-  });
-}
-
 before(async () => {
-  mkdirSync(artifacts, { recursive: true });
-  site = await preview({
-    configFile: path.join(root, 'web/demo/vite.config.js'),
-    preview: { port: await freePort(), strictPort: true, host: '127.0.0.1' },
-    logLevel: 'warn',
-  });
-  siteUrl = site.resolvedUrls.local[0];
-  browser = await chromium.launch({ executablePath: chromiumPath, args: chromiumArgs });
+  ({ site, siteUrl } = await startSite());
+  browser = await launchChromium();
 });
 
 after(async () => {
@@ -54,25 +29,7 @@ after(async () => {
   await site?.close();
 });
 
-async function newPage() {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
-  page.errors = [];
-  page.on('pageerror', (error) => page.errors.push(error));
-  return page;
-}
-
-async function closePage(page) {
-  const errors = page.errors.map((e) => e.stack || e.message);
-  await page.close();
-  assert.deepEqual(errors, [], 'uncaught page errors');
-}
-
-async function settle(page, loadCount, timeout = 60_000) {
-  await page.waitForFunction(
-    (n) => Number(document.body.dataset.loadCount) > n && document.body.dataset.state !== 'loading',
-    loadCount, { timeout });
-  return page.evaluate(() => document.body.dataset.state);
-}
+const newPage = () => openPage(browser, 900);
 
 /** Opens the demo and loads `file` ({ name, buffer }) through the file input. */
 async function openWith(page, file) {
@@ -91,11 +48,6 @@ async function repairAction(page, act) {
   const error = await page.evaluate(() => (document.querySelector('#repair-error').hidden ? null
     : document.querySelector('#repair-error').textContent));
   return error;
-}
-
-async function pageStats(page) {
-  return page.evaluate(() => Object.fromEntries(
-    [...document.querySelectorAll('[data-stat]')].map((e) => [e.dataset.stat, e.textContent])));
 }
 
 /** The page's report cells: { before: { key: text }, after: { key: text } }. */
