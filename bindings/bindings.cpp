@@ -10,8 +10,8 @@
 EMSCRIPTEN_BINDINGS(stltopo) {
   using namespace emscripten;
   using stltopo::js::Session;
-  const class_<Session>& session = class_<Session>("_Session")
-      .constructor(&stltopo::js::newSession)
+  class_<Session> session("_Session");
+  session.constructor(&stltopo::js::newSession)
       .function("buffer", &Session::buffer)
       .function("feed", &Session::feed)
       .function("finish", &Session::finish)

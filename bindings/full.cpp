@@ -29,7 +29,8 @@ class FullSession : public Session {
     return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
   }
   val infoText(const std::string& file, bool shells, bool defects, double maxDefects) const override {
-    return bytesToJs(stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
+    return bytesToJs(
+        stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
   }
 
   // The geometry's rows of the table, then the shared ones.
@@ -60,9 +61,11 @@ class FullSession : public Session {
   // setMeta() (stltopo::meshFromIndexed), then its topology as finish() does.
   val fromIndexed(bool weldNone, bool topology, double tolerance, bool prevAndFace, bool shells) {
     const size_t nt = mesh_.triangles.size() / 3;
-    if ((!mesh_.attributes.empty() && mesh_.attributes.size() != nt) || (!mesh_.colors.empty() && mesh_.colors.size() != 3 * nt) ||
+    if ((!mesh_.attributes.empty() && mesh_.attributes.size() != nt) ||
+        (!mesh_.colors.empty() && mesh_.colors.size() != 3 * nt) ||
         (!mesh_.colorValid.empty() && mesh_.colorValid.size() != nt))
-      return remember(Status::error(Code::InvalidArgument, "attributes, colors and colorValid must hold 1, 3 and 1 values per triangle"));
+      return remember(Status::error(Code::InvalidArgument,
+                                    "attributes, colors and colorValid must hold 1, 3 and 1 values per triangle"));
     IndexedMesh in;
     in.positions = mesh_.positions.data();
     in.positionsLength = mesh_.positions.size();
@@ -85,7 +88,8 @@ class FullSession : public Session {
 
   // Starts writing the mesh as STL (stltopo::StlWriter): format "binary"/"ascii", colors
   // "as-mesh"/"none"/"viscam"/"magics", name a string or null (each solid's own).
-  val writeBegin(const std::string& format, const std::string& colors, val name, bool storedNormals, double chunkBytes) {
+  val writeBegin(const std::string& format, const std::string& colors, val name, bool storedNormals,
+                 double chunkBytes) {
     delete writer_;
     writer_ = new (std::nothrow) StlWriter(*writing_, writeOptions(format, colors, name, storedNormals, chunkBytes));
     if (!writer_) return status(Status::error(Code::OutOfMemory, "could not allocate the writer"));
@@ -99,8 +103,9 @@ class FullSession : public Session {
     writer_ = nullptr;
     writing_ = &mesh_;
     if (k < 0) return val::null();
-    Status s = hasShells_ && k < double(shells_.size()) ? extractShell(mesh_, topo_, uint32_t(k), part_)
-                                                         : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
+    Status s = hasShells_ && k < double(shells_.size())
+                   ? extractShell(mesh_, topo_, uint32_t(k), part_)
+                   : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
     if (!s.ok()) return status(s);
     writing_ = &part_;
     return val::null();
@@ -171,7 +176,7 @@ class FullSession : public Session {
   ShellNesting nesting_;
   bool solid_ = false;
   StlWriter* writer_ = nullptr;
-  Mesh part_;                  // the shell selectShell() extracted
+  Mesh part_;                     // the shell selectShell() extracted
   const Mesh* writing_ = &mesh_;  // what writeBegin() writes
 };
 
@@ -192,13 +197,13 @@ struct Full<M> {
 // scripts/gen-api-docs.mjs (index.d.ts's TopologyCounts).
 val countLayout() {
   val list = val::array();
-#define STLTOPO_COUNT_ROW(count, name, doc)  \
-  {                                          \
-    val d = val::object();                   \
-    d.set("name", val(#name));               \
-    d.set("count", val(#count));             \
-    d.set("doc", val(doc));                  \
-    list.call<void>("push", d);              \
+#define STLTOPO_COUNT_ROW(count, name, doc) \
+  {                                         \
+    val d = val::object();                  \
+    d.set("name", val(#name));              \
+    d.set("count", val(#count));            \
+    d.set("doc", val(doc));                 \
+    list.call<void>("push", d);             \
   }
   STLTOPO_COUNTS(STLTOPO_COUNT_ROW)
 #undef STLTOPO_COUNT_ROW

@@ -13,7 +13,8 @@ using emscripten::val;
 namespace stltopo::js {
 
 Session::Session(double maxTriangles, double maxBytes, double sizeHint, bool keepNormals) {
-  options_.maxTriangles = maxTriangles >= 0 && maxTriangles <= 4294967295.0 ? uint32_t(maxTriangles) : options_.maxTriangles;
+  options_.maxTriangles =
+      maxTriangles >= 0 && maxTriangles <= 4294967295.0 ? uint32_t(maxTriangles) : options_.maxTriangles;
   options_.maxBytes = !(maxBytes > 0) ? 0 : maxBytes >= 18446744073709551615.0 ? ~uint64_t(0) : uint64_t(maxBytes);
   options_.sizeHint = sizeHint > 0 ? uint64_t(sizeHint) : 0;
   options_.keepNormals = keepNormals;
@@ -145,7 +146,8 @@ void Session::setMeta(const std::string& convention, val solids) {
 }
 
 val Session::validate() const {
-  if (!hasTopology_) return status(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
+  if (!hasTopology_)
+    return status(Status::error(Code::InvalidArgument, "the mesh has no topology (loaded with topology: false)"));
   return status(stltopo::validate(mesh_, topo_));
 }
 
@@ -183,7 +185,8 @@ std::string errorJson(const std::string& file, const std::string& code, const st
                       double line, double triangle) {
   Status s;
   if (!codeFromName(code.c_str(), s.code)) {
-    return stltopo::errorJson(file, Status::error(Code::InvalidArgument, "unknown error code '" + code + "' (message: " + message + ")"));
+    return stltopo::errorJson(
+        file, Status::error(Code::InvalidArgument, "unknown error code '" + code + "' (message: " + message + ")"));
   }
   s.message = message;
   s.offset = offset >= 0 ? uint64_t(offset) : kNoOffset;

@@ -146,7 +146,9 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
   j.close(']');
   if (topo) {
     const Topology& t = *topo;
-#define STLTOPO_COUNT_KEY(count, name, doc) j.key(#name); j.u(t.count);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(t.count);
     STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT_KEY)
 #undef STLTOPO_COUNT_KEY
     j.key("holeSizes");

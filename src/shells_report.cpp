@@ -99,7 +99,9 @@ void writeShell(Json& j, const Shell& s, uint32_t id, const ShellNesting* nest =
   j.key("id"); j.u(id);
   j.key("triangles"); j.u(s.triangles);
   j.key("vertices"); j.u(s.vertices);
-#define STLTOPO_COUNT_KEY(count, name, doc) j.key(#name); j.u(s.name);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(s.name);
   STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT_KEY)
 #undef STLTOPO_COUNT_KEY
   j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic());

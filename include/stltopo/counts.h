@@ -15,20 +15,20 @@
 //   doc    one line for index.d.ts.
 // The surface counts are also Shell members and keys of a shell's JSON object (each counted
 // in that shell).
-#define STLTOPO_SURFACE_COUNTS(X)                                                                          \
-  X(nEdges, edges, "Undirected edges (an edge may hold several half-edge pairs when it is cut).")          \
-  X(nBoundaryEdges, boundaryEdges, "Edges with one triangle side.")                                        \
-  X(nNonManifoldEdges, nonManifoldEdges, "Edges with three or more triangle sides.")                       \
-  X(nInconsistentEdges, inconsistentEdges, "Edges whose two sides run the same way (a flipped face).")      \
+#define STLTOPO_SURFACE_COUNTS(X)                                                                            \
+  X(nEdges, edges, "Undirected edges (an edge may hold several half-edge pairs when it is cut).")            \
+  X(nBoundaryEdges, boundaryEdges, "Edges with one triangle side.")                                          \
+  X(nNonManifoldEdges, nonManifoldEdges, "Edges with three or more triangle sides.")                         \
+  X(nInconsistentEdges, inconsistentEdges, "Edges whose two sides run the same way (a flipped face).")       \
   X(nNonManifoldVertices, nonManifoldVertices, "Vertices whose outgoing half-edges form more than one fan.") \
-  X(nHoles, holes, "Boundary loops without a cut side.")                                                   \
+  X(nHoles, holes, "Boundary loops without a cut side.")                                                     \
   X(nSeams, seams, "Boundary loops that contain a cut (inconsistent or non-manifold) side.")
-#define STLTOPO_COUNTS(X)     \
+#define STLTOPO_COUNTS(X)   \
   STLTOPO_SURFACE_COUNTS(X) \
   X(nShells, shells, "Shells: edge-connected components of the non-degenerate triangles.")
 // The counts the reports write under another key ("degenerateTriangles") or not at all.
-#define STLTOPO_OTHER_COUNTS(X)                                                            \
-  X(nDegenerate, degenerate, "Triangles two of whose corners weld together.")               \
+#define STLTOPO_OTHER_COUNTS(X)                                               \
+  X(nDegenerate, degenerate, "Triangles two of whose corners weld together.") \
   X(nUsedVertices, usedVertices, "Vertices that a non-degenerate triangle uses.")
 
 namespace stltopo {

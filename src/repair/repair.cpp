@@ -447,7 +447,9 @@ void figuresJson(detail::Json& j, const RepairFigures& f) {
   j.key("degenerateTriangles"); j.u(s.degenerate);
   j.key("zeroAreaTriangles"); j.u(f.zeroAreaTriangles);
   j.key("duplicateTriangles"); j.u(f.duplicateTriangles);
-#define STLTOPO_COUNT_KEY(count, name, doc) j.key(#name); j.u(s.name);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(s.name);
   STLTOPO_COUNTS(STLTOPO_COUNT_KEY)
 #undef STLTOPO_COUNT_KEY
   j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic);
