@@ -1,6 +1,8 @@
 // In-process stage timings through the C++ API.
-//   stltopo_stages FILE [REPS] [--json] [--threads N]
+//   stltopo_stages FILE [REPS] [--json] [--threads N] [--tolerance D]
 // --threads N: ReadOptions/TopologyOptions::threads (default 1; 0 = the machine's cores).
+// --tolerance D: TopologyOptions::tolerance (the tolerance weld runs inside the topology
+// stage; bench/weld.mjs compares it with the exact weld of the read stage).
 // Stages: read (readStl: parse + exact weld), topology (buildTopology: pairing, boundary
 // loops, vertex loops, shells), report (infoJson: the stats). The file is read into memory
 // first, so no disk I/O is timed. Repetition 1 is the "first" call (fresh allocations, page
@@ -11,6 +13,9 @@
 // instead streams FILE through a Reader in 1 MiB chunks, builds the full topology (prev
 // and face included) and the report once, and prints the peak RSS above the RSS before
 // the read, as JSON: the memory of the full topology with the input streamed.
+//   stltopo_stages FILE --weld D [REPS]
+// instead times the tolerance weld (tolerance D) against the exact weld, interleaved (see
+// weldSpeed), and prints JSON with the median ratio: what bench/weld.mjs reports.
 //   stltopo_stages FILE --write [REPS]
 // instead reads FILE once and writes the mesh as binary and as ASCII STL through writeStl
 // REPS times (default 5) into a sink that only counts the bytes, and prints the median
@@ -141,11 +146,54 @@ static int writeSpeed(const char* path, int reps) {
   return 0;
 }
 
+// The tolerance weld against the exact weld (issue 24): per repetition, in this order, the
+// read (parse + exact weld; a binary file's parse is a copy of floats, so this is the exact
+// weld's time), the topology with the exact weld, and the topology with `--tolerance D`:
+// the tolerance weld costs the difference of the two topologies. Interleaved in one process,
+// so that a machine's drift moves both; prints the medians and the median ratio as JSON.
+static int weldSpeed(const char* path, double tol, int reps) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<double> read, topo, topoTol, weld, ratio;
+  uint32_t nt = 0, nv = 0, welded = 0;
+  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  for (int r = 0; r < reps + 1; ++r) {  // repetition 0 warms up, not counted
+    auto t0 = Clock::now();
+    stltopo::Mesh mesh;
+    stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
+    auto t1 = Clock::now();
+    stltopo::Topology exact, tolerant;
+    if (s.ok()) s = stltopo::buildTopology(mesh, exact);
+    auto t2 = Clock::now();
+    stltopo::TopologyOptions to;
+    to.tolerance = tol;
+    if (s.ok()) s = stltopo::buildTopology(mesh, tolerant, to);
+    auto t3 = Clock::now();
+    if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+    nt = mesh.nTriangles();
+    nv = mesh.nVertices();
+    welded = tolerant.nWeldedVertices;
+    if (r == 0) continue;
+    read.push_back(ms(t0, t1));
+    topo.push_back(ms(t1, t2));
+    topoTol.push_back(ms(t2, t3));
+    weld.push_back(ms(t2, t3) - ms(t1, t2));
+    ratio.push_back(weld.back() / read.back());
+  }
+  std::printf("{\"file\":\"%s\",\"triangles\":%u,\"vertices\":%u,\"weldedVertices\":%u,\"tolerance\":%g,\"reps\":%d,"
+              "\"readMs\":%.2f,\"topologyMs\":%.2f,\"topologyToleranceMs\":%.2f,\"toleranceWeldMs\":%.2f,"
+              "\"toleranceWeldOverExactWeld\":%.3f}\n",
+              path, nt, nv, welded, tol, reps, median(read), median(topo), median(topoTol), median(weld), median(ratio));
+  return 0;
+}
+
 int main(int argc, char** argv) {
   // With the C library's default allocation (each large array mapped and unmapped on its
   // own), the peak is that of the live arrays.
   if (argc > 2 && !std::strcmp(argv[2], "--streamed-peak")) return streamedPeak(argv[1]);
   if (argc > 2 && !std::strcmp(argv[2], "--write")) return writeSpeed(argv[1], argc > 3 ? std::max(1, std::atoi(argv[3])) : 5);
+  if (argc > 3 && !std::strcmp(argv[2], "--weld")) return weldSpeed(argv[1], std::atof(argv[3]), argc > 4 ? std::max(1, std::atoi(argv[4])) : 7);
 #if defined(__GLIBC__)
   // Warm calls reuse the memory of the calls before them, as the wasm heap does (linear
   // memory is never given back) and as the CLI does: glibc would otherwise unmap every
@@ -162,14 +210,17 @@ int main(int argc, char** argv) {
   int reps = argc > 2 && argv[2][0] != '-' ? std::max(1, std::atoi(argv[2])) : 5;
   bool json = false;
   unsigned threads = 1;
+  double tolerance = 0;
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--json")) json = true;
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = unsigned(std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc) tolerance = std::atof(argv[++i]);
   }
   stltopo::ReadOptions ro;
   ro.threads = threads;
   stltopo::TopologyOptions to;
   to.threads = threads;
+  to.tolerance = tolerance;
   std::ifstream f(argv[1], std::ios::binary);
   if (!f) { std::fprintf(stderr, "cannot open %s\n", argv[1]); return 1; }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

@@ -35,8 +35,10 @@ node bench/run.mjs "$@"
 quick=0
 for a in "$@"; do { [ "$a" = --quick ] || [ "$a" = --tiny ]; } && quick=1; done
 if [ "$quick" = 1 ]; then
+  node bench/weld.mjs --sizes 100k --reps 1 --out "$(mktemp -d)/weld.json"
   node bench/geometry.mjs --sizes 100k --reps 1 --out "$(mktemp -d)/geometry.json"
 else
+  node bench/weld.mjs
   node bench/geometry.mjs
 fi
 # The repair (issue 23): the default repair of a torus with 8 holes and 1% flipped faces.

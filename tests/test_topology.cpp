@@ -271,6 +271,51 @@ TEST(Topology, EmptyMeshIsNotWatertight) {
   EXPECT_NE(j.find("\"genus\":null,\"watertight\":false,\"manifold\":true"), std::string::npos) << j;
 }
 
+// The tolerance weld's rule, by brute force: vertices in id order, each joins the lowest-id
+// representative within tol (the distance in double, as documented) or becomes one. The
+// grid only makes it fast; clouds with points on and near cell sides (multiples of tol, of
+// 4·tol, a float step off them), clusters and far coordinates must give the same answer.
+TEST(Topology, ToleranceWeldEqualsTheBruteForceRule) {
+  std::mt19937 rng(2024);
+  for (int round = 0; round < 60; ++round) {
+    double tol = std::array<double, 4>{0.25, 1e-3, 0.1, 3}[round % 4];
+    gen::Soup s;
+    std::uniform_int_distribution<int> grid(-3, 3);  // few bases: many points within tol of each other
+    std::uniform_int_distribution<int> pick(0, 5);
+    auto coord = [&]() -> float {
+      double base = grid(rng) * tol * std::array<double, 4>{1, 4, 0.5, 2}[pick(rng) % 4];
+      switch (pick(rng)) {
+        case 0: return float(base);
+        case 1: return std::nextafter(float(base), 1e30f);
+        case 2: return std::nextafter(float(base), -1e30f);
+        case 3: return float(base + tol * std::uniform_real_distribution<double>(-1.2, 1.2)(rng));
+        case 4: return float(base * 1e7);  // far out in units of tol
+        default: return float(base + tol * 0.5);
+      }
+    };
+    size_t nPoints = 30 + round * 7;
+    for (size_t i = 0; i < nPoints; ++i) s.v.push_back({coord(), coord(), coord()});
+    for (size_t i = 0; i + 2 < nPoints; i += 3) s.f.push_back({uint32_t(i), uint32_t(i + 1), uint32_t(i + 2)});
+    Mesh mesh;
+    ASSERT_TRUE(gen::read(gen::binary(s), mesh).ok());
+    Topology topo;
+    TopologyOptions o;
+    o.tolerance = tol;
+    ASSERT_TRUE(buildTopology(mesh, topo, o).ok());
+    const float* p = mesh.positions.data();
+    std::vector<uint32_t> rep(mesh.nVertices());
+    for (uint32_t v = 0; v < mesh.nVertices(); ++v) {
+      rep[v] = v;
+      for (uint32_t r = 0; r < v; ++r) {
+        if (rep[r] != r) continue;
+        double dx = double(p[3 * r]) - p[3 * v], dy = double(p[3 * r + 1]) - p[3 * v + 1], dz = double(p[3 * r + 2]) - p[3 * v + 2];
+        if (dx * dx + dy * dy + dz * dz <= tol * tol) { rep[v] = r; break; }
+      }
+    }
+    for (uint32_t v = 0; v < mesh.nVertices(); ++v) ASSERT_EQ(topo.vertexWeld[v], rep[v]) << "round " << round << " vertex " << v;
+  }
+}
+
 TEST(Topology, ToleranceWeldClosesCracksWithoutMovingPositions) {
   gen::Soup s = gen::cube();
   // Split vertex 7 into a copy 1e-6 away used by the last triangle that touches it.

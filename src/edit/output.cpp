@@ -75,7 +75,7 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
   mp = CompactMaps{};
   const uint32_t nvSlots = nVertices(), ntSlots = nTriangles(), nhSlots = nHalfedges();
   if (!mp.vertices.assign(nvSlots, kInvalid) || !mp.triangles.assign(ntSlots, kInvalid) ||
-      !mp.halfedges.assign(nhSlots, kInvalid))
+      ((topo || maps) && !mp.halfedges.assign(nhSlots, kInvalid)))
     return detail::oom(kEditArrays);
   uint32_t nv = 0, nt = 0;
   for (uint32_t v = 0; v < nvSlots; ++v)
@@ -158,7 +158,9 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
     first += s.triangleCount;
   }
   // Half-edges: pairs numbered in order of their first side in (triangle, corner) order;
-  // that side's half-edge becomes even.
+  // that side's half-edge becomes even. Only for a topology or the caller's maps (the
+  // repair asks for the plain mesh several times per step).
+  if (!topo && !maps) return Status{};
   Array<uint32_t> pairMap;
   Array<uint8_t> openHalf;
   const uint32_t nPairSlots = uint32_t(pairKind_.size());

@@ -165,6 +165,25 @@ test('file input: closed, open and broken fixtures show the CLI statistics', asy
   await closePage(page);
 });
 
+test('a mesh over the preview limit is drawn coarser, says so, and keeps every figure of the whole mesh', async () => {
+  // The limit is 2M triangles; ?previewTriangles= lowers it so that a fixture takes the path
+  // a 40M-triangle scan takes (npm run bench:big opens one).
+  const page = await newPage();
+  await openDemo(page, '?sample=shared&previewTriangles=1000');
+  assert.equal(await page.evaluate(() => document.querySelector('#scale-note').hidden), true, 'no note for the sample');
+  assert.equal(await loadThroughInput(page, SPIDER), 'ready');
+  await assertMatchesCli(page, SPIDER);
+  const note = await page.evaluate(() => (document.querySelector('#scale-note').hidden ? null : document.querySelector('#scale-note').textContent));
+  const n = cliStats(SPIDER).triangles;
+  assert.ok(n > 1000, `${path.basename(SPIDER)} has ${n} triangles`);
+  const stride = Math.ceil(n / 1000);
+  assert.match(note ?? '', new RegExp(`draws 1 triangle in ${stride} \\(${Math.ceil(n / stride).toLocaleString('en-US')} of ${n.toLocaleString('en-US')}\\)`));
+  await page.screenshot({ path: path.join(artifacts, 'demo-coarse.png') });
+  await loadThroughInput(page, TRIAMID);
+  assert.equal(await page.evaluate(() => document.querySelector('#scale-note').hidden), true, 'a small mesh clears the note');
+  await closePage(page);
+});
+
 test('edit mode: remove a triangle, fill the hole, flip the shell, download and read it back', async () => {
   const page = await newPage();
   await openDemo(page, '?sample=shared');

@@ -3,9 +3,30 @@
 import { loadStl, toStl } from 'stltopo/worker';
 import { samples } from './samples.js';
 import { $, viewer } from './page.js';
-import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels } from './panels.js';
+import { PREVIEW_TRIANGLES } from './viewer.js';
+import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels, showScaleNote } from './panels.js';
 import { stopEditing, setLoaded } from './edit-panel.js';
 import { setRepairSource, repairedStl } from './repair-panel.js';
+
+/** Files larger than this load without the exact geometry (see load()). */
+export const GEOMETRY_MAX_BYTES = 1e9;
+
+// What the page says about a mesh too large for everything: the coarse view, the skipped
+// geometry pass ('' when neither applies).
+function scaleNote(mesh, geometry, total) {
+  const parts = [];
+  const n = mesh.nTriangles;
+  if (n > PREVIEW_TRIANGLES) {
+    const stride = Math.ceil(n / PREVIEW_TRIANGLES);
+    parts.push(`Large mesh: the view draws 1 triangle in ${stride} (${Math.ceil(n / stride).toLocaleString('en-US')} of ` +
+      `${n.toLocaleString('en-US')}), without colours; every figure and defect is of the whole mesh.`);
+  }
+  if (!geometry) {
+    parts.push(`Exact geometry skipped: the file is ${(total / 1e9).toFixed(1)} GB, and self-intersections and nesting ` +
+      'would not fit in the 4 GB WebAssembly heap beside the mesh (`stltopo info --intersections` runs them natively).');
+  }
+  return parts.join(' ');
+}
 
 export let current = null; // { seq, controller, name } of the load in flight
 let loadSeq = 0;
@@ -43,10 +64,13 @@ export async function load(source, { name, credit = '' } = {}) {
       total = Number(response.headers.get('content-length')) || NaN;
       input = response;
     }
+    // The exact geometry costs some 40 bytes per triangle more in the worker's 4 GB heap: a
+    // file over GEOMETRY_MAX_BYTES (some 20M binary triangles) loads without it, and says so.
+    const geometry = !(total > GEOMETRY_MAX_BYTES);
     const mesh = await loadStl(input, {
       topology: true,
       shells: true,
-      intersections: true, // exact self-intersections, nesting and the solid badge (issue 21)
+      intersections: geometry, // exact self-intersections, nesting and the solid badge (issue 21)
       signal: controller.signal,
       onProgress: (fraction, bytesRead) => {
         if (seq === loadSeq) showProgress(name, Number.isFinite(fraction) ? fraction : bytesRead / total, bytesRead);
@@ -65,6 +89,7 @@ export async function load(source, { name, credit = '' } = {}) {
     setLoaded({ mesh, name });
     setRepairSource({ mesh, name });
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
+    showScaleNote(scaleNote(mesh, geometry, total));
     hideProgress();
     current = null;
     setState('ready');

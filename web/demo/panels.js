@@ -383,7 +383,14 @@ export function showMesh(mesh, { name, credit, parseMs, sceneMs, totalMs }) {
   $('#credit').textContent = credit;
 }
 
+/** The Model panel's note on a mesh too large for the whole view or the geometry pass ('' hides it). */
+export function showScaleNote(text) {
+  $('#scale-note').textContent = text;
+  $('#scale-note').hidden = !text;
+}
+
 export function clearPanels() {
+  showScaleNote('');
   $('#stats').textContent = '';
   $('#hole-list').textContent = '';
   $('#seam-list').textContent = '';

@@ -43,6 +43,23 @@ export function meshToGeometry(mesh, { useColors = true, fallback = colors.front
   return toBufferGeometry(mesh, { colors: useColors, normals: false, defaultColor: [(n >> 16) & 255, (n >> 8) & 255, n & 255] });
 }
 
+/** Meshes with more triangles are drawn coarser (Viewer.setMesh); ?previewTriangles=N sets it (the tests). */
+export const PREVIEW_TRIANGLES = Number(new URLSearchParams(globalThis.location?.search ?? '').get('previewTriangles')) || 2_000_000;
+
+/** A geometry sharing `g`'s attributes that draws triangles 0, stride, 2·stride, … of it. */
+function strided(g, stride) {
+  const index = g.index.array;
+  const n = Math.ceil(index.length / 3 / stride);
+  const out = new Uint32Array(3 * n);
+  for (let i = 0, t = 0; i < n; ++i, t += stride) out.set(index.subarray(3 * t, 3 * t + 3), 3 * i);
+  const c = new THREE.BufferGeometry();
+  for (const [name, attr] of Object.entries(g.attributes)) c.setAttribute(name, attr);
+  c.setIndex(new THREE.BufferAttribute(out, 1));
+  c.boundingBox = g.boundingBox;
+  c.boundingSphere = g.boundingSphere;
+  return c;
+}
+
 /** Segment list (6 floats per segment) along closed vertex loops, and a matching colour list. */
 function loopSegments(mesh, loops, colorOf) {
   let nSegments = 0;
@@ -205,6 +222,9 @@ export class Viewer {
       if (o.material) for (const m of [].concat(o.material)) m.dispose();
     });
     this.model.clear();
+    if (this.geometry && this.geometry !== this.drawGeometry) this.geometry.dispose(); // not in the scene
+    this.geometry = null;
+    this.drawGeometry = null;
     this.layers = {};
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
@@ -221,8 +241,15 @@ export class Viewer {
     const t0 = performance.now();
     this.clear(mesh);
     this.mesh = mesh;
-    const geometry = meshToGeometry(mesh);
+    // A mesh over PREVIEW_TRIANGLES is drawn coarser: 1 triangle in `stride` (every
+    // stride-th id), without per-face colours; coarse() says so on the page. this.geometry
+    // keeps every triangle (layers pick their triangles by id from it); only the surfaces and
+    // the wireframe draw the coarse one.
+    const stride = Math.max(1, Math.ceil(mesh.nTriangles / PREVIEW_TRIANGLES));
+    this.stride = stride;
+    const geometry = meshToGeometry(mesh, { useColors: stride === 1 });
     this.geometry = geometry;
+    this.drawGeometry = stride === 1 ? geometry : strided(geometry, stride);
     // Front and back faces are two draws of the same geometry. The back faces get their own
     // colour (flipped faces, and the inside seen through a hole stand out) and a larger polygon
     // offset, so that where both meet at a silhouette the front face wins the depth tie.
@@ -244,7 +271,7 @@ export class Viewer {
         };
         material.customProgramCacheKey = () => 'stltopo-back-faces';
       }
-      return new THREE.Mesh(geometry, material);
+      return new THREE.Mesh(this.drawGeometry, material);
     };
     this.surfaces = [surface(THREE.FrontSide, 1), surface(THREE.BackSide, 4)];
     this.model.add(...this.surfaces);
@@ -359,7 +386,8 @@ export class Viewer {
     const ray = new THREE.Raycaster();
     ray.setFromCamera(ndc, this.camera);
     const hit = ray.intersectObjects(this.model.children.filter((o) => o.isMesh), false)[0];
-    return hit ? hit.faceIndex : null;
+    if (!hit) return null;
+    return hit.object.geometry === this.drawGeometry ? hit.faceIndex * this.stride : hit.faceIndex;
   }
 
   /** Screen-sized rings (always on top) at `xyz` (3 floats each), one colour or one per ring. */
@@ -404,7 +432,7 @@ export class Viewer {
     }
     this.backUniforms.mix.value = v.backFaces ? 1 : 0;
     if (v.wireframe && !this.layers.wireframe && this.geometry) {
-      const wire = new THREE.Mesh(this.geometry, new THREE.MeshBasicMaterial({
+      const wire = new THREE.Mesh(this.drawGeometry, new THREE.MeshBasicMaterial({
         color: colors.wire, wireframe: true, transparent: true, opacity: 0.35, depthWrite: false,
       }));
       wire.renderOrder = 5;
@@ -445,7 +473,7 @@ export class Viewer {
     for (const [name, attr] of Object.entries(this.geometry.attributes)) g.setAttribute(name, attr);
     const index = this.geometry.index?.array;
     const out = [];
-    for (let t = 0; t < ts.length; t++) {
+    for (let t = 0; t < ts.length; t += this.stride) { // every triangle, or the coarse view's
       if (!ids.has(ts[t])) continue;
       if (index) out.push(index[3 * t], index[3 * t + 1], index[3 * t + 2]);
       else out.push(3 * t, 3 * t + 1, 3 * t + 2);

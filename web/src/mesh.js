@@ -88,57 +88,55 @@ export function buildLoops(arrays, nTriangles) {
 // triangle half-edge is reached from triangleHalfedge through next; every loop half-edge
 // e is listed in its loop, and its origin is the destination of its twin (a triangle
 // half-edge), which is the origin of next[e ^ 1].
-const DERIVE = {
-  prev(arrays) {
-    const next = arrays.next;
-    const prev = new Uint32Array(next.length);
-    for (let e = 0; e < next.length; ++e) prev[next[e]] = e;
-    return prev;
-  },
-  face(arrays, nTriangles) {
-    const next = arrays.next;
-    const th = arrays.triangleHalfedge;
-    const list = arrays.loopHalfedges;
-    const off = arrays.loopOffsets;
-    const face = new Uint32Array(next.length);
-    for (let t = 0; t < nTriangles; ++t) {
-      const h0 = th[t];
-      if (h0 === kInvalid) continue;
-      const h1 = next[h0];
-      face[h0] = t;
-      face[h1] = t;
-      face[next[h1]] = t;
-    }
-    for (let h = 0; h + 1 < off.length; ++h) for (let i = off[h]; i < off[h + 1]; ++i) face[list[i]] = nTriangles + h;
-    return face;
-  },
-  vert(arrays, nTriangles) {
-    const next = arrays.next;
-    const th = arrays.triangleHalfedge;
-    const list = arrays.loopHalfedges;
-    const vert = new Uint32Array(next.length);
-    const tri = arrays.triangles;
-    const weld = arrays.vertexWeld;
-    // The exact weld maps every vertex to itself: then skip the lookup, a random read per
-    // corner on a shuffled file.
-    let identity = true;
-    for (let v = 0; v < weld.length && identity; ++v) identity = weld[v] === v;
-    for (let t = 0; t < nTriangles; ++t) {
-      const h0 = th[t];
-      if (h0 === kInvalid) continue;
-      const h1 = next[h0];
-      const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-      vert[h0] = identity ? a : weld[a];
-      vert[h1] = identity ? b : weld[b];
-      vert[next[h1]] = identity ? c : weld[c];
-    }
-    for (let i = 0; i < list.length; ++i) {
+//
+// The derived half-edge arrays (kDerived rows: prev, face, vert) of a mesh whose arrays were
+// copied out of wasm: the core did not build prev and face for it (8 fewer bytes per half-edge
+// at its peak), nor copied vert. The first read of any of them builds all three in one pass
+// over the triangles and the loops (one read of next per corner; three passes cost 1.3-1.5x
+// as much), 12 bytes per half-edge.
+export const DERIVED_HALFEDGE_ARRAYS = Object.freeze(['prev', 'face', 'vert']);
+function deriveHalfedges(arrays, nTriangles) {
+  const next = arrays.next;
+  const th = arrays.triangleHalfedge;
+  const list = arrays.loopHalfedges;
+  const off = arrays.loopOffsets;
+  const tri = arrays.triangles;
+  const weld = arrays.vertexWeld;
+  const n = next.length;
+  const prev = new Uint32Array(n);
+  const face = new Uint32Array(n);
+  const vert = new Uint32Array(n);
+  // The exact weld maps every vertex to itself: then skip the lookup, a random read per
+  // corner on a shuffled file.
+  let identity = true;
+  for (let v = 0; v < weld.length && identity; ++v) identity = weld[v] === v;
+  for (let t = 0; t < nTriangles; ++t) {
+    const h0 = th[t];
+    if (h0 === kInvalid) continue;
+    const h1 = next[h0];
+    const h2 = next[h1];
+    prev[h1] = h0;
+    prev[h2] = h1;
+    prev[h0] = h2;
+    face[h0] = t;
+    face[h1] = t;
+    face[h2] = t;
+    const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    vert[h0] = identity ? a : weld[a];
+    vert[h1] = identity ? b : weld[b];
+    vert[h2] = identity ? c : weld[c];
+  }
+  // A loop half-edge starts where its twin (a triangle's) ends.
+  for (let h = 0; h + 1 < off.length; ++h) {
+    for (let i = off[h]; i < off[h + 1]; ++i) {
       const e = list[i];
+      face[e] = nTriangles + h;
+      prev[next[e]] = e;
       vert[e] = vert[next[(e ^ 1) >>> 0]];
     }
-    return vert;
-  },
-};
+  }
+  return { prev, face, vert };
+}
 
 const disposedError = () => stlError('invalid-argument', 'the mesh was disposed');
 
@@ -171,6 +169,7 @@ export class Mesh {
     const arrays = raw.arrays;
     this.nHalfedges = raw.hasTopology ? arrays.next.length : 0;
     const cache = live ? { ...arrays } : arrays;
+    let derived = null; // deriveHalfedges() of a copy, on the first read of prev, face or vert
     const groups = new Map(); // group name -> its object, or null when none of its arrays exists
     for (const d of raw.layout) {
       let obj = this;
@@ -185,13 +184,13 @@ export class Mesh {
       if (!isPresent(d, raw)) {
         obj[d.key] = null;
       } else if (!live && arrays[d.name] === undefined && d.derived) {
-        const derive = DERIVE[d.name];
-        if (!derive) throw new Error(`stltopo: no JS rebuild for the derived array ${d.name}`);
+        if (!DERIVED_HALFEDGE_ARRAYS.includes(d.name)) throw new Error(`stltopo: no JS rebuild for the derived array ${d.name}`);
         Object.defineProperty(obj, d.key, {
           enumerable: true,
           configurable: true,
           get: () => {
-            const a = derive(arrays, raw.nTriangles);
+            derived ??= deriveHalfedges(arrays, raw.nTriangles);
+            const a = derived[d.name];
             Object.defineProperty(obj, d.key, { value: a, enumerable: true, writable: true, configurable: true });
             return a;
           },
