@@ -1,5 +1,5 @@
 // Embind bindings of the EditableMesh (raw, underscore-prefixed; the JS class is in
-// web/src/edit.js). As in bindings.cpp nothing throws: a failed edit returns a status
+// web/src/edit.js). As in session.cpp nothing throws: a failed edit returns a status
 // object {code, message, triangle?, element?} (js_values.h); a successful one returns null
 // or its result.
 #include <emscripten/bind.h>

@@ -1,5 +1,5 @@
 // The EditableMesh's arrays that cross to JS: the sibling of STLTOPO_JS_ARRAYS
-// (bindings.cpp), one line each. bindings/edit.cpp serves them by name (array()), hands the
+// (arrays.h), one line each. bindings/edit.cpp serves them by name (array()), hands the
 // table to JS (_editArrayLayout), and web/src/edit.js makes one getter per row; index.d.ts
 // and docs/JS-API.md follow it (node scripts/gen-api-docs.mjs).
 //   X(name, source, group, key, element, width, doc)

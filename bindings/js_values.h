@@ -1,7 +1,7 @@
-// What both binding files (bindings.cpp, edit.cpp) hand to JS the same way: a status as
+// What the binding files (session.cpp, full.cpp, edit.cpp) hand to JS the same way: a status as
 // null or { code, message, offset?, line?, triangle?, element? } (the fields a status
 // does not carry are left out), an Array as a typed-array view or copy of it and the JS
-// type name of an Array; and what both take from JS the same way: a colour convention's
+// type name of an Array; and what they take from JS the same way: a colour convention's
 // name and the write options (web/src/options.js normalizeWriteOptions checked them).
 #pragma once
 

@@ -1,9 +1,11 @@
 #!/usr/bin/env node
 // Writes the array properties of Mesh and EditableMesh into web/src/index.d.ts and
-// docs/JS-API.md from the bindings' array tables (STLTOPO_JS_ARRAYS in bindings/bindings.cpp,
+// docs/JS-API.md from the bindings' array tables (STLTOPO_JS_ARRAYS in bindings/arrays.h,
 // read from the built dist/ as _arrayLayout, between the "BEGIN arrays" and "END arrays"
 // lines; STLTOPO_JS_EDIT_ARRAYS in bindings/edit_arrays.h, read from the full module as
-// _editArrayLayout, between "BEGIN editable arrays" and "END editable arrays").
+// _editArrayLayout, between "BEGIN editable arrays" and "END editable arrays"), and the keys of
+// TopologyCounts in index.d.ts from the count list (include/stltopo/counts.h, read from the full
+// module as _countLayout, between "BEGIN counts" and "END counts").
 //   node scripts/gen-api-docs.mjs           rewrite both blocks
 //   node scripts/gen-api-docs.mjs --check   exit 1 when a block differs (tests/js/boundary.test.mjs)
 import { readFileSync, writeFileSync } from 'node:fs';
@@ -106,6 +108,11 @@ function editMdBlock(layout) {
   return ['| em. | type | length | contents |', '| --- | --- | --- | --- |', ...rows];
 }
 
+// TopologyCounts: one number per count of the list.
+function countsDtsBlock(counts) {
+  return counts.flatMap((c) => [`  /** ${c.doc} */`, `  ${c.name}: number;`]);
+}
+
 function replaceBlock(file, lines, open, close) {
   const path = `${root}${file}`;
   const text = readFileSync(path, 'utf8');
@@ -123,11 +130,14 @@ function replaceBlock(file, lines, open, close) {
 }
 
 // The full module: the core one carries the table without its doc lines and geometry rows.
-const { layout, editLayout } = await api.internal.getFull();
+const full = await api.internal.getFull();
+const { layout, editLayout } = full;
+const counts = full.module._countLayout();
 const ok = [
   replaceBlock('web/src/index.d.ts', dtsBlock(layout), 'BEGIN arrays', 'END arrays'),
   replaceBlock('docs/JS-API.md', mdBlock(layout), 'BEGIN arrays', 'END arrays'),
   replaceBlock('web/src/index.d.ts', editDtsBlock(editLayout), 'BEGIN editable arrays', 'END editable arrays'),
   replaceBlock('docs/JS-API.md', editMdBlock(editLayout), 'BEGIN editable arrays', 'END editable arrays'),
+  replaceBlock('web/src/index.d.ts', countsDtsBlock(counts), 'BEGIN counts', 'END counts'),
 ].every(Boolean);
 process.exitCode = ok ? 0 : 1;

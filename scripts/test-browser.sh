@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Browser test of the demo page (tests/browser/*.test.mjs): real Chromium (Debian `chromium`,
+# Browser test of the demo page (tests/demo/*.test.mjs): real Chromium (Debian `chromium`,
 # driven by npm playwright-core) against a fresh static build of the demo. Builds what it needs:
 # chromium, node_modules, the package in dist/ (scripts/ensure-package.sh), the native CLI (the
 # reference for the stats). Screenshots land in test-artifacts/.
@@ -14,4 +14,4 @@ if [ ! -x build/stltopo ]; then
 fi
 STLTOPO_PACKAGE_READY=1 bash scripts/build-demo.sh >/dev/null
 mkdir -p test-artifacts
-node --test --test-concurrency=1 tests/browser/
+node --test --test-concurrency=1 tests/demo/

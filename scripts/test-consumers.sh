@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The consumer matrix (tests/consumers/run.mjs): the packed package installed into a small
+# The consumer matrix (tests/bundlers/run.mjs): the packed package installed into a small
 # app per bundler (Vite 5/7/8 build and dev server, webpack 5, esbuild, Rollup, a plain
 # <script type="module"> page) and run in Chromium, plus a TypeScript consumer of the README.
 # Builds what it needs: chromium, node_modules and the package in dist/
@@ -15,4 +15,4 @@ if [ ! -x build/stltopo ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build build -j2 >/dev/null
 fi
-node --test --test-concurrency=1 tests/consumers/run.mjs
+node --test --test-concurrency=1 tests/bundlers/run.mjs

@@ -18,10 +18,10 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cmake --install build --prefix "$tmp/prefix" >/dev/null
 fixture=tests/fixtures/google_draco/testdata/STL/bunny.stl
-cmake -S tests/consumer -B "$tmp/a" -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
+cmake -S tests/cmake-consumer -B "$tmp/a" -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
 cmake --build "$tmp/a" -j2 >/dev/null
 [ "$("$tmp/a/consumer" "$fixture")" = "holes 5" ]
-cmake -S tests/consumer -B "$tmp/b" -DUSE_SUBDIRECTORY=ON -DSTLTOPO_SOURCE_DIR="$PWD" >/dev/null
+cmake -S tests/cmake-consumer -B "$tmp/b" -DUSE_SUBDIRECTORY=ON -DSTLTOPO_SOURCE_DIR="$PWD" >/dev/null
 cmake --build "$tmp/b" -j2 >/dev/null
 [ "$("$tmp/b/consumer" "$fixture")" = "holes 5" ]
 echo "consumers (find_package, add_subdirectory): ok"

@@ -41,5 +41,5 @@ elif [ "${STLTOPO_WASM_GTEST:-1}" != 0 ]; then
   # Tests that start the native CLI as a subprocess skip themselves in wasm (GTEST_SKIP).
   filter="${STLTOPO_WASM_GTEST_FILTER:-*}"
   echo "test-node: GoogleTest suite under Node (wasm), filter $filter"
-  node "$BUILD_DIR/bindings/stltopo_tests_wasm.js" --gtest_filter="$filter"
+  node "$BUILD_DIR/tests/stltopo_tests_wasm.js" --gtest_filter="$filter"
 fi

@@ -146,13 +146,11 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
   j.close(']');
   if (topo) {
     const Topology& t = *topo;
-    j.key("edges"); j.u(t.nEdges);
-    j.key("boundaryEdges"); j.u(t.nBoundaryEdges);
-    j.key("nonManifoldEdges"); j.u(t.nNonManifoldEdges);
-    j.key("inconsistentEdges"); j.u(t.nInconsistentEdges);
-    j.key("nonManifoldVertices"); j.u(t.nNonManifoldVertices);
-    j.key("holes"); j.u(t.nHoles);
-    j.key("seams"); j.u(t.nSeams);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(t.count);
+    STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT_KEY)
+#undef STLTOPO_COUNT_KEY
     j.key("holeSizes");
     j.open('[');
     for (uint32_t l = 0; l < t.nLoops(); ++l) {

@@ -99,13 +99,11 @@ void writeShell(Json& j, const Shell& s, uint32_t id, const ShellNesting* nest =
   j.key("id"); j.u(id);
   j.key("triangles"); j.u(s.triangles);
   j.key("vertices"); j.u(s.vertices);
-  j.key("edges"); j.u(s.edges);
-  j.key("boundaryEdges"); j.u(s.boundaryEdges);
-  j.key("nonManifoldEdges"); j.u(s.nonManifoldEdges);
-  j.key("inconsistentEdges"); j.u(s.inconsistentEdges);
-  j.key("nonManifoldVertices"); j.u(s.nonManifoldVertices);
-  j.key("holes"); j.u(s.holes);
-  j.key("seams"); j.u(s.seams);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(s.name);
+  STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT_KEY)
+#undef STLTOPO_COUNT_KEY
   j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic());
   j.key("genus");
   if (s.hasGenus()) j.f64(s.genus()); else j.null();

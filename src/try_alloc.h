@@ -11,6 +11,18 @@
 
 #include "stltopo/status.h"
 
+// Allocation failures of the std containers (names, lists whose size the input controls) are
+// caught where exceptions exist: `STLTOPO_TRY { ... } STLTOPO_CATCH { return oom(...); }`.
+// The wasm build has none; an allocation failure there aborts, as for the rest of the std
+// containers of the core.
+#if defined(__cpp_exceptions)
+#define STLTOPO_TRY try
+#define STLTOPO_CATCH catch (...)
+#else
+#define STLTOPO_TRY if (true)
+#define STLTOPO_CATCH else
+#endif
+
 namespace stltopo::detail {
 
 // Whether malloc can give `bytes` now (the block is freed again). The standard containers

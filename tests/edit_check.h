@@ -29,28 +29,31 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
   if (!s.ok()) return "buildTopology: " + s.message;
 #define EDITCHECK_SAME(x) \
   if (!gen::sameArray(t.x, f.x)) return "array " #x " differs from a fresh build";
-  EDITCHECK_SAME(next) EDITCHECK_SAME(prev) EDITCHECK_SAME(vert) EDITCHECK_SAME(face) EDITCHECK_SAME(pairKind)
-  EDITCHECK_SAME(triangleHalfedge) EDITCHECK_SAME(vertexHalfedge) EDITCHECK_SAME(vertexWeld)
-  EDITCHECK_SAME(loopHalfedge) EDITCHECK_SAME(loopOffsets) EDITCHECK_SAME(loopHalfedges) EDITCHECK_SAME(loopIsSeam)
-  EDITCHECK_SAME(loopPerimeter) EDITCHECK_SAME(triangleDegenerate) EDITCHECK_SAME(vertexNonManifold)
+  EDITCHECK_SAME(next)
+  EDITCHECK_SAME(prev) EDITCHECK_SAME(vert) EDITCHECK_SAME(face) EDITCHECK_SAME(pairKind) EDITCHECK_SAME(
+      triangleHalfedge) EDITCHECK_SAME(vertexHalfedge) EDITCHECK_SAME(vertexWeld) EDITCHECK_SAME(loopHalfedge)
+      EDITCHECK_SAME(loopOffsets) EDITCHECK_SAME(loopHalfedges) EDITCHECK_SAME(loopIsSeam) EDITCHECK_SAME(loopPerimeter)
+          EDITCHECK_SAME(triangleDegenerate) EDITCHECK_SAME(vertexNonManifold)
 #undef EDITCHECK_SAME
 #define EDITCHECK_COUNT(x) \
   if (t.x != f.x) return "count " #x " differs from a fresh build: " + std::to_string(t.x) + " vs " + std::to_string(f.x);
-  EDITCHECK_COUNT(nTriangles) EDITCHECK_COUNT(nVertices) EDITCHECK_COUNT(nEdges) EDITCHECK_COUNT(nBoundaryEdges)
-  EDITCHECK_COUNT(nNonManifoldEdges) EDITCHECK_COUNT(nInconsistentEdges) EDITCHECK_COUNT(nNonManifoldVertices)
-  EDITCHECK_COUNT(nDegenerate) EDITCHECK_COUNT(nShells) EDITCHECK_COUNT(nUsedVertices) EDITCHECK_COUNT(nHoles)
-  EDITCHECK_COUNT(nSeams) EDITCHECK_COUNT(nWeldedVertices)
+#define EDITCHECK_LISTED(count, name, doc) EDITCHECK_COUNT(count)
+              EDITCHECK_COUNT(nTriangles) EDITCHECK_COUNT(nVertices) EDITCHECK_COUNT(nWeldedVertices)
+                  STLTOPO_COUNTS(EDITCHECK_LISTED) STLTOPO_OTHER_COUNTS(EDITCHECK_LISTED)
+#undef EDITCHECK_LISTED
 #undef EDITCHECK_COUNT
-  if (infoJson("f", m, &t) != infoJson("f", m, &f)) return "infoJson differs from a fresh build";
+                      if (infoJson("f", m, &t) != infoJson("f", m, &f)) return "infoJson differs from a fresh build";
   if (em.infoJson("f") != infoJson("f", m, &f)) return "EditableMesh::infoJson differs from a fresh build";
   const EditStats& st = em.stats();
-  if (st.triangles != f.nTriangles || st.vertices != f.nVertices || st.degenerate != f.nDegenerate ||
-      st.edges != f.nEdges || st.boundaryEdges != f.nBoundaryEdges || st.nonManifoldEdges != f.nNonManifoldEdges ||
-      st.inconsistentEdges != f.nInconsistentEdges || st.nonManifoldVertices != f.nNonManifoldVertices ||
-      st.usedVertices != f.nUsedVertices || st.holes != f.nHoles || st.seams != f.nSeams || st.shells != f.nShells ||
-      st.eulerCharacteristic != f.eulerCharacteristic() || st.watertight != f.watertight() || st.manifold != f.manifold())
+  if (st.triangles != f.nTriangles || st.vertices != f.nVertices || st.eulerCharacteristic != f.eulerCharacteristic() ||
+      st.watertight != f.watertight() || st.manifold != f.manifold())
     return "stats() differ from a fresh build";
-  const EditLoops& l = em.loops();
+#define EDITCHECK_STAT(count, name, doc) \
+  if (st.name != f.count) return "stats()." #name " differs from a fresh build";
+  STLTOPO_COUNTS(EDITCHECK_STAT)
+  STLTOPO_OTHER_COUNTS(EDITCHECK_STAT)
+#undef EDITCHECK_STAT
+      const EditLoops& l = em.loops();
   if (!gen::sameArray(l.loopOffsets, f.loopOffsets) || !gen::sameArray(l.loopIsSeam, f.loopIsSeam) ||
       !gen::sameArray(l.loopPerimeter, f.loopPerimeter))
     return "loops() differ from a fresh build";

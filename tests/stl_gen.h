@@ -162,4 +162,12 @@ inline std::string leanTopologyDifference(const stltopo::Mesh& m, const stltopo:
   return "";
 }
 
+// Whether two meshes have the same arrays, byte for byte (positions, triangles, attribute
+// words, colours, normals).
+inline bool sameMesh(const stltopo::Mesh& a, const stltopo::Mesh& b) {
+  return sameArray(a.positions, b.positions) && sameArray(a.triangles, b.triangles) &&
+         sameArray(a.attributes, b.attributes) && sameArray(a.colors, b.colors) &&
+         sameArray(a.colorValid, b.colorValid) && sameArray(a.normals, b.normals);
+}
+
 }  // namespace gen

@@ -48,14 +48,6 @@ std::string freshReport(const EditableMesh& em) {
   return infoJson("", m, &t);
 }
 
-bool sameMesh(const Mesh& a, const Mesh& b) {
-  auto same = [](const auto& x, const auto& y) {
-    return x.size() == y.size() && (x.size() == 0 || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
-  };
-  return same(a.positions, b.positions) && same(a.triangles, b.triangles) && same(a.attributes, b.attributes) &&
-         same(a.colors, b.colors) && same(a.colorValid, b.colorValid) && same(a.normals, b.normals);
-}
-
 // Figures where a larger number is worse.
 // `splitDone`: split-nonmanifold did items. Its new vertices sit where the old one was, and
 // triangles that meet at a point without sharing a vertex intersect by definition (they
@@ -130,7 +122,7 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   }
   Mesh back;
   EXPECT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
-  EXPECT_TRUE(sameMesh(back, input)) << what << ": undo did not give back the input";
+  EXPECT_TRUE(gen::sameMesh(back, input)) << what << ": undo did not give back the input";
   EXPECT_EQ(stlBytes(back), inputBytes) << what << ": undo did not give back the input bytes";
   return r;
 }
@@ -329,7 +321,7 @@ TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {
   EXPECT_EQ(s.code, Code::InvalidArgument);
   Mesh back;
   ASSERT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
-  EXPECT_TRUE(sameMesh(back, b));
+  EXPECT_TRUE(gen::sameMesh(back, b));
   // And a custom attribute is refused, also without a change.
   EditableMesh em2;
   ASSERT_TRUE(em2.init(a).ok());

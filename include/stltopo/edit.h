@@ -109,10 +109,15 @@ enum class FillMethod : uint8_t { Fan, Ear };
 
 // Whole-mesh figures: the fields infoJson prints, as a fresh build of the compacted mesh
 // gives them.
+// Besides `triangles` and `vertices` (the vertices that triangles use), one member per count of
+// stltopo/counts.h (edges, boundaryEdges, ..., shells, degenerate, usedVertices), and the
+// figures TopologyCounts derives from them.
 struct EditStats {
-  uint32_t triangles = 0, vertices = 0, degenerate = 0;
-  uint32_t edges = 0, boundaryEdges = 0, nonManifoldEdges = 0, inconsistentEdges = 0;
-  uint32_t nonManifoldVertices = 0, usedVertices = 0, holes = 0, seams = 0, shells = 0;
+  uint32_t triangles = 0, vertices = 0;
+#define STLTOPO_STATS_MEMBER(count, name, doc) uint32_t name = 0;
+  STLTOPO_COUNTS(STLTOPO_STATS_MEMBER)
+  STLTOPO_OTHER_COUNTS(STLTOPO_STATS_MEMBER)
+#undef STLTOPO_STATS_MEMBER
   int64_t eulerCharacteristic = 0;
   bool watertight = false, manifold = true;
 };

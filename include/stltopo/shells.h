@@ -37,11 +37,14 @@ struct Shell {
   uint32_t triangles = 0;             // non-degenerate triangles
   uint32_t vertices = 0;              // vertices its triangles use; a vertex shared by several
                                       // shells (they touch there) counts in each of them
-  uint32_t edges = 0;                 // undirected edges; all the triangles of an edge are in
-                                      // one shell, so every edge counts in exactly one shell
-  uint32_t boundaryEdges = 0, nonManifoldEdges = 0, inconsistentEdges = 0;
-  uint32_t nonManifoldVertices = 0;   // vertices with more than one vnext cycle in this shell
-  uint32_t holes = 0, seams = 0;      // boundary loops (every loop lies in one shell)
+  // The surface counts of stltopo/counts.h (edges, boundaryEdges, nonManifoldEdges,
+  // inconsistentEdges, nonManifoldVertices, holes, seams), in this shell: all the triangles of
+  // an edge are in one shell, so every edge counts in exactly one shell, and so does every
+  // boundary loop; nonManifoldVertices counts the vertices with more than one vnext cycle in
+  // this shell.
+#define STLTOPO_SHELL_MEMBER(count, name, doc) uint32_t name = 0;
+  STLTOPO_SURFACE_COUNTS(STLTOPO_SHELL_MEMBER)
+#undef STLTOPO_SHELL_MEMBER
   uint32_t solid = kInvalid;          // index into Mesh::solids of the solid holding all of its
                                       // triangles, kMixedSolid if several do, kInvalid if none
   double area = 0;                    // sum of triangle areas

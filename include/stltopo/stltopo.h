@@ -15,6 +15,7 @@
 #include "stltopo/status.h"
 #include "stltopo/array.h"
 #include "stltopo/mesh.h"
+#include "stltopo/counts.h"
 #include "stltopo/read.h"
 #include "stltopo/topology.h"
 #include "stltopo/report.h"

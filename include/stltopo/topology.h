@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "stltopo/array.h"
+#include "stltopo/counts.h"
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 
@@ -35,8 +36,10 @@ enum class EdgeKind : uint8_t {
   NonManifold = 3,  // edge used by three or more sides (paired or cut)
 };
 
-struct Topology {
-  uint32_t nTriangles = 0;      // = mesh.nTriangles(); boundary face h has id nTriangles + h
+// The counts (nTriangles, nEdges, ..., nShells, nDegenerate, nUsedVertices) and the figures
+// derived from them (eulerCharacteristic(), watertight(), manifold()) are TopologyCounts'
+// (stltopo/counts.h); undirected-edge counts: an undirected edge may hold several pairs when cut.
+struct Topology : TopologyCounts {
   uint32_t nVertices = 0;
 
   // Half-edges: length nHalfedges() = 2 * number of pairs.
@@ -68,10 +71,6 @@ struct Topology {
   // order of their lowest triangle id. Built when TopologyOptions::triangleShell, else empty.
   Array<uint32_t> triangleShell;       // per triangle: its shell, kInvalid if degenerate
 
-  // Undirected-edge counts (an undirected edge may hold several pairs when cut).
-  uint32_t nEdges = 0, nBoundaryEdges = 0, nNonManifoldEdges = 0, nInconsistentEdges = 0;
-  uint32_t nNonManifoldVertices = 0, nDegenerate = 0, nShells = 0, nUsedVertices = 0;
-  uint32_t nHoles = 0, nSeams = 0;
   // The weld the topology was built with: TopologyOptions::tolerance, and the number of
   // representatives (vertices v with vertexWeld[v] == v; = nVertices for the exact weld).
   double tolerance = 0;
@@ -79,15 +78,6 @@ struct Topology {
 
   uint32_t nHalfedges() const { return uint32_t(next.size()); }
   uint32_t nLoops() const { return uint32_t(loopHalfedge.size()); }
-  // V - E + F over the non-degenerate triangles and the vertices they use.
-  int64_t eulerCharacteristic() const {
-    return int64_t(nUsedVertices) - int64_t(nEdges) + int64_t(nTriangles - nDegenerate);
-  }
-  // At least one non-degenerate triangle and no boundary, non-manifold or inconsistent edge.
-  bool watertight() const {
-    return nTriangles > nDegenerate && nBoundaryEdges == 0 && nNonManifoldEdges == 0 && nInconsistentEdges == 0;
-  }
-  bool manifold() const { return nNonManifoldEdges == 0 && nNonManifoldVertices == 0; }
   uint32_t nFaces() const { return nTriangles + nLoops(); }
   bool isLoopFace(uint32_t f) const { return f >= nTriangles; }
 };

@@ -25,17 +25,6 @@
 #include "text_format.h"
 #include "try_alloc.h"
 
-// Allocation failure of the std containers (names, the attribute list) is caught where
-// exceptions exist; the wasm build has none (an allocation failure there aborts, as for
-// the rest of the std containers of the core).
-#if defined(__cpp_exceptions)
-#define STLTOPO_TRY try
-#define STLTOPO_CATCH catch (...)
-#else
-#define STLTOPO_TRY if (true)
-#define STLTOPO_CATCH else
-#endif
-
 namespace stltopo {
 namespace edit_detail {
 

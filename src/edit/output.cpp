@@ -28,25 +28,32 @@ uint32_t EditableMesh::Impl::face(uint32_t e) {
 
 const EditStats& EditableMesh::Impl::stats() {
   if (!statsStale_) return stats_;
+  // The counts as a fresh build of the compacted mesh has them; the figures are Topology's.
+  TopologyCounts c;
   EditStats s;
-  s.triangles = nLiveTriangles_;
-  s.degenerate = nDegenerate_;
+  c.nTriangles = nLiveTriangles_;
+  c.nDegenerate = nDegenerate_;
   for (uint32_t v = 0; v < nVertices(); ++v) {
     if (vertexCornerCount_[v] > 0) ++s.vertices;
-    if (vertexHalfedge_[v] != kInvalid) ++s.usedVertices;
+    if (vertexHalfedge_[v] != kInvalid) ++c.nUsedVertices;
   }
-  s.edges = nEdges_;
-  s.boundaryEdges = nBoundaryEdges_;
-  s.nonManifoldEdges = nNonManifoldEdges_;
-  s.inconsistentEdges = nInconsistentEdges_;
-  s.nonManifoldVertices = nNonManifoldVertices_;
+  c.nEdges = nEdges_;
+  c.nBoundaryEdges = nBoundaryEdges_;
+  c.nNonManifoldEdges = nNonManifoldEdges_;
+  c.nInconsistentEdges = nInconsistentEdges_;
+  c.nNonManifoldVertices = nNonManifoldVertices_;
   const EditLoops& l = loops();
-  for (uint32_t h = 0; h < l.nLoops(); ++h) (l.loopIsSeam[h] ? s.seams : s.holes) += 1;
+  for (uint32_t h = 0; h < l.nLoops(); ++h) (l.loopIsSeam[h] ? c.nSeams : c.nHoles) += 1;
   uint32_t shells = Impl::countShells(*this);
-  s.shells = shells == kInvalid ? 0 : shells;
-  s.eulerCharacteristic = int64_t(s.usedVertices) - int64_t(s.edges) + int64_t(s.triangles - s.degenerate);
-  s.watertight = s.triangles > s.degenerate && s.boundaryEdges == 0 && s.nonManifoldEdges == 0 && s.inconsistentEdges == 0;
-  s.manifold = s.nonManifoldEdges == 0 && s.nonManifoldVertices == 0;
+  c.nShells = shells == kInvalid ? 0 : shells;
+  s.triangles = c.nTriangles;
+#define STLTOPO_STATS_COUNT(count, name, doc) s.name = c.count;
+  STLTOPO_COUNTS(STLTOPO_STATS_COUNT)
+  STLTOPO_OTHER_COUNTS(STLTOPO_STATS_COUNT)
+#undef STLTOPO_STATS_COUNT
+  s.eulerCharacteristic = c.eulerCharacteristic();
+  s.watertight = c.watertight();
+  s.manifold = c.manifold();
   stats_ = s;
   statsStale_ = shells == kInvalid || loopsStale_;
   return stats_;

@@ -254,13 +254,14 @@ Status runOrient(StepContext& ctx) {
     uint32_t t, from;
   };
   std::vector<Cut> cuts;
-  STLTOPO_TRY_BEGIN
-  for (uint32_t e = 0; e < 2 * nPairs; ++e) {
-    if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
-    uint32_t u = T.vert[e], v = T.vert[T.next[e]];
-    cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+  STLTOPO_TRY {
+    for (uint32_t e = 0; e < 2 * nPairs; ++e) {
+      if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
+      uint32_t u = T.vert[e], v = T.vert[T.next[e]];
+      cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+    }
   }
-  STLTOPO_TRY_END(return detail::oom(kStepArrays));
+  STLTOPO_CATCH { return detail::oom(kStepArrays); }
   std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
   auto eachLink = [&](auto&& f) {
     for (uint32_t k = 0; k < nPairs; ++k) {
@@ -320,10 +321,11 @@ Status runOrient(StepContext& ctx) {
     const uint8_t flipParity = n1 < n0 ? 1 : n0 < n1 ? 0 : uint8_t(parity[seed] ^ 1u);
     std::vector<uint32_t> flip;
     if (!conflict) {
-      STLTOPO_TRY_BEGIN
-      for (uint32_t t : queue)
-        if (parity[t] == flipParity) flip.push_back(t);
-      STLTOPO_TRY_END(return detail::oom(kStepArrays));
+      STLTOPO_TRY {
+        for (uint32_t t : queue)
+          if (parity[t] == flipParity) flip.push_back(t);
+      }
+      STLTOPO_CATCH { return detail::oom(kStepArrays); }
       std::sort(flip.begin(), flip.end());
     }
     const uint32_t kept = n - uint32_t(flip.size());
@@ -375,10 +377,11 @@ Status runOrient(StepContext& ctx) {
     const bool inward = depth != kInvalid && (depth & 1u);
     if (sh.volume == 0 || (sh.volume < 0) == inward) continue;
     std::vector<uint32_t> tris;
-    STLTOPO_TRY_BEGIN
-    for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
-      if (topo.triangleShell[t] == k) tris.push_back(t);
-    STLTOPO_TRY_END(return detail::oom(kStepArrays));
+    STLTOPO_TRY {
+      for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
+        if (topo.triangleShell[t] == k) tris.push_back(t);
+    }
+    STLTOPO_CATCH { return detail::oom(kStepArrays); }
     std::string why = depth == kInvalid ? (nested ? "it overlaps another shell; by volume sign" : "by volume sign")
                                         : detail::format("at nesting depth %u", depth);
     ctx.begin(detail::format("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
@@ -425,9 +428,8 @@ Status runSmallShells(StepContext& ctx) {
     const bool smallVolume = o.minShellVolume > 0 && std::fabs(sh.volume) < o.minShellVolume;
     if (!fewTriangles && !smallVolume) continue;
     std::vector<uint32_t> tris;
-    STLTOPO_TRY_BEGIN
-    tris.assign(members.data() + offsets[k], members.data() + offsets[k + 1]);
-    STLTOPO_TRY_END(return detail::oom(kStepArrays));
+    STLTOPO_TRY { tris.assign(members.data() + offsets[k], members.data() + offsets[k + 1]); }
+    STLTOPO_CATCH { return detail::oom(kStepArrays); }
     ctx.begin(detail::format("remove shell %u (%u triangles, volume %g)", k, sh.triangles, sh.volume), std::move(tris));
     if (ctx.excluded()) continue;
     if (k == largest) {

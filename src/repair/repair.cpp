@@ -14,15 +14,6 @@
 #include "triangle_figures.h"
 #include "try_alloc.h"
 
-// Allocation failures of std containers are caught where exceptions exist (as in src/edit/).
-#if defined(__cpp_exceptions)
-#define STLTOPO_TRY try
-#define STLTOPO_CATCH catch (...)
-#else
-#define STLTOPO_TRY if (true)
-#define STLTOPO_CATCH else
-#endif
-
 namespace stltopo {
 
 namespace {
@@ -456,14 +447,11 @@ void figuresJson(detail::Json& j, const RepairFigures& f) {
   j.key("degenerateTriangles"); j.u(s.degenerate);
   j.key("zeroAreaTriangles"); j.u(f.zeroAreaTriangles);
   j.key("duplicateTriangles"); j.u(f.duplicateTriangles);
-  j.key("edges"); j.u(s.edges);
-  j.key("boundaryEdges"); j.u(s.boundaryEdges);
-  j.key("nonManifoldEdges"); j.u(s.nonManifoldEdges);
-  j.key("inconsistentEdges"); j.u(s.inconsistentEdges);
-  j.key("nonManifoldVertices"); j.u(s.nonManifoldVertices);
-  j.key("holes"); j.u(s.holes);
-  j.key("seams"); j.u(s.seams);
-  j.key("shells"); j.u(s.shells);
+#define STLTOPO_COUNT_KEY(count, name, doc) \
+  j.key(#name);                             \
+  j.u(s.name);
+  STLTOPO_COUNTS(STLTOPO_COUNT_KEY)
+#undef STLTOPO_COUNT_KEY
   j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic);
   j.key("watertight"); j.b(s.watertight);
   j.key("manifold"); j.b(s.manifold);

@@ -17,18 +17,7 @@
 
 #include "stltopo/edit.h"
 #include "stltopo/repair.h"
-
-// std containers' allocation failures: caught where exceptions exist (the wasm build has
-// none; an allocation failure there aborts, as for every std container of the core).
-#if defined(__cpp_exceptions)
-#define STLTOPO_TRY_BEGIN try {
-#define STLTOPO_TRY_END(onFail) \
-  }                             \
-  catch (...) { onFail; }
-#else
-#define STLTOPO_TRY_BEGIN {
-#define STLTOPO_TRY_END(onFail) }
-#endif
+#include "try_alloc.h"
 
 namespace stltopo {
 namespace repair_detail {

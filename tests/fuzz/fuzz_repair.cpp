@@ -9,7 +9,6 @@
 // shells, intersections). Checks: planning changes nothing; apply's result equals the plan's
 // prediction; the result passes validate(); undo, step by step, gives back the input's
 // arrays exactly.
-#include <cstring>
 
 #include "../stl_gen.h"
 #include "fuzz_common.h"
@@ -27,13 +26,6 @@ struct Bytes {
   }
 };
 
-bool sameMesh(const Mesh& a, const Mesh& b) {
-  auto same = [](const auto& x, const auto& y) {
-    return x.size() == y.size() && (x.size() == 0 || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
-  };
-  return same(a.positions, b.positions) && same(a.triangles, b.triangles) && same(a.attributes, b.attributes) &&
-         same(a.colors, b.colors) && same(a.colorValid, b.colorValid) && same(a.normals, b.normals);
-}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -128,6 +120,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   Mesh back;
   FUZZ_CHECK(em.toMesh(back, nullptr, nullptr).ok());
-  FUZZ_CHECK(sameMesh(back, before));
+  FUZZ_CHECK(gen::sameMesh(back, before));
   return 0;
 }

@@ -76,6 +76,52 @@ export function gridStl(n, { header = 'grid' } = {}) {
   return u8;
 }
 
+/**
+ * A torus grid (n x m quads) with damage: triangles removed (holes), flipped (inconsistent
+ * edges) and repeated (duplicates), drawn from `seed`. Indexed arrays (fromIndexed's input);
+ * indexedStl() gives the same mesh as a file.
+ */
+export function damagedTorus(n, m, seed) {
+  const positions = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
+      positions.push((3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v));
+    }
+  }
+  let s = seed;
+  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
+  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
+  const tris = [];
+  for (let i = 0; i < n; ++i) {
+    for (let j = 0; j < m; ++j) {
+      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
+        const r = rnd();
+        if (r < 0.02) continue;
+        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
+        tris.push(...t);
+        if (r > 0.98) tris.push(...t);
+      }
+    }
+  }
+  return { positions: new Float32Array(positions), triangles: new Uint32Array(tris) };
+}
+
+/** Indexed positions and triangles as a binary STL (a Buffer; normals and attribute words 0). */
+export function indexedStl(positions, triangles, header = '') {
+  const nt = triangles.length / 3;
+  const buf = Buffer.alloc(84 + 50 * nt);
+  buf.write(header, 0);
+  buf.writeUInt32LE(nt, 80);
+  for (let t = 0; t < nt; ++t) {
+    for (let k = 0; k < 3; ++k) {
+      const v = triangles[3 * t + k];
+      for (let c = 0; c < 3; ++c) buf.writeFloatLE(positions[3 * v + c], 84 + 50 * t + 12 + 12 * k + 4 * c);
+    }
+  }
+  return buf;
+}
+
 /** The arrays of a mesh as plain arrays keyed by name, for deep comparisons. */
 export function meshArrays(m) {
   const out = {

@@ -10,39 +10,12 @@ import os from 'node:os';
 import path from 'node:path';
 import { loadStl, fromIndexed, toStl, planRepair, EditableMesh, extractShell } from 'stltopo';
 import Module from 'manifold-3d';
-import { fixtures, root, nativeCli, haveNativeCli } from './helpers.mjs';
+import { fixtures, root, nativeCli, haveNativeCli, damagedTorus } from './helpers.mjs';
 
 const wasm = await Module();
 wasm.setup();
 
 const admesh = (model, kase) => path.join(root, 'tests/judge/admesh', model, `${kase}-bad.stl`);
-
-// A torus grid (n x m quads), some triangles flipped, some removed, some duplicated.
-function damagedTorus(n, m, seed) {
-  const positions = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
-      positions.push((3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v));
-    }
-  }
-  let s = seed;
-  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
-  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
-  const tris = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
-        const r = rnd();
-        if (r < 0.02) continue;
-        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
-        tris.push(...t);
-        if (r > 0.98) tris.push(...t);
-      }
-    }
-  }
-  return { positions: new Float32Array(positions), triangles: new Uint32Array(tris) };
-}
 
 async function bytesOf(x) {
   return new Uint8Array(await toStl(x));

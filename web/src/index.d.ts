@@ -202,17 +202,31 @@ export interface MeshStats {
   warnings: Warning[];
 }
 
-/** The keys of `stltopo info --json` that a mesh with topology (the default) has besides. */
-export interface TopologyStats {
+/** The topology's counts (one list: include/stltopo/counts.h), in TopologyStats and RepairFigures. */
+export interface TopologyCounts {
+  // BEGIN counts: written by scripts/gen-api-docs.mjs from the count list (include/stltopo/counts.h)
+  /** Undirected edges (an edge may hold several half-edge pairs when it is cut). */
   edges: number;
+  /** Edges with one triangle side. */
   boundaryEdges: number;
+  /** Edges with three or more triangle sides. */
   nonManifoldEdges: number;
+  /** Edges whose two sides run the same way (a flipped face). */
   inconsistentEdges: number;
+  /** Vertices whose outgoing half-edges form more than one fan. */
   nonManifoldVertices: number;
+  /** Boundary loops without a cut side. */
   holes: number;
+  /** Boundary loops that contain a cut (inconsistent or non-manifold) side. */
   seams: number;
-  holeSizes: number[];
+  /** Shells: edge-connected components of the non-degenerate triangles. */
   shells: number;
+  // END counts
+}
+
+/** The keys of `stltopo info --json` that a mesh with topology (the default) has besides. */
+export interface TopologyStats extends TopologyCounts {
+  holeSizes: number[];
   eulerCharacteristic: number;
   /** null unless the mesh is watertight and manifold. */
   genus: number | null;
@@ -552,20 +566,12 @@ export interface RepairOptions {
 }
 
 /** The figures a plan predicts and a log reports. */
-export interface RepairFigures {
+export interface RepairFigures extends TopologyCounts {
   triangles: number;
   vertices: number;
   degenerateTriangles: number;
   zeroAreaTriangles: number;
   duplicateTriangles: number;
-  edges: number;
-  boundaryEdges: number;
-  nonManifoldEdges: number;
-  inconsistentEdges: number;
-  nonManifoldVertices: number;
-  holes: number;
-  seams: number;
-  shells: number;
   eulerCharacteristic: number;
   watertight: boolean;
   manifold: boolean;

@@ -1,7 +1,7 @@
 // The Mesh that loadStl() resolves to, built from a raw result: plain data made by
 // wasm.js (extractRaw) on this thread or received from a worker thread. Its array
 // properties follow the bindings' array table (raw.layout: STLTOPO_JS_ARRAYS in
-// bindings/bindings.cpp), one row per array: { name, group, key, element, width, when,
+// bindings/arrays.h), one row per array: { name, group, key, element, width, when,
 // copied, derived, type, doc }.
 //
 // Copies (the default): every array is a plain property holding a JS-owned typed array,

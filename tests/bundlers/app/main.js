@@ -1,4 +1,4 @@
-// The consumer app every bundler in the matrix builds (tests/consumers/run.mjs):
+// The consumer app every bundler in the matrix builds (tests/bundlers/run.mjs):
 // what a web developer writes, nothing more. It loads the STL named by ?stl=
 // on the main thread and through the worker, and leaves what it saw in
 // window.__result for the test to compare with the native CLI. Then it uses what

@@ -269,7 +269,7 @@ function checkResult({ result, problems }, extra = []) {
 function report(t, name, failures, log) {
   const known = KNOWN[name];
   if (!failures.length) {
-    if (known) assert.fail(`${name} passes now: remove it from KNOWN in tests/consumers/run.mjs`);
+    if (known) assert.fail(`${name} passes now: remove it from KNOWN in tests/bundlers/run.mjs`);
     return;
   }
   if (known) t.todo(`known failure: ${known}`);

@@ -5,21 +5,14 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawn } from 'node:child_process';
-import { existsSync, mkdirSync, readFileSync, copyFileSync } from 'node:fs';
+import { existsSync, readFileSync, copyFileSync } from 'node:fs';
 import http from 'node:http';
-import net from 'node:net';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { preview } from 'vite';
+import { root, artifacts, freePort, startSite, launchChromium, newPage as openPage, closePage, settle, pageStats }
+  from './demo-page.mjs';
 
-const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const fixtures = path.join(root, 'tests/fixtures');
-const artifacts = path.join(root, 'test-artifacts');
 const cli = path.join(root, 'build/stltopo');
-const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
 
 const fixture = (rel) => path.join(fixtures, rel);
 const BUNNY = fixture('google_draco/testdata/STL/bunny.stl'); // 5 holes
@@ -38,17 +31,6 @@ let files; // CORS static server over tests/fixtures
 let filesUrl;
 let browser;
 const stalled = []; // responses of /stalled.stl, ended in after()
-
-async function freePort() {
-  return new Promise((resolve, reject) => {
-    const srv = net.createServer();
-    srv.once('error', reject);
-    srv.listen(0, '127.0.0.1', () => {
-      const { port } = srv.address();
-      srv.close(() => resolve(port));
-    });
-  });
-}
 
 function cliStats(file) {
   return JSON.parse(execFileSync(cli, ['info', '--json', '--intersections', file], { encoding: 'utf8' }));
@@ -77,26 +59,7 @@ function assertClose(actual, expected, where) {
   }
 }
 
-async function newPage() {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
-  page.errors = [];
-  page.on('pageerror', (error) => page.errors.push(error));
-  return page;
-}
-
-async function closePage(page) {
-  const errors = page.errors.map((e) => e.stack || e.message);
-  await page.close();
-  assert.deepEqual(errors, [], 'uncaught page errors');
-}
-
-/** Waits for the load after `loadCount` to finish (ready or error); returns the state. */
-async function settle(page, loadCount, timeout = 60_000) {
-  await page.waitForFunction(
-    (n) => Number(document.body.dataset.loadCount) > n && document.body.dataset.state !== 'loading',
-    loadCount, { timeout });
-  return page.evaluate(() => document.body.dataset.state);
-}
+const newPage = () => openPage(browser, 860);
 
 const loadCount = (page) => page.evaluate(() => Number(document.body.dataset.loadCount || 0));
 
@@ -105,10 +68,6 @@ async function openDemo(page, query = '') {
   return settle(page, 0);
 }
 
-async function pageStats(page) {
-  return page.evaluate(() => Object.fromEntries(
-    [...document.querySelectorAll('[data-stat]')].map((e) => [e.dataset.stat, e.textContent])));
-}
 
 /** The page shows every CLI statistic with the CLI's value, and one list entry per hole. */
 async function assertMatchesCli(page, file) {
@@ -137,14 +96,7 @@ async function loadThroughInput(page, file) {
 before(async () => {
   assert.ok(existsSync(cli), `${cli} is missing: build the CLI first (cmake -S . -B build && cmake --build build)`);
   assert.ok(existsSync(path.join(root, 'web/demo/dist/index.html')), 'web/demo/dist is missing: run npm run build:demo');
-  mkdirSync(artifacts, { recursive: true });
-
-  site = await preview({
-    configFile: path.join(root, 'web/demo/vite.config.js'),
-    preview: { port: await freePort(), strictPort: true, host: '127.0.0.1' },
-    logLevel: 'warn',
-  });
-  siteUrl = site.resolvedUrls.local[0];
+  ({ site, siteUrl } = await startSite());
 
   files = http.createServer((req, res) => {
     const rel = decodeURIComponent(new URL(req.url, 'http://x').pathname);
@@ -172,7 +124,7 @@ before(async () => {
   await new Promise((resolve) => files.listen(0, '127.0.0.1', resolve));
   filesUrl = `http://127.0.0.1:${files.address().port}`;
 
-  browser = await chromium.launch({ executablePath: chromiumPath, args: chromiumArgs });
+  browser = await launchChromium();
 });
 
 after(async () => {

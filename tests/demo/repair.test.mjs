@@ -7,45 +7,21 @@
 // merged plan nothing until they are): every expectation comes from the Node plan.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
-import net from 'node:net';
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { preview } from 'vite';
 import { loadStl, EditableMesh, REPAIR_DEFAULTS } from 'stltopo';
+import { damagedTorus, indexedStl } from '../js/helpers.mjs';
+import { root, artifacts, startSite, launchChromium, newPage as openPage, closePage, settle, pageStats } from './demo-page.mjs';
 
-const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const artifacts = path.join(root, 'test-artifacts');
-const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
 const REMOVE_UNCONNECTED = path.join(root, 'tests/judge/admesh/block/remove-unconnected-bad.stl'); // 3 shells, 2 tiny
 
 let site;
 let siteUrl;
 let browser;
 
-async function freePort() {
-  return new Promise((resolve, reject) => {
-    const srv = net.createServer();
-    srv.once('error', reject);
-    srv.listen(0, '127.0.0.1', () => {
-      const { port } = srv.address();
-      srv.close(() => resolve(port));
-    });
-  });
-}
-
 before(async () => {
-  mkdirSync(artifacts, { recursive: true });
-  site = await preview({
-    configFile: path.join(root, 'web/demo/vite.config.js'),
-    preview: { port: await freePort(), strictPort: true, host: '127.0.0.1' },
-    logLevel: 'warn',
-  });
-  siteUrl = site.resolvedUrls.local[0];
-  browser = await chromium.launch({ executablePath: chromiumPath, args: chromiumArgs });
+  ({ site, siteUrl } = await startSite());
+  browser = await launchChromium();
 });
 
 after(async () => {
@@ -53,59 +29,7 @@ after(async () => {
   await site?.close();
 });
 
-/**
- * A torus grid as a binary STL with damage: triangles removed (holes), flipped (inconsistent
- * edges) and repeated (duplicates). The generator of tests/js/repair.test.mjs.
- */
-function damagedTorusStl(n, m, seed) {
-  const positions = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      const u = (2 * Math.PI * i) / n, v = (2 * Math.PI * j) / m;
-      positions.push([(3 + Math.cos(v)) * Math.cos(u), (3 + Math.cos(v)) * Math.sin(u), Math.sin(v)]);
-    }
-  }
-  let s = seed;
-  const rnd = () => ((s = (s * 1103515245 + 12345) >>> 0) % 1000) / 1000;
-  const id = (i, j) => ((i + n) % n) * m + ((j + m) % m);
-  const tris = [];
-  for (let i = 0; i < n; ++i) {
-    for (let j = 0; j < m; ++j) {
-      for (const t of [[id(i, j), id(i + 1, j), id(i + 1, j + 1)], [id(i, j), id(i + 1, j + 1), id(i, j + 1)]]) {
-        const r = rnd();
-        if (r < 0.02) continue;
-        if (r < 0.06) [t[1], t[2]] = [t[2], t[1]];
-        tris.push(t);
-        if (r > 0.98) tris.push(t);
-      }
-    }
-  }
-  const buf = Buffer.alloc(84 + 50 * tris.length);
-  buf.write('damaged torus', 0);
-  buf.writeUInt32LE(tris.length, 80);
-  tris.forEach((t, i) => t.forEach((v, k) => positions[v].forEach((x, c) => buf.writeFloatLE(x, 84 + 50 * i + 12 + 12 * k + 4 * c))));
-  return buf;
-}
-
-async function newPage() {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
-  page.errors = [];
-  page.on('pageerror', (error) => page.errors.push(error));
-  return page;
-}
-
-async function closePage(page) {
-  const errors = page.errors.map((e) => e.stack || e.message);
-  await page.close();
-  assert.deepEqual(errors, [], 'uncaught page errors');
-}
-
-async function settle(page, loadCount, timeout = 60_000) {
-  await page.waitForFunction(
-    (n) => Number(document.body.dataset.loadCount) > n && document.body.dataset.state !== 'loading',
-    loadCount, { timeout });
-  return page.evaluate(() => document.body.dataset.state);
-}
+const newPage = () => openPage(browser, 900);
 
 /** Opens the demo and loads `file` ({ name, buffer }) through the file input. */
 async function openWith(page, file) {
@@ -124,11 +48,6 @@ async function repairAction(page, act) {
   const error = await page.evaluate(() => (document.querySelector('#repair-error').hidden ? null
     : document.querySelector('#repair-error').textContent));
   return error;
-}
-
-async function pageStats(page) {
-  return page.evaluate(() => Object.fromEntries(
-    [...document.querySelectorAll('[data-stat]')].map((e) => [e.dataset.stat, e.textContent])));
 }
 
 /** The page's report cells: { before: { key: text }, after: { key: text } }. */
@@ -166,7 +85,8 @@ function expectedPlan(plan) {
 }
 
 test('Repair panel: plan, untick an item, preview, apply (the log\'s figures, the result drawn), download, undo back to the file', async () => {
-  const bytes = damagedTorusStl(30, 12, 5);
+  const t = damagedTorus(30, 12, 5);
+  const bytes = indexedStl(t.positions, t.triangles, 'damaged torus');
   const page = await newPage();
   await openWith(page, { name: 'damaged-torus.stl', buffer: bytes });
   const loadedStats = await pageStats(page);

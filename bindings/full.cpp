@@ -1,0 +1,231 @@
+// What only the full module (stltopo-full) compiles on top of the shared session: its array
+// table (every row, with the doc lines scripts/gen-api-docs.mjs reads), the count list
+// (_countLayout, for the same script), and FullSession: the session with shells and defects,
+// the exact geometry, fromIndexed() and the STL writer, whose methods it adds to _Session.
+#include <emscripten/bind.h>
+#include <emscripten/val.h>
+
+#include <new>
+#include <string>
+
+#include "session.h"
+
+using emscripten::typed_memory_view;
+using emscripten::val;
+
+namespace stltopo::js {
+
+const JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_JS_ROW, STLTOPO_JS_ROW)};
+const size_t kJsArrayCount = sizeof(kJsArrays) / sizeof(kJsArrays[0]);
+
+namespace {
+
+class FullSession : public Session {
+ public:
+  using Session::Session;
+  ~FullSession() override { delete writer_; }
+
+  std::string infoJson(const std::string& file, bool shells, bool defects, double maxDefects) const override {
+    return stltopo::infoJson(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
+  }
+  val infoText(const std::string& file, bool shells, bool defects, double maxDefects) const override {
+    return bytesToJs(
+        stltopo::infoText(file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects)));
+  }
+
+  // The geometry's rows of the table, then the shared ones.
+  val array(const std::string& n, bool copy) override {
+#define STLTOPO_CASE(name, part_, ...) \
+  if (n == #name) return js::array(part(static_cast<stltopo::part_*>(nullptr)).name, copy);
+    STLTOPO_JS_GEOMETRY_ARRAYS(STLTOPO_CASE)
+#undef STLTOPO_CASE
+    return Session::array(n, copy);
+  }
+  val upload(const std::string& n, double size) override {
+#define STLTOPO_CASE(name, part_, ...) \
+  if (n == #name) return uploadTo(part(static_cast<stltopo::part_*>(nullptr)).name, size);
+    STLTOPO_JS_GEOMETRY_ARRAYS(STLTOPO_CASE)
+#undef STLTOPO_CASE
+    return Session::upload(n, size);
+  }
+
+  // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
+  std::string shellListJson() const {
+    if (!hasShells_) return "null";
+    std::string j = stltopo::shellListJson(shells_, hasIntersections_ ? &nesting_ : nullptr);
+    return j.substr(j.find('['));
+  }
+
+  // fromIndexed(): builds the mesh from the upload()ed positions, triangles and optional
+  // attributes, colors and colorValid (an empty array = not given) and the solids of
+  // setMeta() (stltopo::meshFromIndexed), then its topology as finish() does.
+  val fromIndexed(bool weldNone, bool topology, double tolerance, bool prevAndFace, bool shells) {
+    const size_t nt = mesh_.triangles.size() / 3;
+    if ((!mesh_.attributes.empty() && mesh_.attributes.size() != nt) ||
+        (!mesh_.colors.empty() && mesh_.colors.size() != 3 * nt) ||
+        (!mesh_.colorValid.empty() && mesh_.colorValid.size() != nt))
+      return remember(Status::error(Code::InvalidArgument,
+                                    "attributes, colors and colorValid must hold 1, 3 and 1 values per triangle"));
+    IndexedMesh in;
+    in.positions = mesh_.positions.data();
+    in.positionsLength = mesh_.positions.size();
+    in.triangles = mesh_.triangles.data();
+    in.trianglesLength = mesh_.triangles.size();
+    in.attributes = mesh_.attributes.empty() ? nullptr : mesh_.attributes.data();
+    in.colors = mesh_.colors.empty() ? nullptr : mesh_.colors.data();
+    in.colorValid = mesh_.colorValid.empty() ? nullptr : mesh_.colorValid.data();
+    in.solids = mesh_.solids.data();
+    in.nSolids = mesh_.solids.size();
+    IndexedOptions io;
+    io.weld = weldNone ? Weld::None : Weld::Exact;
+    Mesh m;
+    Status s = meshFromIndexed(in, m, &indexedArrays_.inputVertexMap, io);
+    if (!s.ok()) return remember(s);
+    mesh_ = std::move(m);
+    indexed_ = true;
+    return buildTopology(topology, tolerance, prevAndFace, shells);
+  }
+
+  // Starts writing the mesh as STL (stltopo::StlWriter): format "binary"/"ascii", colors
+  // "as-mesh"/"none"/"viscam"/"magics", name a string or null (each solid's own).
+  val writeBegin(const std::string& format, const std::string& colors, val name, bool storedNormals,
+                 double chunkBytes) {
+    delete writer_;
+    writer_ = new (std::nothrow) StlWriter(*writing_, writeOptions(format, colors, name, storedNormals, chunkBytes));
+    if (!writer_) return status(Status::error(Code::OutOfMemory, "could not allocate the writer"));
+    return val::null();
+  }
+
+  // For `split`: what writeBegin() writes next, shell k of a load with shells (extracted,
+  // as stltopo::extractShell), or the mesh itself for k < 0. Null or the failure's status.
+  val selectShell(double k) {
+    delete writer_;
+    writer_ = nullptr;
+    writing_ = &mesh_;
+    if (k < 0) return val::null();
+    Status s = hasShells_ && k < double(shells_.size())
+                   ? extractShell(mesh_, topo_, uint32_t(k), part_)
+                   : Status::error(Code::InvalidArgument, "no such shell (load with shells)");
+    if (!s.ok()) return status(s);
+    writing_ = &part_;
+    return val::null();
+  }
+
+  // The line `split` prints for shell k written to `file` (stltopo::splitLineJson).
+  std::string splitLine(const std::string& file, double k) const {
+    if (!hasShells_ || !(k >= 0 && k < double(shells_.size()))) return "null";
+    return splitLineJson(file, shells_[size_t(k)], uint32_t(k));
+  }
+
+  // The exact geometry of a load with shells (stltopo::analyzeGeometry's steps): the
+  // triangle checks, the intersections (work limit maxPairs), the shells' nesting and
+  // `solid`; the report then has their keys. Null or the failure's status.
+  val intersect(double maxPairs) {
+    if (!hasShells_) return remember(Status::error(Code::InvalidArgument, "intersections need a load with shells"));
+    IntersectionOptions o;
+    if (maxPairs >= 1 && maxPairs <= 1099511627776.0) o.maxPairs = uint64_t(maxPairs);
+    Status s = checkTriangles(mesh_, &topo_, checks_);
+    if (s.ok()) s = findIntersections(mesh_, topo_, checks_, intersections_, o);
+    if (s.ok()) s = findShellNesting(mesh_, topo_, shells_, intersections_, nesting_);
+    if (!s.ok()) return remember(s);
+    solid_ = isSolid(topo_, checks_, intersections_, shells_, nesting_);
+    hasIntersections_ = true;
+    return val::null();
+  }
+
+  // The next chunk of the file: a borrowed Uint8Array view (valid until the next call into
+  // wasm), null at the end (the writer is freed), or a status object on error.
+  val writeNext() {
+    if (!writer_) return val::null();
+    const uint8_t* data;
+    size_t size;
+    Status s = writer_->next(data, size);
+    if (!s.ok() || size == 0) {
+      delete writer_;
+      writer_ = nullptr;
+      return status(s);
+    }
+    return val(typed_memory_view(size, data));
+  }
+
+ protected:
+  Status findShells() override { return findShellsAndDefects(mesh_, topo_, &shells_, &defects_); }
+
+ private:
+  ReportExtras extras(bool shells, bool defects, double maxDefects) const {
+    ReportExtras e;
+    e.shells = shells && hasShells_ ? &shells_ : nullptr;
+    e.defects = defects && hasShells_ ? &defects_ : nullptr;
+    e.maxDefects = maxDefects >= 0 && maxDefects <= 4294967295.0 ? uint32_t(maxDefects) : 1000;
+    if (hasIntersections_) {
+      e.checks = &checks_;
+      e.intersections = &intersections_;
+      e.nesting = &nesting_;
+      e.solid = solid_;
+    }
+    return e;
+  }
+
+  using Session::part;
+  TriangleChecks& part(TriangleChecks*) { return checks_; }
+  Intersections& part(Intersections*) { return intersections_; }
+
+  Array<Shell> shells_;
+  TriangleChecks checks_;
+  Intersections intersections_;
+  ShellNesting nesting_;
+  bool solid_ = false;
+  StlWriter* writer_ = nullptr;
+  Mesh part_;                     // the shell selectShell() extracted
+  const Mesh* writing_ = &mesh_;  // what writeBegin() writes
+};
+
+// A FullSession method as a function of the registered class (_Session is a Session whose
+// objects this module makes as FullSessions).
+template <auto M>
+struct Full;
+template <class R, class... A, R (FullSession::*M)(A...)>
+struct Full<M> {
+  static R call(Session& s, A... a) { return (static_cast<FullSession&>(s).*M)(a...); }
+};
+template <class R, class... A, R (FullSession::*M)(A...) const>
+struct Full<M> {
+  static R call(Session& s, A... a) { return (static_cast<const FullSession&>(s).*M)(a...); }
+};
+
+// The count list (include/stltopo/counts.h) as JS objects: [{ name, count, doc }], for
+// scripts/gen-api-docs.mjs (index.d.ts's TopologyCounts).
+val countLayout() {
+  val list = val::array();
+#define STLTOPO_COUNT_ROW(count, name, doc) \
+  {                                         \
+    val d = val::object();                  \
+    d.set("name", val(#name));              \
+    d.set("count", val(#count));            \
+    d.set("doc", val(doc));                 \
+    list.call<void>("push", d);             \
+  }
+  STLTOPO_COUNTS(STLTOPO_COUNT_ROW)
+#undef STLTOPO_COUNT_ROW
+  return list;
+}
+
+}  // namespace
+
+Session* newSession(double maxTriangles, double maxBytes, double sizeHint, bool keepNormals) {
+  return new FullSession(maxTriangles, maxBytes, sizeHint, keepNormals);
+}
+
+void registerModuleSession(const emscripten::class_<Session>& session) {
+  session.function("shellListJson", &Full<&FullSession::shellListJson>::call)
+      .function("selectShell", &Full<&FullSession::selectShell>::call)
+      .function("splitLine", &Full<&FullSession::splitLine>::call)
+      .function("intersect", &Full<&FullSession::intersect>::call)
+      .function("fromIndexed", &Full<&FullSession::fromIndexed>::call)
+      .function("writeBegin", &Full<&FullSession::writeBegin>::call)
+      .function("writeNext", &Full<&FullSession::writeNext>::call);
+}
+
+}  // namespace stltopo::js
+
+EMSCRIPTEN_BINDINGS(stltopo_full) { emscripten::function("_countLayout", &stltopo::js::countLayout); }
