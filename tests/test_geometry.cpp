@@ -354,6 +354,33 @@ Brute brute(const std::vector<std::array<P, 3>>& t) {
   return r;
 }
 
+// The pass on a soup of the triangles t (corners on the integer grid): the mesh it read,
+// the triangle checks, and the pairs found with their kind. ok is false (with a failure
+// recorded) when a stage failed.
+struct Passed {
+  bool ok = false;
+  stltopo::Mesh mesh;
+  stltopo::TriangleChecks checks;
+  std::set<std::tuple<uint32_t, uint32_t, std::string>> pairs;
+};
+void runPass(const std::vector<std::array<P, 3>>& t, Passed& out) {
+  Soup soup;
+  for (const auto& x : t) {
+    uint32_t b = uint32_t(soup.v.size());
+    for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
+    soup.f.push_back({b, b + 1, b + 2});
+  }
+  ASSERT_TRUE(gen::read(gen::binary(soup), out.mesh).ok());
+  stltopo::Topology topo;
+  ASSERT_TRUE(stltopo::buildTopology(out.mesh, topo).ok());
+  ASSERT_TRUE(stltopo::checkTriangles(out.mesh, &topo, out.checks).ok());
+  stltopo::Intersections x;
+  ASSERT_TRUE(stltopo::findIntersections(out.mesh, topo, out.checks, x).ok());
+  for (size_t i = 0; i < x.nPairs(); ++i)
+    out.pairs.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+  out.ok = true;
+}
+
 TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
   std::mt19937 rng(12345);
   int withPairs = 0, total = 0;
@@ -367,27 +394,18 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
       pool.push_back({int64_t(rng() % (grid + 1)), int64_t(rng() % (grid + 1)), int64_t(rng() % (grid + 1))});
     const int nt = 2 + int(rng() % 7);
     std::vector<std::array<P, 3>> t;
-    Soup soup;
     for (int i = 0; i < nt; ++i) {
       std::array<P, 3> x;
       for (auto& c : x) c = pool[rng() % pool.size()];
       t.push_back(x);
-      uint32_t b = uint32_t(soup.v.size());
-      for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
-      soup.f.push_back({b, b + 1, b + 2});
     }
     Brute want = brute(t);
-    stltopo::Mesh mesh;
-    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
-    stltopo::Topology topo;
-    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
-    stltopo::TriangleChecks checks;
-    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
-    stltopo::Intersections x;
-    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
-    std::set<std::tuple<uint32_t, uint32_t, std::string>> got;
-    for (size_t i = 0; i < x.nPairs(); ++i)
-      got.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    Passed run;
+    runPass(t, run);
+    ASSERT_TRUE(run.ok) << "round " << round;
+    const stltopo::Mesh& mesh = run.mesh;
+    const stltopo::TriangleChecks& checks = run.checks;
+    const auto& got = run.pairs;
     ASSERT_EQ(std::vector<uint32_t>(checks.zeroArea.begin(), checks.zeroArea.end()), want.zeroArea) << "round " << round;
     ASSERT_EQ(got, want.pairs) << "round " << round;
     std::vector<std::vector<uint32_t>> groups;
@@ -499,28 +517,17 @@ TEST(Geometry, UnsharedPairsAgainstIntegerBruteForce) {
     const int range = round % 4 == 0 ? 3 : 60;  // -range..range
     const int nt = 2 + int(rng() % 3);
     std::vector<std::array<P, 3>> t;
-    Soup soup;
     for (int i = 0; i < nt; ++i) {
       std::array<P, 3> x;
       for (auto& c : x)
         for (auto& k : c) k = int64_t(rng() % (2 * range + 1)) - range;
       t.push_back(x);
-      uint32_t b = uint32_t(soup.v.size());
-      for (auto& c : x) soup.v.push_back({float(c[0]), float(c[1]), float(c[2])});
-      soup.f.push_back({b, b + 1, b + 2});
     }
     Brute want = brute(t);
-    stltopo::Mesh mesh;
-    ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
-    stltopo::Topology topo;
-    ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
-    stltopo::TriangleChecks checks;
-    ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, checks).ok());
-    stltopo::Intersections x;
-    ASSERT_TRUE(stltopo::findIntersections(mesh, topo, checks, x).ok());
-    std::set<std::tuple<uint32_t, uint32_t, std::string>> got;
-    for (size_t i = 0; i < x.nPairs(); ++i)
-      got.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    Passed run;
+    runPass(t, run);
+    ASSERT_TRUE(run.ok) << "round " << round;
+    const auto& got = run.pairs;
     ASSERT_EQ(got, want.pairs) << "round " << round;
     for (auto& g : got) ++kinds[std::get<2>(g)];
   }
