@@ -72,9 +72,9 @@ struct CellTable {
     h ^= uint64_t(z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
     return h ^ (h >> 29);
   }
-  // The slot of cell (x, y, z): its own when occupied, else the empty one it would take.
-  Slot& find(int64_t x, int64_t y, int64_t z) { return findHashed(x, y, z, hash(x, y, z)); }
-  Slot& findHashed(int64_t x, int64_t y, int64_t z, uint64_t h) {
+  // The slot of cell (x, y, z), whose hash is h: its own when occupied, else the empty one
+  // it would take.
+  Slot& find(int64_t x, int64_t y, int64_t z, uint64_t h) {
     uint64_t i = h & mask;
     for (;;) {
       Slot& s = slots[i];
@@ -105,7 +105,7 @@ uint32_t toleranceWeld(const Mesh& mesh, double tol, Array<uint32_t>& rep) {
         for (int dz = cz.lo; dz <= cz.hi; ++dz) {
           uint64_t h = CellTable::hash(kx + dx, ky + dy, kz + dz);
           if (!cells.mayHold(h)) continue;
-          const CellTable::Slot& s = cells.findHashed(kx + dx, ky + dy, kz + dz, h);
+          const CellTable::Slot& s = cells.find(kx + dx, ky + dy, kz + dz, h);
           for (uint32_t r = s.head; r != kInvalid; r = chain[r]) {
             double ex = p[3 * r] - x, ey = p[3 * r + 1] - y, ez = p[3 * r + 2] - z;
             if (ex * ex + ey * ey + ez * ez <= tol2 && r < best) best = r;
@@ -117,7 +117,7 @@ uint32_t toleranceWeld(const Mesh& mesh, double tol, Array<uint32_t>& rep) {
       rep[v] = v;
       ++nReps;
       uint64_t h = CellTable::hash(kx, ky, kz);
-      CellTable::Slot& s = cells.findHashed(kx, ky, kz, h);
+      CellTable::Slot& s = cells.find(kx, ky, kz, h);
       if (s.head == kInvalid) {
         s = CellTable::Slot{kx, ky, kz, v};
         cells.mark(h);

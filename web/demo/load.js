@@ -3,7 +3,6 @@
 import { loadStl, toStl } from 'stltopo/worker';
 import { samples } from './samples.js';
 import { $, viewer } from './page.js';
-import { PREVIEW_TRIANGLES } from './viewer.js';
 import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels, showScaleNote } from './panels.js';
 import { stopEditing, setLoaded } from './edit-panel.js';
 import { setRepairSource, repairedStl } from './repair-panel.js';
@@ -11,13 +10,12 @@ import { setRepairSource, repairedStl } from './repair-panel.js';
 /** Files larger than this load without the exact geometry (see load()). */
 export const GEOMETRY_MAX_BYTES = 1e9;
 
-// What the page says about a mesh too large for everything: the coarse view, the skipped
-// geometry pass ('' when neither applies).
-function scaleNote(mesh, geometry, total) {
+// What the page says about a mesh too large for everything: the coarse view (the viewer's
+// stride, 1 when it draws every triangle), the skipped geometry pass ('' when neither applies).
+function scaleNote(mesh, stride, geometry, total) {
   const parts = [];
   const n = mesh.nTriangles;
-  if (n > PREVIEW_TRIANGLES) {
-    const stride = Math.ceil(n / PREVIEW_TRIANGLES);
+  if (stride > 1) {
     parts.push(`Large mesh: the view draws 1 triangle in ${stride} (${Math.ceil(n / stride).toLocaleString('en-US')} of ` +
       `${n.toLocaleString('en-US')}), without colours; every figure and defect is of the whole mesh.`);
   }
@@ -89,7 +87,7 @@ export async function load(source, { name, credit = '' } = {}) {
     setLoaded({ mesh, name });
     setRepairSource({ mesh, name });
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
-    showScaleNote(scaleNote(mesh, geometry, total));
+    showScaleNote(scaleNote(mesh, viewer.stride, geometry, total));
     hideProgress();
     current = null;
     setState('ready');

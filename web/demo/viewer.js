@@ -242,7 +242,7 @@ export class Viewer {
     this.clear(mesh);
     this.mesh = mesh;
     // A mesh over PREVIEW_TRIANGLES is drawn coarser: 1 triangle in `stride` (every
-    // stride-th id), without per-face colours; coarse() says so on the page. this.geometry
+    // stride-th id), without per-face colours; load.js says so on the page. this.geometry
     // keeps every triangle (layers pick their triangles by id from it); only the surfaces and
     // the wireframe draw the coarse one.
     const stride = Math.max(1, Math.ceil(mesh.nTriangles / PREVIEW_TRIANGLES));
