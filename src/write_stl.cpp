@@ -13,7 +13,7 @@
 #include "stltopo/status.h"
 #include "text_format.h"
 #include "try_alloc.h"
-#include "float_format.h"
+#include "float_shortest.h"
 #include "mesh_builder.h"
 #include "solid_parts.h"
 #include "stltopo/write.h"
@@ -267,11 +267,11 @@ struct StlWriter::Impl {
   }
 
   static char* numbers(char* o, const float* v) {
-    o += detail::formatShortest(v[0], o);
+    o += detail::formatShortestHere(v[0], o);
     *o++ = ' ';
-    o += detail::formatShortest(v[1], o);
+    o += detail::formatShortestHere(v[1], o);
     *o++ = ' ';
-    o += detail::formatShortest(v[2], o);
+    o += detail::formatShortestHere(v[2], o);
     *o++ = '\n';
     return o;
   }
