@@ -38,8 +38,10 @@ int main(int argc, char** argv) {
   uint32_t n = 100000;
   bool json = false;
   for (int i = 2; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--json")) json = true;
-    else n = uint32_t(std::atol(argv[i]));
+    if (!std::strcmp(argv[i], "--json"))
+      json = true;
+    else
+      n = uint32_t(std::atol(argv[i]));
   }
   std::ifstream f(argv[1], std::ios::binary);
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
@@ -90,22 +92,32 @@ int main(int argc, char** argv) {
     rows.push_back(Row{op, count, done, ms, cpu});
   };
   std::vector<uint32_t> removed;
-  timed("removeTriangle", [&]() {
-    uint32_t t = liveTriangle();
-    const uint32_t* c = em.triangles().data() + 3 * size_t(t);
-    removed.insert(removed.end(), {c[0], c[1], c[2]});
-    return em.removeTriangle(t).ok();
-  }, n);
+  timed(
+      "removeTriangle",
+      [&]() {
+        uint32_t t = liveTriangle();
+        const uint32_t* c = em.triangles().data() + 3 * size_t(t);
+        removed.insert(removed.end(), {c[0], c[1], c[2]});
+        return em.removeTriangle(t).ok();
+      },
+      n);
   size_t k = 0;
-  timed("addTriangle", [&]() {
-    bool ok = em.addTriangle(removed[k], removed[k + 1], removed[k + 2]).ok();
-    k += 3;
-    return ok;
-  }, n);
-  timed("flipEdge", [&]() { return em.flipEdge(liveHalfedge()).ok(); }, n);
-  timed("splitEdge", [&]() { return em.splitEdge(liveHalfedge(), 0.5).ok(); }, n);
-  timed("collapseEdge", [&]() { return em.collapseEdge(liveHalfedge(), 0.5).ok(); }, n);
-  timed("reverseTriangle", [&]() { return em.reverseTriangle(liveTriangle()).ok(); }, n);
+  timed(
+      "addTriangle",
+      [&]() {
+        bool ok = em.addTriangle(removed[k], removed[k + 1], removed[k + 2]).ok();
+        k += 3;
+        return ok;
+      },
+      n);
+  timed(
+      "flipEdge", [&]() { return em.flipEdge(liveHalfedge()).ok(); }, n);
+  timed(
+      "splitEdge", [&]() { return em.splitEdge(liveHalfedge(), 0.5).ok(); }, n);
+  timed(
+      "collapseEdge", [&]() { return em.collapseEdge(liveHalfedge(), 0.5).ok(); }, n);
+  timed(
+      "reverseTriangle", [&]() { return em.reverseTriangle(liveTriangle()).ok(); }, n);
   // Holes that share no vertex: triangles none of whose corners an earlier pick used.
   std::vector<uint32_t> holes;
   {
@@ -120,17 +132,22 @@ int main(int argc, char** argv) {
     }
   }
   k = 0;
-  timed("fillHole", [&]() {
-    uint32_t h = holes[k++];
-    return em.halfedgeAlive(h) && em.isBoundary(h) && em.fillHole(h, FillMethod::Fan).ok();
-  }, uint32_t(holes.size()));
+  timed(
+      "fillHole",
+      [&]() {
+        uint32_t h = holes[k++];
+        return em.halfedgeAlive(h) && em.isBoundary(h) && em.fillHole(h, FillMethod::Fan).ok();
+      },
+      uint32_t(holes.size()));
   s = em.validate();
   if (!s.ok()) {
     std::fprintf(stderr, "validate after the edits: %s\n", s.message.c_str());
     return 1;
   }
-  if (json) std::printf("{\"triangles\":%u,\"edits\":[", mesh.nTriangles());
-  else std::printf("%s: %u triangles, %u edits per kind\n", argv[1], mesh.nTriangles(), n);
+  if (json)
+    std::printf("{\"triangles\":%u,\"edits\":[", mesh.nTriangles());
+  else
+    std::printf("%s: %u triangles, %u edits per kind\n", argv[1], mesh.nTriangles(), n);
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     double perSec = r.attempts / (r.cpu / 1e3);

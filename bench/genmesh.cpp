@@ -25,12 +25,18 @@ int main(int argc, char** argv) {
   double flipPercent = 0;
   unsigned seed = 1;
   for (int i = 3; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--shuffle")) shuffle = true;
-    else if (!std::strcmp(argv[i], "--holes")) holes = true;
-    else if (!std::strcmp(argv[i], "--ascii")) ascii = true;
-    else if (!std::strcmp(argv[i], "--hole-count") && i + 1 < argc) holeCount = std::atoll(argv[++i]);
-    else if (!std::strcmp(argv[i], "--flip-percent") && i + 1 < argc) flipPercent = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) seed = unsigned(std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--shuffle"))
+      shuffle = true;
+    else if (!std::strcmp(argv[i], "--holes"))
+      holes = true;
+    else if (!std::strcmp(argv[i], "--ascii"))
+      ascii = true;
+    else if (!std::strcmp(argv[i], "--hole-count") && i + 1 < argc)
+      holeCount = std::atoll(argv[++i]);
+    else if (!std::strcmp(argv[i], "--flip-percent") && i + 1 < argc)
+      flipPercent = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc)
+      seed = unsigned(std::atoi(argv[++i]));
   }
   int m = std::max(3, int(std::sqrt(double(want) / 4)));
   int n = std::max(3, int(want / 2 / m));
@@ -51,8 +57,8 @@ int main(int argc, char** argv) {
     for (int j = 0; j < m; ++j) {
       if (holes && (i * m + j) % 97 == 13 && i % 2 == 0) continue;
       // K holes: the quads at rows spread evenly over n, a column that moves along.
-      if (holeCount > 0 && i % std::max(1, int(n / holeCount)) == 0 && i / std::max(1, int(n / holeCount)) < holeCount &&
-          j == (i * 7) % m)
+      if (holeCount > 0 && i % std::max(1, int(n / holeCount)) == 0 &&
+          i / std::max(1, int(n / holeCount)) < holeCount && j == (i * 7) % m)
         continue;
       uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       f.insert(f.end(), {a, b, c, a, c, d});
@@ -71,12 +77,23 @@ int main(int argc, char** argv) {
     for (size_t t = 0; t < nt; ++t) {  // rotate corners: same triangle, other start
       int r = int(rng() % 3);
       uint32_t a = f[3 * t], b = f[3 * t + 1], c = f[3 * t + 2];
-      if (r == 1) { f[3 * t] = b; f[3 * t + 1] = c; f[3 * t + 2] = a; }
-      if (r == 2) { f[3 * t] = c; f[3 * t + 1] = a; f[3 * t + 2] = b; }
+      if (r == 1) {
+        f[3 * t] = b;
+        f[3 * t + 1] = c;
+        f[3 * t + 2] = a;
+      }
+      if (r == 2) {
+        f[3 * t] = c;
+        f[3 * t + 1] = a;
+        f[3 * t + 2] = b;
+      }
     }
   }
   FILE* o = std::fopen(out, "wb");
-  if (!o) { std::perror(out); return 1; }
+  if (!o) {
+    std::perror(out);
+    return 1;
+  }
   if (ascii) {
     std::fprintf(o, "solid torus\n");
     for (size_t t = 0; t < nt; ++t) {
@@ -100,7 +117,10 @@ int main(int argc, char** argv) {
       char rec[50] = {0};
       for (int c = 0; c < 3; ++c) std::memcpy(rec + 12 + 12 * c, &v[size_t(f[3 * t + c]) * 3], 12);
       buf.insert(buf.end(), rec, rec + 50);
-      if (buf.size() >= 50 * 4096) { std::fwrite(buf.data(), 1, buf.size(), o); buf.clear(); }
+      if (buf.size() >= 50 * 4096) {
+        std::fwrite(buf.data(), 1, buf.size(), o);
+        buf.clear();
+      }
     }
     std::fwrite(buf.data(), 1, buf.size(), o);
   }

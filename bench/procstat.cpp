@@ -38,10 +38,15 @@ int main(int argc, char** argv) {
   double timeout = 0;
   int i = 1;
   for (; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--stdout") && i + 1 < argc) out = argv[++i];
-    else if (!std::strcmp(argv[i], "--timeout") && i + 1 < argc) timeout = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--")) { ++i; break; }
-    else break;
+    if (!std::strcmp(argv[i], "--stdout") && i + 1 < argc)
+      out = argv[++i];
+    else if (!std::strcmp(argv[i], "--timeout") && i + 1 < argc)
+      timeout = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--")) {
+      ++i;
+      break;
+    } else
+      break;
   }
   if (i >= argc) {
     std::fprintf(stderr, "usage: procstat [--stdout FILE] [--timeout SEC] -- CMD [ARGS...]\n");
@@ -49,7 +54,10 @@ int main(int argc, char** argv) {
   }
   int fdOut = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   int fdNull = open("/dev/null", O_WRONLY);
-  if (fdOut < 0 || fdNull < 0) { std::perror(out); return 2; }
+  if (fdOut < 0 || fdNull < 0) {
+    std::perror(out);
+    return 2;
+  }
 
   struct sigaction sa;
   std::memset(&sa, 0, sizeof sa);
@@ -58,7 +66,10 @@ int main(int argc, char** argv) {
 
   double t0 = nowMs();
   pid_t pid = fork();
-  if (pid < 0) { std::perror("fork"); return 2; }
+  if (pid < 0) {
+    std::perror("fork");
+    return 2;
+  }
   if (pid == 0) {
     dup2(fdOut, 1);
     dup2(fdNull, 2);
@@ -75,11 +86,16 @@ int main(int argc, char** argv) {
   int st = 0;
   rusage ru{};
   while (wait4(pid, &st, 0, &ru) < 0) {
-    if (errno != EINTR) { std::perror("wait4"); return 2; }
+    if (errno != EINTR) {
+      std::perror("wait4");
+      return 2;
+    }
   }
   double t1 = nowMs();
-  std::printf("{\"status\":%d,\"signal\":%d,\"timedOut\":%s,\"wallMs\":%.3f,\"userMs\":%.3f,\"sysMs\":%.3f,\"maxRssKiB\":%ld}\n",
-              WIFEXITED(st) ? WEXITSTATUS(st) : -1, WIFSIGNALED(st) ? WTERMSIG(st) : 0,
-              g_timedOut ? "true" : "false", t1 - t0, tvMs(ru.ru_utime), tvMs(ru.ru_stime), ru.ru_maxrss);
+  std::printf(
+      "{\"status\":%d,\"signal\":%d,\"timedOut\":%s,\"wallMs\":%.3f,\"userMs\":%.3f,\"sysMs\":%.3f,\"maxRssKiB\":%ld}"
+      "\n",
+      WIFEXITED(st) ? WEXITSTATUS(st) : -1, WIFSIGNALED(st) ? WTERMSIG(st) : 0, g_timedOut ? "true" : "false", t1 - t0,
+      tvMs(ru.ru_utime), tvMs(ru.ru_stime), ru.ru_maxrss);
   return 0;
 }

@@ -26,8 +26,10 @@ struct StepTimes {
 };
 void onStep(void* user, stltopo::RepairStepKind k, bool done) {
   auto* st = static_cast<StepTimes*>(user);
-  if (!done) st->t0 = Clock::now();
-  else st->seconds[stltopo::repairStepName(k)] += since(st->t0);
+  if (!done)
+    st->t0 = Clock::now();
+  else
+    st->seconds[stltopo::repairStepName(k)] += since(st->t0);
 }
 }  // namespace
 
@@ -39,8 +41,10 @@ int main(int argc, char** argv) {
   int reps = 3;
   stltopo::RepairOptions ro;
   for (int i = 2; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--no-intersections")) ro.intersections = false;
+    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
+      reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--no-intersections"))
+      ro.intersections = false;
     else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
       ro.steps = 0;
       std::string list = argv[++i];
@@ -49,7 +53,10 @@ int main(int argc, char** argv) {
         size_t b = list.find(',', a);
         if (b == std::string::npos) b = list.size();
         stltopo::RepairStepKind k;
-        if (!stltopo::repairStepFromName(list.substr(a, b - a), k)) { std::fprintf(stderr, "unknown step\n"); return 2; }
+        if (!stltopo::repairStepFromName(list.substr(a, b - a), k)) {
+          std::fprintf(stderr, "unknown step\n");
+          return 2;
+        }
         ro.steps |= stltopo::repairStepBit(k);
         a = b + 1;
       }
@@ -87,15 +94,16 @@ int main(int argc, char** argv) {
     for (auto& [k, v] : st.seconds) steps[k].push_back(v);
     if (r + 1 == reps) last = std::move(log);
   }
-  std::printf("{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"steps\":{", last.before.stats.triangles,
-              median(load), median(plan), median(init), median(apply));
+  std::printf("{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"steps\":{",
+              last.before.stats.triangles, median(load), median(plan), median(init), median(apply));
   bool first = true;
   for (auto& [k, v] : steps) {
     std::printf("%s\"%s\":%.4f", first ? "" : ",", k.c_str(), median(v));
     first = false;
   }
-  std::printf("},\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
-              last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
-              last.after.stats.inconsistentEdges, last.after.solid ? "true" : "false");
+  std::printf(
+      "},\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
+      last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
+      last.after.stats.inconsistentEdges, last.after.solid ? "true" : "false");
   return 0;
 }

@@ -74,11 +74,14 @@ struct Times {
 
 // Medians over repetitions [from, to).
 static std::string jsonStages(const Times& t, size_t from, size_t to, uint32_t nt) {
-  auto slice = [&](const std::vector<double>& v) { return std::vector<double>(v.begin() + long(from), v.begin() + long(to)); };
+  auto slice = [&](const std::vector<double>& v) {
+    return std::vector<double>(v.begin() + long(from), v.begin() + long(to));
+  };
   double total = median(slice(t.total));
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "{\"readMs\":%.3f,\"topologyMs\":%.3f,\"reportMs\":%.3f,\"totalMs\":%.3f,\"cpuMs\":%.3f,\"trianglesPerSecond\":%.0f}",
+                "{\"readMs\":%.3f,\"topologyMs\":%.3f,\"reportMs\":%.3f,\"totalMs\":%.3f,\"cpuMs\":%.3f,"
+                "\"trianglesPerSecond\":%.0f}",
                 median(slice(t.read)), median(slice(t.topo)), median(slice(t.report)), total, median(slice(t.cpu)),
                 total > 0 ? nt / (total / 1000) : 0.0);
   return buf;
@@ -95,7 +98,10 @@ static long currentRssKiB() {
 
 static int streamedPeak(const char* path) {
   FILE* f = std::fopen(path, "rb");
-  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", path);
+    return 1;
+  }
   std::vector<uint8_t> buf(1 << 20);
   long before = currentRssKiB();
   stltopo::Reader reader;
@@ -106,7 +112,10 @@ static int streamedPeak(const char* path) {
   if (s.ok()) s = reader.finish(mesh);
   stltopo::Topology topo;
   if (s.ok()) s = stltopo::buildTopology(mesh, topo);  // prevAndFace = true: the full topology
-  if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+  if (!s.ok()) {
+    std::fprintf(stderr, "%s\n", s.message.c_str());
+    return 1;
+  }
   std::string j = stltopo::infoJson(path, mesh, &topo);
   long peak = maxRssKiB();
   std::printf("{\"triangles\":%u,\"rssBeforeKiB\":%ld,\"peakRssKiB\":%ld,\"halfedges\":%u,\"reportBytes\":%zu}\n",
@@ -116,11 +125,17 @@ static int streamedPeak(const char* path) {
 
 static int writeSpeed(const char* path, int reps) {
   std::ifstream f(path, std::ios::binary);
-  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", path);
+    return 1;
+  }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   stltopo::Mesh mesh;
   stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
-  if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+  if (!s.ok()) {
+    std::fprintf(stderr, "%s\n", s.message.c_str());
+    return 1;
+  }
   std::string out = "{\"triangles\":" + std::to_string(mesh.nTriangles());
   for (stltopo::Format format : {stltopo::Format::Binary, stltopo::Format::Ascii}) {
     stltopo::WriteOptions o;
@@ -130,10 +145,18 @@ static int writeSpeed(const char* path, int reps) {
     for (int r = 0; r < reps; ++r) {
       written = 0;
       auto t0 = Clock::now();
-      s = stltopo::writeStl(mesh, [](void* user, const uint8_t*, size_t n) { *static_cast<uint64_t*>(user) += n; return true; },
-                            &written, o);
+      s = stltopo::writeStl(
+          mesh,
+          [](void* user, const uint8_t*, size_t n) {
+            *static_cast<uint64_t*>(user) += n;
+            return true;
+          },
+          &written, o);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+      if (!s.ok()) {
+        std::fprintf(stderr, "%s\n", s.message.c_str());
+        return 1;
+      }
     }
     double m = median(ms);
     char buf[200];
@@ -153,7 +176,10 @@ static int writeSpeed(const char* path, int reps) {
 // so that a machine's drift moves both; prints the medians and the median ratio as JSON.
 static int weldSpeed(const char* path, double tol, int reps) {
   std::ifstream f(path, std::ios::binary);
-  if (!f) { std::fprintf(stderr, "cannot open %s\n", path); return 1; }
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", path);
+    return 1;
+  }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   std::vector<double> read, topo, topoTol, weld, ratio;
   uint32_t nt = 0, nv = 0, welded = 0;
@@ -170,7 +196,10 @@ static int weldSpeed(const char* path, double tol, int reps) {
     to.tolerance = tol;
     if (s.ok()) s = stltopo::buildTopology(mesh, tolerant, to);
     auto t3 = Clock::now();
-    if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+    if (!s.ok()) {
+      std::fprintf(stderr, "%s\n", s.message.c_str());
+      return 1;
+    }
     nt = mesh.nTriangles();
     nv = mesh.nVertices();
     welded = tolerant.nWeldedVertices;
@@ -181,10 +210,11 @@ static int weldSpeed(const char* path, double tol, int reps) {
     weld.push_back(ms(t2, t3) - ms(t1, t2));
     ratio.push_back(weld.back() / read.back());
   }
-  std::printf("{\"file\":\"%s\",\"triangles\":%u,\"vertices\":%u,\"weldedVertices\":%u,\"tolerance\":%g,\"reps\":%d,"
-              "\"readMs\":%.2f,\"topologyMs\":%.2f,\"topologyToleranceMs\":%.2f,\"toleranceWeldMs\":%.2f,"
-              "\"toleranceWeldOverExactWeld\":%.3f}\n",
-              path, nt, nv, welded, tol, reps, median(read), median(topo), median(topoTol), median(weld), median(ratio));
+  std::printf(
+      "{\"file\":\"%s\",\"triangles\":%u,\"vertices\":%u,\"weldedVertices\":%u,\"tolerance\":%g,\"reps\":%d,"
+      "\"readMs\":%.2f,\"topologyMs\":%.2f,\"topologyToleranceMs\":%.2f,\"toleranceWeldMs\":%.2f,"
+      "\"toleranceWeldOverExactWeld\":%.3f}\n",
+      path, nt, nv, welded, tol, reps, median(read), median(topo), median(topoTol), median(weld), median(ratio));
   return 0;
 }
 
@@ -192,8 +222,10 @@ int main(int argc, char** argv) {
   // With the C library's default allocation (each large array mapped and unmapped on its
   // own), the peak is that of the live arrays.
   if (argc > 2 && !std::strcmp(argv[2], "--streamed-peak")) return streamedPeak(argv[1]);
-  if (argc > 2 && !std::strcmp(argv[2], "--write")) return writeSpeed(argv[1], argc > 3 ? std::max(1, std::atoi(argv[3])) : 5);
-  if (argc > 3 && !std::strcmp(argv[2], "--weld")) return weldSpeed(argv[1], std::atof(argv[3]), argc > 4 ? std::max(1, std::atoi(argv[4])) : 7);
+  if (argc > 2 && !std::strcmp(argv[2], "--write"))
+    return writeSpeed(argv[1], argc > 3 ? std::max(1, std::atoi(argv[3])) : 5);
+  if (argc > 3 && !std::strcmp(argv[2], "--weld"))
+    return weldSpeed(argv[1], std::atof(argv[3]), argc > 4 ? std::max(1, std::atoi(argv[4])) : 7);
 #if defined(__GLIBC__)
   // Warm calls reuse the memory of the calls before them, as the wasm heap does (linear
   // memory is never given back) and as the CLI does: glibc would otherwise unmap every
@@ -222,7 +254,10 @@ int main(int argc, char** argv) {
   to.threads = threads;
   to.tolerance = tolerance;
   std::ifstream f(argv[1], std::ios::binary);
-  if (!f) { std::fprintf(stderr, "cannot open %s\n", argv[1]); return 1; }
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", argv[1]);
+    return 1;
+  }
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   Times t;
   uint32_t nt = 0, nv = 0, holes = 0, edges = 0, boundaryEdges = 0, shells = 0;
@@ -233,11 +268,17 @@ int main(int argc, char** argv) {
     stltopo::Mesh mesh;
     stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh, ro);
     auto t1 = Clock::now();
-    if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+    if (!s.ok()) {
+      std::fprintf(stderr, "%s\n", s.message.c_str());
+      return 1;
+    }
     stltopo::Topology topo;
     s = stltopo::buildTopology(mesh, topo, to);
     auto t2 = Clock::now();
-    if (!s.ok()) { std::fprintf(stderr, "%s\n", s.message.c_str()); return 1; }
+    if (!s.ok()) {
+      std::fprintf(stderr, "%s\n", s.message.c_str());
+      return 1;
+    }
     std::string j = stltopo::infoJson(argv[1], mesh, &topo);
     auto t3 = Clock::now();
     double c1 = cpuMs();
@@ -255,11 +296,12 @@ int main(int argc, char** argv) {
     size_t n = t.total.size();
     std::string all = jsonStages(t, 0, n, nt);
     all.pop_back();  // merge the all-repetitions medians into the top-level object
-    std::printf("%s,\"triangles\":%u,\"vertices\":%u,\"edges\":%u,\"boundaryEdges\":%u,\"holes\":%u,\"shells\":%u,"
-                "\"reps\":%d,\"first\":%s,\"warm\":%s,\"rssKiB\":{\"beforeFirst\":%ld,\"afterFirst\":%ld},"
-                "\"inputBytes\":%zu}\n",
-                all.c_str(), nt, nv, edges, boundaryEdges, holes, shells, reps, jsonStages(t, 0, 1, nt).c_str(),
-                reps > 1 ? jsonStages(t, 1, n, nt).c_str() : "null", rssBefore, rssAfterFirst, bytes.size());
+    std::printf(
+        "%s,\"triangles\":%u,\"vertices\":%u,\"edges\":%u,\"boundaryEdges\":%u,\"holes\":%u,\"shells\":%u,"
+        "\"reps\":%d,\"first\":%s,\"warm\":%s,\"rssKiB\":{\"beforeFirst\":%ld,\"afterFirst\":%ld},"
+        "\"inputBytes\":%zu}\n",
+        all.c_str(), nt, nv, edges, boundaryEdges, holes, shells, reps, jsonStages(t, 0, 1, nt).c_str(),
+        reps > 1 ? jsonStages(t, 1, n, nt).c_str() : "null", rssBefore, rssAfterFirst, bytes.size());
   } else {
     double total = median(t.total);
     std::printf("%s: %u triangles; read %.1f ms, topology %.1f ms, report %.2f ms, total %.1f ms (%.1f M tri/s)\n",

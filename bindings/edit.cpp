@@ -7,10 +7,10 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <vector>
 #include <string>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "edit_arrays.h"
 #include "js_values.h"
@@ -35,7 +35,8 @@ uint32_t u32(double x) { return x >= 0 && x <= 4294967295.0 ? uint32_t(x) : stlt
 stltopo::RuleCallback jsRule(val fn) {
   if (fn.isNull() || fn.isUndefined()) return nullptr;
   return [fn](const double* a, const double* b, double t, double* out, uint32_t n) {
-    val r = fn(val(typed_memory_view(n, a)).call<val>("slice"), val(typed_memory_view(n, b)).call<val>("slice"), val(t));
+    val r =
+        fn(val(typed_memory_view(n, a)).call<val>("slice"), val(typed_memory_view(n, b)).call<val>("slice"), val(t));
     if (r.isNull() || r.isUndefined() || (r.isFalse())) return false;
     if (r["length"].as<uint32_t>() < n) return false;
     for (uint32_t k = 0; k < n; ++k) out[k] = r[k].as<double>();
@@ -66,7 +67,9 @@ class EditSession {
     staged_.solids.push_back(std::move(s));
   }
   void setFormat(const std::string& format, const std::string& colors) {
-    staged_.format = format == "binary" ? stltopo::Format::Binary : format == "ascii" ? stltopo::Format::Ascii : stltopo::Format::Unknown;
+    staged_.format = format == "binary"  ? stltopo::Format::Binary
+                     : format == "ascii" ? stltopo::Format::Ascii
+                                         : stltopo::Format::Unknown;
     staged_.colorConvention = js::colorConvention(colors);
   }
   val init(double tolerance) {
@@ -75,7 +78,8 @@ class EditSession {
       return js::status(Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element"));
     for (size_t i = 0; i < staged_.triangles.size(); ++i)
       if (staged_.triangles[i] >= nv) {
-        Status s = Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
+        Status s =
+            Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
         s.triangle = uint32_t(i / 3);
         return js::status(s);
       }
@@ -123,15 +127,19 @@ class EditSession {
   }
   val mergeVertices(val keep, val gone, bool nonManifold) {
     std::vector<uint32_t> k = ids(keep), g = ids(gone);
-    if (k.size() != g.size()) return js::status(Status::error(Code::InvalidArgument, "keep and gone need the same length"));
+    if (k.size() != g.size())
+      return js::status(Status::error(Code::InvalidArgument, "keep and gone need the same length"));
     return js::status(em_.mergeVertices(k.data(), g.data(), uint32_t(k.size()), nonManifold));
   }
-  val splitEdgeAt(double e, double v, bool nonManifold) { return js::status(em_.splitEdgeAt(u32(e), u32(v), nonManifold)); }
+  val splitEdgeAt(double e, double v, bool nonManifold) {
+    return js::status(em_.splitEdgeAt(u32(e), u32(v), nonManifold));
+  }
   val stitch(val keep, val gone, val edges, val vertices, bool nonManifold) {
     std::vector<uint32_t> k = ids(keep), g = ids(gone), e = ids(edges), v = ids(vertices);
     if (k.size() != g.size() || e.size() != v.size())
       return js::status(Status::error(Code::InvalidArgument, "keep/gone and edges/vertices need the same lengths"));
-    return js::status(em_.stitch(k.data(), g.data(), uint32_t(k.size()), e.data(), v.data(), uint32_t(e.size()), nonManifold));
+    return js::status(
+        em_.stitch(k.data(), g.data(), uint32_t(k.size()), e.data(), v.data(), uint32_t(e.size()), nonManifold));
   }
   val splitVertex(double v) {
     uint32_t first = 0, count = 0;
@@ -229,7 +237,8 @@ class EditSession {
     r.split = stltopo::Rule(split);
     r.mergeFn = jsRule(mergeFn);
     r.splitFn = jsRule(splitFn);
-    return js::status(em_.addAttribute(name, stltopo::Element(element), stltopo::ValueType(type), u32(components), nullptr, r));
+    return js::status(
+        em_.addAttribute(name, stltopo::Element(element), stltopo::ValueType(type), u32(components), nullptr, r));
   }
   // The attribute's values: a view (copy = false, to fill right away) or a copy; null when
   // there is no such attribute.
@@ -283,7 +292,8 @@ class EditSession {
     if (!s.ok()) return js::status(s);
     char* end = nullptr;
     p.fingerprint = std::strtoull(fingerprint.c_str(), &end, 16);
-    if (fingerprint.size() != 16 || *end) return js::status(Status::error(Code::InvalidArgument, "the plan has no fingerprint"));
+    if (fingerprint.size() != 16 || *end)
+      return js::status(Status::error(Code::InvalidArgument, "the plan has no fingerprint"));
     stltopo::RepairLog log;
     s = stltopo::applyRepair(em_, p, log);
     std::string json = stltopo::repairLogJson(log);
@@ -313,7 +323,7 @@ class EditSession {
  private:
   stltopo::Mesh staged_;
   EditableMesh em_;
-  Array<uint32_t> faceIds_;  // faceIds()
+  Array<uint32_t> faceIds_;               // faceIds()
   std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
 
   static Status repairOptions(val v, stltopo::RepairOptions& o) {
@@ -357,8 +367,10 @@ struct EditArray {
   int width;
   const char *type, *doc;
 };
-#define STLTOPO_EDIT_ROW(name, source, group, key, element, width, doc) \
-  {#name, group, key, element, width, js::JsType<std::remove_cvref_t<decltype(std::declval<EditSession&>().source)>>::js, doc},
+#define STLTOPO_EDIT_ROW(name, source, group, key, element, width, doc)                                \
+  {#name,   group, key,                                                                                \
+   element, width, js::JsType<std::remove_cvref_t<decltype(std::declval<EditSession&>().source)>>::js, \
+   doc},
 constexpr EditArray kEditArrays[] = {STLTOPO_JS_EDIT_ARRAYS(STLTOPO_EDIT_ROW)};
 #undef STLTOPO_EDIT_ROW
 

@@ -35,11 +35,26 @@ emscripten::val array(const Array<T>& a, bool copy) {
 // The JS typed array an Array<T> crosses as (the `type` of the array tables).
 template <class A>
 struct JsType;
-template <> struct JsType<Array<float>> { static constexpr const char* js = "Float32Array"; };
-template <> struct JsType<Array<double>> { static constexpr const char* js = "Float64Array"; };
-template <> struct JsType<Array<uint32_t>> { static constexpr const char* js = "Uint32Array"; };
-template <> struct JsType<Array<uint16_t>> { static constexpr const char* js = "Uint16Array"; };
-template <> struct JsType<Array<uint8_t>> { static constexpr const char* js = "Uint8Array"; };
+template <>
+struct JsType<Array<float>> {
+  static constexpr const char* js = "Float32Array";
+};
+template <>
+struct JsType<Array<double>> {
+  static constexpr const char* js = "Float64Array";
+};
+template <>
+struct JsType<Array<uint32_t>> {
+  static constexpr const char* js = "Uint32Array";
+};
+template <>
+struct JsType<Array<uint16_t>> {
+  static constexpr const char* js = "Uint16Array";
+};
+template <>
+struct JsType<Array<uint8_t>> {
+  static constexpr const char* js = "Uint8Array";
+};
 
 // One row of an array table as a JS object: the fields STLTOPO_JS_ARRAYS and
 // STLTOPO_JS_EDIT_ARRAYS share ({ name, group, key, element, width, type, doc }).
@@ -59,7 +74,9 @@ inline emscripten::val layoutRow(const char* name, const char* group, const char
 
 // "viscam", "magics"; anything else is None.
 inline ColorConvention colorConvention(const std::string& name) {
-  return name == "viscam" ? ColorConvention::VisCam : name == "magics" ? ColorConvention::Magics : ColorConvention::None;
+  return name == "viscam"   ? ColorConvention::VisCam
+         : name == "magics" ? ColorConvention::Magics
+                            : ColorConvention::None;
 }
 
 // format "binary" | "ascii"; colors "as-mesh" | "none" | "viscam" | "magics"; name a string

@@ -24,7 +24,7 @@ inline uint64_t load8(const void* s) {
 inline uint64_t tokenStops(uint64_t w) {
   uint64_t low = w & ~kHigh;
   uint64_t below21 = ~(low + (0x80 - 0x21) * kOnes) & ~w & kHigh;  // low + 0x5F < 0x80 iff low < 0x21
-  uint64_t del = (low + kOnes) & ~w & kHigh;                        // low + 1 == 0x80 iff low == 0x7F
+  uint64_t del = (low + kOnes) & ~w & kHigh;                       // low + 1 == 0x80 iff low == 0x7F
   return below21 | del;
 }
 
@@ -81,7 +81,8 @@ inline std::string AsciiParser::show(const char* t, size_t n) {
 }
 
 inline void AsciiParser::unexpected(const char* expected, const char* t, size_t n) {
-  fail(Code::AsciiSyntax, format("expected %s but found '%s' at line %llu", expected, show(t, n).c_str(), (unsigned long long)tokenLine),
+  fail(Code::AsciiSyntax,
+       format("expected %s but found '%s' at line %llu", expected, show(t, n).c_str(), (unsigned long long)tokenLine),
        tokenLine, tokenOffset);
 }
 
@@ -89,14 +90,21 @@ inline void AsciiParser::token(const char* t, size_t n) {
   switch (state) {
     case ExpectSolid:
       if (iprefix(t, n, "solid")) {
-        if (!decided) { decided = true; isSolid = true; }
+        if (!decided) {
+          decided = true;
+          isSolid = true;
+        }
         name.assign(t + 5, std::min(n - 5, kMaxNameBytes + 1));
         nameCut = false;
         nameLine = tokenLine;
         state = SolidName;
         return;
       }
-      if (!decided) { decided = true; isSolid = false; return; }
+      if (!decided) {
+        decided = true;
+        isSolid = false;
+        return;
+      }
       unexpected("'solid'", t, n);
       return;
     case ExpectFacetOrEnd:
@@ -117,8 +125,15 @@ inline void AsciiParser::token(const char* t, size_t n) {
       unexpected("'facet' or 'endsolid'", t, n);
       return;
     case AfterFacet:
-      if (ieq(t, n, "normal")) { state = NormalNums; numIndex = 0; return; }
-      if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
+      if (ieq(t, n, "normal")) {
+        state = NormalNums;
+        numIndex = 0;
+        return;
+      }
+      if (ieq(t, n, "outer")) {
+        state = ExpectLoop;
+        return;
+      }
       unexpected("'normal' or 'outer' after 'facet'", t, n);
       return;
     case NormalNums:
@@ -128,17 +143,26 @@ inline void AsciiParser::token(const char* t, size_t n) {
       return;
     }
     case ExpectOuter:
-      if (ieq(t, n, "outer")) { state = ExpectLoop; return; }
+      if (ieq(t, n, "outer")) {
+        state = ExpectLoop;
+        return;
+      }
       unexpected("'outer'", t, n);
       return;
     case ExpectLoop:
-      if (ieq(t, n, "loop")) { state = ExpectVertexOrEndloop; return; }
+      if (ieq(t, n, "loop")) {
+        state = ExpectVertexOrEndloop;
+        return;
+      }
       unexpected("'loop'", t, n);
       return;
     case ExpectVertexOrEndloop:
       if (ieq(t, n, "vertex")) {
         if (vertexCount == 3) {
-          fail(Code::AsciiSyntax, format("facet at line %llu has more than 3 vertices (line %llu)", (unsigned long long)facetLine, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+          fail(Code::AsciiSyntax,
+               format("facet at line %llu has more than 3 vertices (line %llu)", (unsigned long long)facetLine,
+                      (unsigned long long)tokenLine),
+               tokenLine, tokenOffset);
           return;
         }
         state = VertexNums;
@@ -147,7 +171,10 @@ inline void AsciiParser::token(const char* t, size_t n) {
       }
       if (ieq(t, n, "endloop")) {
         if (vertexCount != 3) {
-          fail(Code::AsciiSyntax, format("facet at line %llu has %d vertices, expected 3 (line %llu)", (unsigned long long)facetLine, vertexCount, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+          fail(Code::AsciiSyntax,
+               format("facet at line %llu has %d vertices, expected 3 (line %llu)", (unsigned long long)facetLine,
+                      vertexCount, (unsigned long long)tokenLine),
+               tokenLine, tokenOffset);
           return;
         }
         state = SkipLine;
@@ -166,8 +193,7 @@ inline void AsciiParser::token(const char* t, size_t n) {
       unexpected("'endfacet'", t, n);
       return;
     case SolidName:
-    case SkipLine:
-      return;  // not reached: handled by the line scanner
+    case SkipLine: return;  // not reached: handled by the line scanner
   }
 }
 
@@ -178,16 +204,23 @@ inline void AsciiParser::putNumber(float v) {
     return;
   }
   verts[vertexCount * 3 + numIndex] = v;
-  if (++numIndex == 3) { ++vertexCount; state = ExpectVertexOrEndloop; }
+  if (++numIndex == 3) {
+    ++vertexCount;
+    state = ExpectVertexOrEndloop;
+  }
 }
 
 inline bool AsciiParser::number(const char* t, size_t n, float& out) {
   if (n > kMaxNumberChars) {
-    fail(Code::AsciiSyntax, format("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine), tokenLine, tokenOffset);
+    fail(Code::AsciiSyntax,
+         format("number longer than %zu characters at line %llu", kMaxNumberChars, (unsigned long long)tokenLine),
+         tokenLine, tokenOffset);
     return false;
   }
   if (parseFloat(t, n, out)) return true;
-  fail(Code::AsciiSyntax, format("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine, tokenOffset);
+  fail(Code::AsciiSyntax,
+       format("malformed number '%s' at line %llu", show(t, n).c_str(), (unsigned long long)tokenLine), tokenLine,
+       tokenOffset);
   return false;
 }
 
@@ -239,8 +272,8 @@ inline size_t AsciiParser::fastFacet(const uint8_t* p, size_t i, size_t n, uint6
   const uint8_t* facetAt = q;
   uint64_t facetLn = ln;
   float nv[3], vv[9];
-  if (!blanks(q + kFacet.len) || !word(kNormal) || !number(nv[0]) || !number(nv[1]) || !number(nv[2]) || !word(kOuter) ||
-      !word(kLoop))
+  if (!blanks(q + kFacet.len) || !word(kNormal) || !number(nv[0]) || !number(nv[1]) || !number(nv[2]) ||
+      !word(kOuter) || !word(kLoop))
     return 0;
   for (int c = 0; c < 3; ++c)
     if (!word(kVertex) || !number(vv[3 * c]) || !number(vv[3 * c + 1]) || !number(vv[3 * c + 2])) return 0;
@@ -275,10 +308,16 @@ void AsciiParser::feed(const uint8_t* p, size_t n) {
   while (!bomChecked && i < n) {
     static const uint8_t kBom[3] = {0xEF, 0xBB, 0xBF};
     if (p[i] == kBom[bomHave]) {
-      ++bomHave; ++i; ++offset;
+      ++bomHave;
+      ++i;
+      ++offset;
       if (bomHave == 3) bomChecked = true;
     } else {
-      if (bomHave > 0) { decided = true; isSolid = false; return; }  // a broken BOM
+      if (bomHave > 0) {
+        decided = true;
+        isSolid = false;
+        return;
+      }  // a broken BOM
       bomChecked = true;
     }
   }
@@ -291,7 +330,10 @@ inline size_t AsciiParser::scan(const uint8_t* p, size_t i, size_t n, uint64_t b
     if (state == SolidName || state == SkipLine) {
       size_t j = i;
       while (j < n && p[j] != '\n' && p[j] != '\r') {
-        if (p[j] < 0x20 && p[j] != '\t' && p[j] != '\v' && p[j] != '\f') { badByte(p[j], base + j); return i; }
+        if (p[j] < 0x20 && p[j] != '\t' && p[j] != '\v' && p[j] != '\f') {
+          badByte(p[j], base + j);
+          return i;
+        }
         ++j;
       }
       if (state == SolidName) {
@@ -314,7 +356,10 @@ inline size_t AsciiParser::scan(const uint8_t* p, size_t i, size_t n, uint64_t b
     }
     if (inToken) {  // continue a token carried over from the previous chunk
       size_t j = tokenEnd(p, i, n);
-      if (j < n && !isSpace(p[j])) { badByte(p[j], base + j); return i; }
+      if (j < n && !isSpace(p[j])) {
+        badByte(p[j], base + j);
+        return i;
+      }
       size_t room = kMaxCarry > carry.size() ? kMaxCarry - carry.size() : 0;
       carry.append(reinterpret_cast<const char*>(p + i), std::min(room, j - i));
       i = j;
@@ -339,7 +384,10 @@ inline size_t AsciiParser::scan(const uint8_t* p, size_t i, size_t n, uint64_t b
       }
     }
     size_t j = tokenEnd(p, i, n);
-    if (j < n && !isSpace(p[j])) { badByte(p[j], base + j); return i; }  // a control byte (j may be i)
+    if (j < n && !isSpace(p[j])) {
+      badByte(p[j], base + j);
+      return i;
+    }  // a control byte (j may be i)
     tokenOffset = base + i;
     tokenLine = line;
     const char* t = reinterpret_cast<const char*>(p + i);
@@ -361,9 +409,16 @@ void AsciiParser::endCarry() {
 }
 
 inline void AsciiParser::badByte(uint8_t c, uint64_t at) {
-  if (!decided) { decided = true; isSolid = false; return; }
+  if (!decided) {
+    decided = true;
+    isSolid = false;
+    return;
+  }
   binaryLooking = true;
-  fail(Code::AsciiSyntax, format("unexpected byte 0x%02X at offset %llu (line %llu): not ASCII STL text", c, (unsigned long long)at, (unsigned long long)line), line, at);
+  fail(Code::AsciiSyntax,
+       format("unexpected byte 0x%02X at offset %llu (line %llu): not ASCII STL text", c, (unsigned long long)at,
+              (unsigned long long)line),
+       line, at);
 }
 
 inline void AsciiParser::openSolid() {
@@ -374,7 +429,10 @@ inline void AsciiParser::openSolid() {
     // Cut at a UTF-8 character boundary.
     while (ne > nb && (static_cast<unsigned char>(ne[-1]) & 0xC0) == 0x80) --ne;
     if (ne > nb && static_cast<unsigned char>(ne[-1]) >= 0xC0) --ne;
-    if (!b.addWarning(Code::NameTruncated, format("solid name at line %llu is longer than %zu bytes and was cut", (unsigned long long)nameLine, kMaxNameBytes), kNoOffset, nameLine))
+    if (!b.addWarning(Code::NameTruncated,
+                      format("solid name at line %llu is longer than %zu bytes and was cut",
+                             (unsigned long long)nameLine, kMaxNameBytes),
+                      kNoOffset, nameLine))
       return;
   }
   if (!b.beginSolid(nb, size_t(ne - nb), nullptr)) return;
@@ -389,21 +447,19 @@ Status AsciiParser::end() {
   }
   State s = state == SkipLine ? afterSkip : state;
   switch (s) {
-    case ExpectSolid:
-      return Status{};  // after endsolid (or between solids)
-    case SolidName:
-      openSolid();
-      [[fallthrough]];
+    case ExpectSolid: return Status{};  // after endsolid (or between solids)
+    case SolidName: openSolid(); [[fallthrough]];
     case ExpectFacetOrEnd:
       b.endSolid();
       b.addWarning(Code::MissingEndsolid,
-                   format("the file ends after line %llu without 'endsolid'", (unsigned long long)tokenLine), offset, tokenLine);
+                   format("the file ends after line %llu without 'endsolid'", (unsigned long long)tokenLine), offset,
+                   tokenLine);
       return Status{};
     default:
       return Status::error(Code::UnexpectedEnd,
-                        format("the file ends after line %llu inside the facet that starts at line %llu",
-                            (unsigned long long)tokenLine, (unsigned long long)facetLine),
-                        offset, tokenLine);
+                           format("the file ends after line %llu inside the facet that starts at line %llu",
+                                  (unsigned long long)tokenLine, (unsigned long long)facetLine),
+                           offset, tokenLine);
   }
 }
 

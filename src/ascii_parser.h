@@ -11,20 +11,29 @@ namespace stltopo::detail {
 // ASCII parser: a token state machine that survives any chunking.
 struct AsciiParser {
   enum State : uint8_t {
-    ExpectSolid, SolidName, ExpectFacetOrEnd, AfterFacet, NormalNums, ExpectOuter, ExpectLoop,
-    ExpectVertexOrEndloop, VertexNums, ExpectEndfacet, SkipLine,
+    ExpectSolid,
+    SolidName,
+    ExpectFacetOrEnd,
+    AfterFacet,
+    NormalNums,
+    ExpectOuter,
+    ExpectLoop,
+    ExpectVertexOrEndloop,
+    VertexNums,
+    ExpectEndfacet,
+    SkipLine,
   };
   Builder b;
   State state = ExpectSolid;
   State afterSkip = ExpectSolid;
-  bool isSolid = false;      // first token began with "solid"
-  bool decided = false;      // we know whether the file starts with "solid"
+  bool isSolid = false;        // first token began with "solid"
+  bool decided = false;        // we know whether the file starts with "solid"
   bool binaryLooking = false;  // died on a control byte
   bool sawCR = false;
   uint64_t line = 1;
   uint64_t offset = 0;
   uint64_t tokenOffset = 0, tokenLine = 1;
-  std::string carry;         // a token split across chunks
+  std::string carry;  // a token split across chunks
   bool inToken = false;
   // A token split across chunks is kept up to kMaxCarry bytes: more than any number
   // (kMaxNumberChars) and than 'solid' + a name (kMaxNameBytes + 1), so a cut token reads

@@ -20,7 +20,9 @@ inline void BinaryParser::startPart() {
   for (size_t i = 0; i + 6 + 4 <= 80; ++i) {
     if (std::memcmp(header + i, kColor, 6) == 0) {
       pc.magics = true;
-      pc.rgb[0] = header[i + 6]; pc.rgb[1] = header[i + 7]; pc.rgb[2] = header[i + 8];
+      pc.rgb[0] = header[i + 6];
+      pc.rgb[1] = header[i + 7];
+      pc.rgb[2] = header[i + 8];
       break;
     }
   }
@@ -139,7 +141,10 @@ void BinaryParser::feed(const uint8_t* p, size_t n) {
 }
 
 BinaryParser::End BinaryParser::end(Status& st) {
-  if (b.failed()) { st = b.error; return End::Error; }
+  if (b.failed()) {
+    st = b.error;
+    return End::Error;
+  }
   if (partIndex == 0) return End::TooShort;  // < 84 bytes: no header at all
   if (skipping) {
     uint64_t needBytes = partStart + skipNeeded;
@@ -148,9 +153,10 @@ BinaryParser::End BinaryParser::end(Status& st) {
     } else if (!contentError.ok()) {
       st = contentError;
     } else {
-      st = Status::error(Code::TooLarge,
-                      format("the header promises %u triangles, more than maxTriangles (%u)", partCount, b.opt.maxTriangles),
-                      partStart + 80);
+      st = Status::error(
+          Code::TooLarge,
+          format("the header promises %u triangles, more than maxTriangles (%u)", partCount, b.opt.maxTriangles),
+          partStart + 80);
     }
     return End::Error;
   }
@@ -166,13 +172,15 @@ inline Status BinaryParser::truncated(uint64_t needBytes) {
   // The first incomplete triangle: triangles before this part plus the complete records.
   uint64_t body = offset - partStart > kHeaderBytes ? offset - partStart - kHeaderBytes : 0;
   uint32_t tri = uint32_t(std::min<uint64_t>(partFirst + body / kRecordBytes, kInvalid - 1));
-  std::string part = partIndex > 1 ? format("part %u (header at offset %llu): ", partIndex, (unsigned long long)partStart) : std::string();
+  std::string part = partIndex > 1
+                         ? format("part %u (header at offset %llu): ", partIndex, (unsigned long long)partStart)
+                         : std::string();
   return Status::error(Code::Truncated,
-                    format("%sthe header promises %u triangles (%llu bytes) but the file has %llu bytes; "
-                        "data stops at offset %llu, inside triangle %u",
-                        part.c_str(), partCount, (unsigned long long)needBytes, (unsigned long long)offset,
-                        (unsigned long long)offset, tri),
-                    offset, 0, tri);
+                       format("%sthe header promises %u triangles (%llu bytes) but the file has %llu bytes; "
+                              "data stops at offset %llu, inside triangle %u",
+                              part.c_str(), partCount, (unsigned long long)needBytes, (unsigned long long)offset,
+                              (unsigned long long)offset, tri),
+                       offset, 0, tri);
 }
 
 }  // namespace stltopo::detail

@@ -17,15 +17,15 @@ struct BinaryParser {
   uint8_t rec[kRecordBytes];
   uint32_t recHave = 0;
   bool inRecords = false;
-  uint32_t partIndex = 0;      // number of parts whose header has been read
-  uint64_t partStart = 0;      // offset of the current part's header
-  uint32_t partCount = 0;      // triangles promised by the current part
+  uint32_t partIndex = 0;  // number of parts whose header has been read
+  uint64_t partStart = 0;  // offset of the current part's header
+  uint32_t partCount = 0;  // triangles promised by the current part
   uint32_t partDone = 0;
-  uint64_t partFirst = 0;      // triangles read before the current part
-  uint64_t offset = 0;         // bytes consumed
-  bool skipping = false;       // over maxTriangles or after a content error: count bytes only
-  uint64_t skipNeeded = 0;     // bytes needed to complete the current part when skipping
-  Status contentError;         // e.g. non-finite: reported unless the file is also truncated
+  uint64_t partFirst = 0;   // triangles read before the current part
+  uint64_t offset = 0;      // bytes consumed
+  bool skipping = false;    // over maxTriangles or after a content error: count bytes only
+  uint64_t skipNeeded = 0;  // bytes needed to complete the current part when skipping
+  Status contentError;      // e.g. non-finite: reported unless the file is also truncated
 
 #if STLTOPO_THREADS
   explicit BinaryParser(const ReadOptions& o) : b(o), threads(threadCount(o.threads)) {}

@@ -13,7 +13,8 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
   out = Mesh{};
   const uint32_t nt = mesh.nTriangles(), nv = mesh.nVertices();
   if (topo.triangleShell.size() != nt || topo.nTriangles != nt || topo.nVertices != nv)
-    return Status::error(Code::InvalidArgument, "the topology has no triangleShell (TopologyOptions::triangleShell = false)");
+    return Status::error(Code::InvalidArgument,
+                         "the topology has no triangleShell (TopologyOptions::triangleShell = false)");
   if (shell >= topo.nShells)
     return Status::error(Code::InvalidArgument,
                          detail::format("shell %u does not exist (the mesh has %u)", shell, topo.nShells));
@@ -58,22 +59,24 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
     while (solid < mesh.solids.size() &&
            t >= uint64_t(mesh.solids[solid].firstTriangle) + mesh.solids[solid].triangleCount)
       ++solid;
-    uint32_t solidOfT = solid < mesh.solids.size() && t >= mesh.solids[solid].firstTriangle ? uint32_t(solid) : kInvalid;
+    uint32_t solidOfT =
+        solid < mesh.solids.size() && t >= mesh.solids[solid].firstTriangle ? uint32_t(solid) : kInvalid;
     if (solidOfT != kInvalid) {
       if (solidOfT != lastSolid) {
         Solid part;
         const std::string& name = mesh.solids[solidOfT].name;
         part.firstTriangle = nOut;
-        if (!detail::tryAssign(part.name, name.data(), name.size()) || !detail::tryPushBack(out.solids, std::move(part)))
+        if (!detail::tryAssign(part.name, name.data(), name.size()) ||
+            !detail::tryPushBack(out.solids, std::move(part)))
           return detail::oom(kMesh);
       }
       ++out.solids.back().triangleCount;
     }
     lastSolid = solidOfT;
     ++nOut;
-    detail::TriangleFigures fig = detail::triangleFigures(mesh.positions.data() + size_t(c[0]) * 3,
-                                                          mesh.positions.data() + size_t(c[1]) * 3,
-                                                          mesh.positions.data() + size_t(c[2]) * 3);
+    detail::TriangleFigures fig =
+        detail::triangleFigures(mesh.positions.data() + size_t(c[0]) * 3, mesh.positions.data() + size_t(c[1]) * 3,
+                                mesh.positions.data() + size_t(c[2]) * 3);
     out.area += fig.area;
     out.volume += fig.volume;
     if (normals && detail::normalMismatch(mesh.normals.data() + size_t(t) * 3, fig)) ++out.normalMismatches;

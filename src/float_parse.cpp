@@ -26,14 +26,23 @@ bool parseFloat(const char* s, size_t len, float& out) {
     int digits = 0, fracDigits = 0;
     bool overflow = false;
     while (i < len && unsigned(s[i] - '0') < 10) {
-      if (m < 100000000000000000ull) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
-      ++digits; ++i;
+      if (m < 100000000000000000ull)
+        m = m * 10 + unsigned(s[i] - '0');
+      else
+        overflow = true;
+      ++digits;
+      ++i;
     }
     if (i < len && s[i] == '.') {
       ++i;
       while (i < len && unsigned(s[i] - '0') < 10) {
-        if (m < 100000000000000000ull) m = m * 10 + unsigned(s[i] - '0'); else overflow = true;
-        ++digits; ++fracDigits; ++i;
+        if (m < 100000000000000000ull)
+          m = m * 10 + unsigned(s[i] - '0');
+        else
+          overflow = true;
+        ++digits;
+        ++fracDigits;
+        ++i;
       }
     }
     int e = 0;
@@ -45,7 +54,8 @@ bool parseFloat(const char* s, size_t len, float& out) {
       int ed = 0;
       while (i < len && unsigned(s[i] - '0') < 10) {
         if (e < 10000) e = e * 10 + (s[i] - '0');
-        ++ed; ++i;
+        ++ed;
+        ++i;
       }
       if (ed == 0) ok = false;
       if (eneg) e = -e;
@@ -53,8 +63,14 @@ bool parseFloat(const char* s, size_t len, float& out) {
     if (ok && i == len && !overflow) {
       int ex = e - fracDigits;
       // Strip trailing zeros of the mantissa into the exponent.
-      while (m != 0 && m % 10 == 0 && ex < 0) { m /= 10; ++ex; }
-      if (m == 0) { out = neg ? -0.0f : 0.0f; return true; }
+      while (m != 0 && m % 10 == 0 && ex < 0) {
+        m /= 10;
+        ++ex;
+      }
+      if (m == 0) {
+        out = neg ? -0.0f : 0.0f;
+        return true;
+      }
       static const float kPow10[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
       if (m <= (1u << 24) && ex >= -10 && ex <= 10) {
         float f = float(m);

@@ -58,11 +58,10 @@ inline const char* parseDecimal(const char* s, const char* limit, float& out) {
   // exact value unless d lies within those 2 ulp of a halfway point between two floats,
   // where the low 29 bits of d (those a float drops) read 0x10000000: there, and for the
   // rest (m >= 2^53, |ex| > 22), take the general path.
-  static constexpr double kPow10[45] = {1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14,
-                                        1e-13, 1e-12, 1e-11, 1e-10, 1e-9,  1e-8,  1e-7,  1e-6,  1e-5,
-                                        1e-4,  1e-3,  1e-2,  1e-1,  1e0,   1e1,   1e2,   1e3,   1e4,
-                                        1e5,   1e6,   1e7,   1e8,   1e9,   1e10,  1e11,  1e12,  1e13,
-                                        1e14,  1e15,  1e16,  1e17,  1e18,  1e19,  1e20,  1e21,  1e22};
+  static constexpr double kPow10[45] = {
+      1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8,
+      1e-7,  1e-6,  1e-5,  1e-4,  1e-3,  1e-2,  1e-1,  1e0,   1e1,   1e2,   1e3,   1e4,   1e5,   1e6,  1e7,
+      1e8,   1e9,   1e10,  1e11,  1e12,  1e13,  1e14,  1e15,  1e16,  1e17,  1e18,  1e19,  1e20,  1e21, 1e22};
   int ex = e - fracDigits;
   if (m >= (1ull << 53) || ex < -22 || ex > 22) return nullptr;
   double d = double(m) * kPow10[ex + 22];

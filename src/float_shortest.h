@@ -66,8 +66,8 @@ size_t render(bool neg, const char* digits, int n, int exp10, char* out) {
 using U128 = unsigned __int128;
 
 struct Pow5 {
-  U128 p[56];     // 5^i
-  int bits[56];   // bit length of 5^i
+  U128 p[56];    // 5^i
+  int bits[56];  // bit length of 5^i
   constexpr Pow5() : p(), bits() {
     U128 x = 1;
     for (int i = 0; i < 56; ++i) {
@@ -185,7 +185,7 @@ bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {
   x.m = ex == 0 ? mant : mant | 0x800000u;
   x.e = ex == 0 ? -149 : int(ex) - 150;
   x.narrowBelow = mant == 0 && ex > 1;
-  int b2 = x.e + (63 - __builtin_clzll(x.m));   // floor(log2 v)
+  int b2 = x.e + (63 - __builtin_clzll(x.m));  // floor(log2 v)
   int E10 = int((int64_t(b2) * 78913) >> 18);  // floor(log10 v) or one less
   Found r = digitsIn<uint64_t>(x, E10, digits, p, exp10);
   if (r == Found::NoRoom) r = digitsIn<U128>(x, E10, digits, p, exp10);

@@ -3,13 +3,13 @@
 #include <cmath>
 #include <cstring>
 
+#include "mesh_builder.h"
+#include "solid_parts.h"
+#include "stltopo/indexed.h"
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "text_format.h"
 #include "try_alloc.h"
-#include "mesh_builder.h"
-#include "solid_parts.h"
-#include "stltopo/indexed.h"
 
 namespace stltopo {
 

@@ -16,13 +16,11 @@
 
 namespace stltopo {
 using geometry_detail::checkWeld;
-using geometry_detail::weldOf;
 using geometry_detail::oom;
 using geometry_detail::Welded;
+using geometry_detail::weldOf;
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 const char* intersectionKindName(IntersectionKind k) {
   switch (k) {
@@ -176,8 +174,8 @@ void intersectionPoint(const Tri& a, const Tri& b, bool coplanar, int k, double 
   for (int s = 0; s < 2; ++s) {
     const Tri& x = *tris[s];
     const Tri& y = *tris[1 - s];
-    const Projection py = coplanar ? Projection{k, orient2dIn(k, y.p[0], y.p[1], y.p[2])}
-                                   : projectionOf(y.p[0], y.p[1], y.p[2]);
+    const Projection py =
+        coplanar ? Projection{k, orient2dIn(k, y.p[0], y.p[1], y.p[2])} : projectionOf(y.p[0], y.p[1], y.p[2]);
     int o[3];
     for (int i = 0; i < 3; ++i) o[i] = pred::orient3d(y.p[0], y.p[1], y.p[2], x.p[i]);
     for (int i = 0; i < 3; ++i)  // corners of x in y
@@ -369,13 +367,13 @@ STLTOPO_NOINLINE bool flatCornerApart(const Tri& a, const Tri& b, int ia, int ib
 }
 
 // Whether testPair(a, b) returns -1 for a reason the corners they share (ma, mb:
-// sharedCorners) decide with few exact signs, for the neighbours that make up nearly all the candidate pairs of a mesh: all
-// three corners shared; a shared side with the fourth corners off each other's plane; one
-// shared corner with the side opposite it of neither triangle meeting the other (the same
-// sign tests, in the same order, as testPair's). False says nothing: testPair decides (it
-// finds a pair that is not rejected here again, so the kind and the point are its own).
+// sharedCorners) decide with few exact signs, for the neighbours that make up nearly all the candidate pairs of a mesh:
+// all three corners shared; a shared side with the fourth corners off each other's plane; one shared corner with the
+// side opposite it of neither triangle meeting the other (the same sign tests, in the same order, as testPair's). False
+// says nothing: testPair decides (it finds a pair that is not rejected here again, so the kind and the point are its
+// own).
 bool neighboursApart(const Tri& a, const Tri& b, unsigned ma, unsigned mb) {
-  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};  // the lowest set bit
+  static constexpr int8_t kLow[8] = {-1, 0, 1, 0, 2, 0, 1, 0};         // the lowest set bit
   static constexpr int8_t kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};  // (i + 1) % 3, (i + 2) % 3
   if (ma == 0) return false;
   if (ma == 7) return true;
@@ -847,7 +845,8 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
   }
   std::sort(links.begin(), links.end());
   size_t nl = size_t(std::unique(links.begin(), links.end()) - links.begin());
-  if (!out.intersectsOffsets.assign(size_t(ns) + 1, 0) || !out.intersectsShells.resize(nl)) return oom("the shell nesting");
+  if (!out.intersectsOffsets.assign(size_t(ns) + 1, 0) || !out.intersectsShells.resize(nl))
+    return oom("the shell nesting");
   for (size_t i = 0; i < nl; ++i) {
     ++out.intersectsOffsets[(links[i] >> 32) + 1];
     out.intersectsShells[i] = uint32_t(links[i]);
@@ -881,7 +880,8 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
     if (s == kInvalid || !candidate[s]) continue;
     for (int c = 0; c < 3; ++c) {
       uint32_t& vs = vshell[w.v(t, c)];
-      if (vs == kInvalid) vs = s;
+      if (vs == kInvalid)
+        vs = s;
       else if (vs != s && (!touching.push_back(uint64_t(vs) << 32 | s) || !touching.push_back(uint64_t(s) << 32 | vs)))
         return oom("the shell nesting");
     }
@@ -967,7 +967,8 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
 
 bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found, const Array<Shell>& shells,
              const ShellNesting& nesting) {
-  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0) return false;
+  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0)
+    return false;
   if (!found.complete || found.nPairs() != 0) return false;
   if (shells.size() != nesting.depth.size()) return false;
   for (size_t s = 0; s < shells.size(); ++s) {
@@ -978,7 +979,8 @@ bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersect
   return true;
 }
 
-Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options) {
+Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out,
+                       const IntersectionOptions& options) {
   out.solid = false;
   Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
   if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);

@@ -4,7 +4,6 @@
 
 namespace stltopo::detail {
 
-
 void trim(const char*& b, const char*& e) {
   auto ws = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
   while (b < e && ws(*b)) ++b;
@@ -16,8 +15,8 @@ bool Builder::reserveTriangles(uint64_t n) {
   if (n <= mesh.nTriangles()) return true;
   uint64_t v = n / 2 + 16;
   if (!mesh.triangles.reserve(size_t(n) * 3) || !mesh.attributes.reserve(size_t(n)) ||
-      (opt.keepNormals && !mesh.normals.reserve(size_t(n) * 3)) ||
-      !mesh.positions.reserve(size_t(v) * 3) || !growTable(uint32_t(std::min<uint64_t>(v, 1u << 30)))) {
+      (opt.keepNormals && !mesh.normals.reserve(size_t(n) * 3)) || !mesh.positions.reserve(size_t(v) * 3) ||
+      !growTable(uint32_t(std::min<uint64_t>(v, 1u << 30)))) {
     error = oom("the mesh arrays");
     return false;
   }
@@ -363,8 +362,8 @@ void Builder::endSolid() {
 bool Builder::decodeColors() {
   bool magics = false;
   for (const PartColor& p : partColors) magics |= p.magics;
-  ColorConvention conv = magics ? ColorConvention::Magics
-                                : (anyVisCamBit ? ColorConvention::VisCam : ColorConvention::None);
+  ColorConvention conv =
+      magics ? ColorConvention::Magics : (anyVisCamBit ? ColorConvention::VisCam : ColorConvention::None);
   mesh.colorConvention = conv;
   if (conv == ColorConvention::None) return true;
   uint32_t nt = mesh.nTriangles();
@@ -377,13 +376,19 @@ bool Builder::decodeColors() {
       uint8_t* rgb = mesh.colors.data() + size_t(t) * 3;
       if (pc.magics) {
         if (a & 0x8000u) {
-          rgb[0] = pc.rgb[0]; rgb[1] = pc.rgb[1]; rgb[2] = pc.rgb[2];
+          rgb[0] = pc.rgb[0];
+          rgb[1] = pc.rgb[1];
+          rgb[2] = pc.rgb[2];
         } else {
-          rgb[0] = c5(a & 31u); rgb[1] = c5((a >> 5) & 31u); rgb[2] = c5((a >> 10) & 31u);
+          rgb[0] = c5(a & 31u);
+          rgb[1] = c5((a >> 5) & 31u);
+          rgb[2] = c5((a >> 10) & 31u);
         }
         mesh.colorValid[t] = 1;
       } else if (conv == ColorConvention::VisCam && (a & 0x8000u)) {
-        rgb[0] = c5((a >> 10) & 31u); rgb[1] = c5((a >> 5) & 31u); rgb[2] = c5(a & 31u);
+        rgb[0] = c5((a >> 10) & 31u);
+        rgb[1] = c5((a >> 5) & 31u);
+        rgb[2] = c5(a & 31u);
         mesh.colorValid[t] = 1;
       }
     }

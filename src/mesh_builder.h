@@ -85,9 +85,9 @@ struct Builder {
   uint32_t nParts() const { return 1u << partBits; }
   Part& partOf(uint32_t hash) { return parts[hash >> (32 - partBits)]; }
   // The work arrays of a parallel batch, kept from one batch to the next.
-  Array<Slot> batchKeys;      // 3 per record: the corner's key; id: its vertex or kPending | first corner
-  Array<uint32_t> batchHashes;  // 3 per record: slotHash of the key
-  Array<double> batchArea, batchVolume;  // per record: its figures, summed in order afterwards
+  Array<Slot> batchKeys;                  // 3 per record: the corner's key; id: its vertex or kPending | first corner
+  Array<uint32_t> batchHashes;            // 3 per record: slotHash of the key
+  Array<double> batchArea, batchVolume;   // per record: its figures, summed in order afterwards
   Array<uint64_t> batchNew[kMaxThreads];  // per thread: slot index << 32 | corner of each new key
 
 #endif
@@ -130,11 +130,12 @@ struct Builder {
   inline uint32_t appendVertex(float x, float y, float z) {
     uint32_t id = mesh.nVertices();
     size_t n = mesh.positions.size();
-    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
-      return kInvalid;
+    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2))) return kInvalid;
     (void)mesh.positions.resize(n + 3);
     float* q = mesh.positions.data() + n;
-    q[0] = x; q[1] = y; q[2] = z;
+    q[0] = x;
+    q[1] = y;
+    q[2] = z;
     if (id == 0) {
       for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
     } else {
@@ -221,11 +222,12 @@ struct Builder {
     if (!finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z)) return kNonFinite;
     uint32_t id = mesh.nVertices();
     size_t n = mesh.positions.size();
-    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2)))
-      return kInvalid;
-    (void)mesh.positions.resize(n + 3);  // capacity checked above
+    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2))) return kInvalid;
+    (void)mesh.positions.resize(n + 3);    // capacity checked above
     float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
-    q[0] = x; q[1] = y; q[2] = z;
+    q[0] = x;
+    q[1] = y;
+    q[2] = z;
     if (id == 0) {
       for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
     } else {
@@ -253,7 +255,8 @@ struct Builder {
                   const uint32_t* hashes = nullptr) {
     uint32_t t = mesh.nTriangles();
     if (t >= opt.maxTriangles) {
-      error = Status::error(Code::TooLarge, format("more than maxTriangles (%u) triangles", opt.maxTriangles), offset, line, t);
+      error = Status::error(Code::TooLarge, format("more than maxTriangles (%u) triangles", opt.maxTriangles), offset,
+                            line, t);
       return false;
     }
     if (mesh.triangles.size() + 3 > mesh.triangles.capacity()) {
@@ -288,8 +291,8 @@ struct Builder {
         int k = 3 * c;
         while (finiteBits(bitsOf(v[k]))) ++k;
         error = Status::error(Code::NonFinite,
-                           format("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
-                           offset, line, t);
+                              format("triangle %u has a non-finite coordinate (corner %d: %g)", t, c, double(v[k])),
+                              offset, line, t);
         return false;
       }
     }

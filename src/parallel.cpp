@@ -123,8 +123,10 @@ void runPartsImpl(unsigned n, PartFn fn, void* ctx) {
   }
   fn(ctx, 0);
   for (unsigned i = 1; i < n; ++i) {
-    if (i < kMaxThreads && started[i]) threads[i].join();
-    else fn(ctx, i);
+    if (i < kMaxThreads && started[i])
+      threads[i].join();
+    else
+      fn(ctx, i);
   }
 #else
   for (unsigned i = 0; i < n; ++i) fn(ctx, i);

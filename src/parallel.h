@@ -49,7 +49,9 @@ inline unsigned partsFor(unsigned threads, size_t items, size_t grain) {
 }
 
 // Part i of n of [0, items): [begin, end), contiguous, in order, sizes differing by <= 1.
-inline size_t partBegin(size_t items, unsigned n, unsigned i) { return items / n * i + (i < items % n ? i : items % n); }
+inline size_t partBegin(size_t items, unsigned n, unsigned i) {
+  return items / n * i + (i < items % n ? i : items % n);
+}
 
 // Runs fn(i) for every i in [0, n): fn(0) on the calling thread, the others on threads of
 // their own; returns when all have returned. When a thread cannot be started, its part runs
@@ -63,7 +65,8 @@ void runParts(unsigned n, F&& fn) {
     if (n == 1) fn(0u);
     return;
   }
-  runPartsImpl(n, [](void* ctx, unsigned part) { (*static_cast<F*>(ctx))(part); }, &fn);
+  runPartsImpl(
+      n, [](void* ctx, unsigned part) { (*static_cast<F*>(ctx))(part); }, &fn);
 }
 
 }  // namespace stltopo::detail

@@ -47,8 +47,8 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
   const double wx = double(d[0]) - a[0], wy = double(d[1]) - a[1], wz = double(d[2]) - a[2];
   const double m1 = uy * vz, m2 = uz * vy, m3 = uz * vx, m4 = ux * vz, m5 = ux * vy, m6 = uy * vx;
   const double det = wx * (m1 - m2) + wy * (m3 - m4) + wz * (m5 - m6);
-  const double perm = std::fabs(wx) * (std::fabs(m1) + std::fabs(m2)) + std::fabs(wy) * (std::fabs(m3) + std::fabs(m4)) +
-                      std::fabs(wz) * (std::fabs(m5) + std::fabs(m6));
+  const double perm = std::fabs(wx) * (std::fabs(m1) + std::fabs(m2)) +
+                      std::fabs(wy) * (std::fabs(m3) + std::fabs(m4)) + std::fabs(wz) * (std::fabs(m5) + std::fabs(m6));
   const double bound = 7.7715611723761027e-16 * perm;  // (7 + 56 eps) eps
   if (det > bound) return 1;
   if (-det > bound) return -1;

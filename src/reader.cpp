@@ -24,8 +24,10 @@ struct Reader::Impl {
   explicit Impl(const ReadOptions& o) : opt(o) { start(); }
   ~Impl() { clear(); }
   void clear() {
-    detail::tryDelete(bin); bin = nullptr;
-    detail::tryDelete(ascii); ascii = nullptr;
+    detail::tryDelete(bin);
+    bin = nullptr;
+    detail::tryDelete(ascii);
+    ascii = nullptr;
   }
   void start() {
     clear();
@@ -48,8 +50,10 @@ struct Reader::Impl {
     Status bs;
     BinaryParser::End be = BinaryParser::End::Error;
     if (bin) {
-      if (atEnd) be = bin->end(bs);
-      else bs = bin->b.error;
+      if (atEnd)
+        be = bin->end(bs);
+      else
+        bs = bin->b.error;
     }
     // The first token may still be pending at the end ("solid" and nothing else).
     if (atEnd && ascii && !ascii->decided && ascii->inToken && !ascii->dead()) ascii->endCarry();
@@ -59,7 +63,7 @@ struct Reader::Impl {
         uint64_t extra = bin->offset - bin->partStart;
         bin->b.addWarning(Code::TrailingBytes,
                           format("%llu extra byte%s after the last triangle at offset %llu were ignored",
-                              (unsigned long long)extra, extra == 1 ? "" : "s", (unsigned long long)bin->partStart),
+                                 (unsigned long long)extra, extra == 1 ? "" : "s", (unsigned long long)bin->partStart),
                           bin->partStart);
       }
       bin->b.mesh.format = Format::Binary;
@@ -79,9 +83,10 @@ struct Reader::Impl {
     if (atEnd && total == 0) return Status::error(Code::Empty, "the file is empty (0 bytes)", 0);
     if (atEnd && be == BinaryParser::End::TooShort)
       return Status::error(Code::NotStl,
-                        format("the file has %llu bytes: too short for a binary STL (84-byte minimum) and it does not start with 'solid'",
-                            (unsigned long long)total),
-                        0);
+                           format("the file has %llu bytes: too short for a binary STL (84-byte minimum) and it does "
+                                  "not start with 'solid'",
+                                  (unsigned long long)total),
+                           0);
     if (atEnd && be == BinaryParser::End::Trailing) return takeBinary(true);
     return bs;
   }
@@ -113,7 +118,9 @@ Status Reader::feed(const uint8_t* data, size_t size) {
   if (m.finished) return Status::error(Code::InvalidArgument, "feed() after finish(); call reset() first");
   if (!m.sticky.ok()) return m.sticky;
   if (m.opt.maxBytes && m.total + size > m.opt.maxBytes) {
-    m.sticky = Status::error(Code::TooLarge, format("the input is larger than maxBytes (%llu)", (unsigned long long)m.opt.maxBytes), m.opt.maxBytes);
+    m.sticky = Status::error(Code::TooLarge,
+                             format("the input is larger than maxBytes (%llu)", (unsigned long long)m.opt.maxBytes),
+                             m.opt.maxBytes);
     m.clear();
     return m.sticky;
   }

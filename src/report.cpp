@@ -1,16 +1,16 @@
 // The `stltopo info --json` report. Shared by the native CLI and the wasm build,
 // so both print byte-identical JSON.
+#include <locale.h>
 #include <clocale>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
-#include <locale.h>
 
+#include "float_format.h"
 #include "report_json.h"
 #include "text_format.h"
 #include "triangle_figures.h"
-#include "float_format.h"
 
 namespace stltopo {
 namespace {
@@ -19,9 +19,18 @@ using detail::Json;
 using detail::shortest;
 
 void location(Json& j, const Status& st) {
-  if (st.offset != kNoOffset) { j.key("offset"); j.u(st.offset); }
-  if (st.line != 0) { j.key("line"); j.u(st.line); }
-  if (st.triangle != kInvalid) { j.key("triangle"); j.u(st.triangle); }
+  if (st.offset != kNoOffset) {
+    j.key("offset");
+    j.u(st.offset);
+  }
+  if (st.line != 0) {
+    j.key("line");
+    j.u(st.line);
+  }
+  if (st.triangle != kInvalid) {
+    j.key("triangle");
+    j.u(st.triangle);
+  }
 }
 
 }  // namespace
@@ -87,22 +96,31 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
                                  const ExtrasWriter* extras) {
   Json j;
   j.open('{');
-  j.key("file"); j.str(file);
-  j.key("format"); j.str(formatName(mesh.format));
+  j.key("file");
+  j.str(file);
+  j.key("format");
+  j.str(formatName(mesh.format));
   j.key("solids");
   j.open('[');
   for (const Solid& s : mesh.solids) {
     j.sep();
     j.open('{');
-    j.key("name"); j.str(s.name);
-    j.key("triangles"); j.u(s.triangleCount);
+    j.key("name");
+    j.str(s.name);
+    j.key("triangles");
+    j.u(s.triangleCount);
     j.close('}');
   }
   j.close(']');
   const uint32_t nt = mesh.nTriangles();
-  j.key("triangles"); j.u(nt);
-  j.key("vertices"); j.u(mesh.nVertices());
-  if (topo && topo->tolerance > 0) { j.key("weldedVertices"); j.u(topo->nWeldedVertices); }
+  j.key("triangles");
+  j.u(nt);
+  j.key("vertices");
+  j.u(mesh.nVertices());
+  if (topo && topo->tolerance > 0) {
+    j.key("weldedVertices");
+    j.u(topo->nWeldedVertices);
+  }
   uint32_t degenerate = 0;
   if (topo) {
     degenerate = topo->nDegenerate;
@@ -112,18 +130,27 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
       degenerate += (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) ? 1 : 0;
     }
   }
-  j.key("degenerateTriangles"); j.u(degenerate);
+  j.key("degenerateTriangles");
+  j.u(degenerate);
   // The cheap geometric checks, always: computed here unless the caller has them, and then
   // handed to the extras' defect lists too (which list them), so they run once.
   TriangleChecks own;
   const TriangleChecks* checks = extras ? extras->extras.checks : nullptr;
   if (!checks && checkTriangles(mesh, topo, own).ok()) checks = &own;
   j.key("zeroAreaTriangles");
-  if (checks) j.u(checks->zeroArea.size()); else j.null();
+  if (checks)
+    j.u(checks->zeroArea.size());
+  else
+    j.null();
   j.key("duplicateTriangles");
-  if (checks) j.u(checks->nDuplicateTriangles); else j.null();
-  j.key("colors"); j.str(colorConventionName(mesh.colorConvention));
-  j.key("normalMismatches"); j.u(mesh.normalMismatches);
+  if (checks)
+    j.u(checks->nDuplicateTriangles);
+  else
+    j.null();
+  j.key("colors");
+  j.str(colorConventionName(mesh.colorConvention));
+  j.key("normalMismatches");
+  j.u(mesh.normalMismatches);
   j.key("bbox");
   if (mesh.nVertices() == 0) {
     j.s += "null";
@@ -131,15 +158,19 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
   } else {
     j.bbox(mesh.bboxMin, mesh.bboxMax);
   }
-  j.key("area"); j.s += shortest(mesh.area, false);
-  j.key("volume"); j.s += shortest(mesh.volume, false);
+  j.key("area");
+  j.s += shortest(mesh.area, false);
+  j.key("volume");
+  j.s += shortest(mesh.volume, false);
   j.key("warnings");
   j.open('[');
   for (const Status& w : mesh.warnings) {
     j.sep();
     j.open('{');
-    j.key("code"); j.str(codeName(w.code));
-    j.key("message"); j.str(w.message);
+    j.key("code");
+    j.str(codeName(w.code));
+    j.key("message");
+    j.str(w.message);
     location(j, w);
     j.close('}');
   }
@@ -159,23 +190,28 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
       j.u(t.loopOffsets[l + 1] - t.loopOffsets[l]);
     }
     j.close(']');
-    j.key("shells"); j.u(t.nShells);
+    j.key("shells");
+    j.u(t.nShells);
     int64_t chi = t.eulerCharacteristic();
-    j.key("eulerCharacteristic"); j.i(chi);
+    j.key("eulerCharacteristic");
+    j.i(chi);
     j.key("genus");
-    if (t.watertight() && t.manifold()) {  // a pinched closed mesh is no surface: no genus
+    if (t.watertight() && t.manifold()) {            // a pinched closed mesh is no surface: no genus
       int64_t twice = 2 * int64_t(t.nShells) - chi;  // genus = (2 shells - chi) / 2
       j.s += shortest(double(twice) / 2, false);
     } else {
       j.s += "null";
     }
-    j.key("watertight"); j.b(t.watertight());
-    j.key("manifold"); j.b(t.manifold());
+    j.key("watertight");
+    j.b(t.watertight());
+    j.key("manifold");
+    j.b(t.manifold());
     // The geometry keys: null here; the extras' writer (the full module) fills them in.
     if (extras && extras->extras.intersections) {
       extras->geometryJson(j, extras->extras);
     } else {
-      for (const char* k : {"selfIntersections", "intersectionKinds", "intersectingTriangles", "intersectionsComplete", "solid"}) {
+      for (const char* k :
+           {"selfIntersections", "intersectionKinds", "intersectingTriangles", "intersectionsComplete", "solid"}) {
         j.key(k);
         j.null();
       }
@@ -196,10 +232,11 @@ std::string infoText(const std::string& file, const Mesh& m, const Topology* t) 
   return detail::infoTextWith(file, m, t, nullptr);
 }
 
-std::string detail::infoTextWith(const std::string& file, const Mesh& m, const Topology* t, const ExtrasWriter* extras) {
+std::string detail::infoTextWith(const std::string& file, const Mesh& m, const Topology* t,
+                                 const ExtrasWriter* extras) {
   std::string o;
-  appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format),
-          m.solids.size(), m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
+  appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format), m.solids.size(),
+          m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
   if (t && t->tolerance > 0) appendf(o, " (%u after the tolerance weld)", t->nWeldedVertices);
   o += '\n';
   for (const auto& s : m.solids) appendf(o, "  solid \"%s\": %u triangles\n", s.name.c_str(), s.triangleCount);
@@ -231,11 +268,14 @@ std::string detail::infoTextWith(const std::string& file, const Mesh& m, const T
 std::string errorJson(const std::string& file, const Status& error) {
   Json j;
   j.open('{');
-  j.key("file"); j.str(file);
+  j.key("file");
+  j.str(file);
   j.key("error");
   j.open('{');
-  j.key("code"); j.str(codeName(error.code));
-  j.key("message"); j.str(error.message);
+  j.key("code");
+  j.str(codeName(error.code));
+  j.key("message");
+  j.str(error.message);
   location(j, error);
   j.close('}');
   j.close('}');

@@ -18,8 +18,14 @@ namespace stltopo::detail {
 struct Json {
   std::string s;
   bool first = true;
-  void open(char c) { s += c; first = true; }
-  void close(char c) { s += c; first = false; }
+  void open(char c) {
+    s += c;
+    first = true;
+  }
+  void close(char c) {
+    s += c;
+    first = false;
+  }
   void key(const char* k) {
     if (!first) s += ',';
     first = false;
@@ -35,7 +41,10 @@ struct Json {
   void i(int64_t v) { s += std::to_string(v); }
   void str(const std::string& v) { s += jsonString(v); }
   void b(bool v) { s += v ? "true" : "false"; }
-  void null() { s += "null"; first = false; }
+  void null() {
+    s += "null";
+    first = false;
+  }
   // A float32 coordinate (-0 printed as 0) or a float64 figure, in shortest form.
   void f32(float v) { s += shortest(v + 0.0f, true); }
   void f64(double v) { s += shortest(v, false); }
@@ -50,8 +59,10 @@ struct Json {
   }
   void bbox(const float* lo, const float* hi) {
     open('{');
-    key("min"); point(lo);
-    key("max"); point(hi);
+    key("min");
+    point(lo);
+    key("max");
+    point(hi);
     close('}');
   }
 };

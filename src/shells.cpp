@@ -22,10 +22,8 @@ constexpr const char* kLists = "the shell and defect lists";
 struct CutSide {
   uint32_t a, b;  // the edge's vertices, a < b
   uint32_t triangle;
-  uint8_t kind;   // EdgeKind
-  bool operator<(const CutSide& o) const {
-    return a != o.a ? a < o.a : b != o.b ? b < o.b : triangle < o.triangle;
-  }
+  uint8_t kind;  // EdgeKind
+  bool operator<(const CutSide& o) const { return a != o.a ? a < o.a : b != o.b ? b < o.b : triangle < o.triangle; }
 };
 
 // One vnext cycle of a non-manifold vertex and the shell it lies in.
@@ -91,11 +89,11 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
 
   Array<Shell> shells;
   Defects d;
-  Array<uint64_t> isLoop;    // per half-edge: a boundary-loop half-edge
-  Array<uint32_t> wanted;    // half-edges (triangle sides) whose triangle the triangle pass finds
-  Array<uint32_t> cutSides;  // indices into wanted: the triangle sides on cut edges
-  Array<uint32_t> outgoing;  // the half-edges leaving non-manifold vertices, increasing
-  Array<uint8_t> visited;    // per entry of outgoing
+  Array<uint64_t> isLoop;                    // per half-edge: a boundary-loop half-edge
+  Array<uint32_t> wanted;                    // half-edges (triangle sides) whose triangle the triangle pass finds
+  Array<uint32_t> cutSides;                  // indices into wanted: the triangle sides on cut edges
+  Array<uint32_t> outgoing;                  // the half-edges leaving non-manifold vertices, increasing
+  Array<uint8_t> visited;                    // per entry of outgoing
   Array<uint32_t> cycleVertex, cycleWanted;  // per vnext cycle of those: its vertex, a triangle side of it
   if (!shells.assign(nShells, Shell{}) || !isLoop.assign((size_t(nh) + 63) / 64, 0) || !wanted.resize(nl) ||
       !d.loopShell.assign(nl, kInvalid))
@@ -233,7 +231,10 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     uint32_t s = triangleShell[triangleOf[h]];
     d.loopShell[h] = s;
     Shell& S = shells[s];
-    if (topo.loopIsSeam[h]) ++S.seams; else ++S.holes;
+    if (topo.loopIsSeam[h])
+      ++S.seams;
+    else
+      ++S.holes;
     for (uint32_t i = topo.loopOffsets[h]; i < topo.loopOffsets[h + 1]; ++i)
       if (kindOf(topo.loopHalfedges[i]) == EdgeKind::Boundary) ++S.boundaryEdges;
   }
@@ -254,7 +255,10 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     Shell& S = shells[triangleShell[cuts[i].triangle]];
     ++S.edges;
     bool nonManifold = cuts[i].kind == uint8_t(EdgeKind::NonManifold);
-    if (nonManifold) ++S.nonManifoldEdges; else ++S.inconsistentEdges;
+    if (nonManifold)
+      ++S.nonManifoldEdges;
+    else
+      ++S.inconsistentEdges;
     if (defectsOut) {
       Array<uint32_t>& vertices = nonManifold ? d.nonManifoldEdgeVertices : d.inconsistentEdgeVertices;
       Array<uint32_t>& triangles = nonManifold ? d.nonManifoldEdgeTriangles : d.inconsistentEdgeTriangles;
@@ -277,7 +281,8 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   // never leaves its fan, so it lies in the shell of any of its triangles).
   Array<Cycle> cycles;
   if (!cycles.resize(cycleVertex.size())) return detail::oom(kLists);
-  for (size_t i = 0; i < cycleVertex.size(); ++i) cycles[i] = {cycleVertex[i], triangleShell[triangleOf[cycleWanted[i]]]};
+  for (size_t i = 0; i < cycleVertex.size(); ++i)
+    cycles[i] = {cycleVertex[i], triangleShell[triangleOf[cycleWanted[i]]]};
   std::sort(cycles.begin(), cycles.end());
   for (size_t i = 0; i < cycles.size();) {
     size_t j = i;
@@ -289,8 +294,8 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       if (k - j > 1) ++S.nonManifoldVertices;
       j = k;
     }
-    if (defectsOut && (!d.nonManifoldVertices.push_back(cycles[i].vertex) ||
-                       !d.nonManifoldVertexCycles.push_back(uint32_t(j - i))))
+    if (defectsOut &&
+        (!d.nonManifoldVertices.push_back(cycles[i].vertex) || !d.nonManifoldVertexCycles.push_back(uint32_t(j - i))))
       return detail::oom(kLists);
     i = j;
   }

@@ -3,8 +3,8 @@
 #include <algorithm>
 
 #include "report_json.h"
-#include "text_format.h"
 #include "stltopo/shells.h"
+#include "text_format.h"
 
 namespace stltopo {
 namespace {
@@ -30,7 +30,8 @@ bool isCut(const Topology& t, uint32_t e) { return t.pairKind[e >> 1] != uint8_t
 // Holes (seams = false) or seams (true), each with its count and first `max` items.
 void loops(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, bool seams, uint32_t max) {
   j.open('{');
-  j.key("count"); j.u(seams ? t.nSeams : t.nHoles);
+  j.key("count");
+  j.u(seams ? t.nSeams : t.nHoles);
   j.key("items");
   j.open('[');
   uint32_t printed = 0;
@@ -40,17 +41,25 @@ void loops(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, bool 
     uint32_t b = t.loopOffsets[h], n = t.loopOffsets[h + 1] - b;
     j.sep();
     j.open('{');
-    j.key("id"); j.u(h);
-    j.key("edges"); j.u(n);
-    j.key("perimeter"); j.f64(t.loopPerimeter[h]);
+    j.key("id");
+    j.u(h);
+    j.key("edges");
+    j.u(n);
+    j.key("perimeter");
+    j.f64(t.loopPerimeter[h]);
     j.key("vertices");
     j.open('[');
-    for (uint32_t i = 0; i < std::min(n, max); ++i) { j.sep(); j.u(t.vert[t.loopHalfedges[b + i]]); }
+    for (uint32_t i = 0; i < std::min(n, max); ++i) {
+      j.sep();
+      j.u(t.vert[t.loopHalfedges[b + i]]);
+    }
     j.close(']');
     float lo[3], hi[3];
     loopBox(mesh, t, h, lo, hi);
-    j.key("bbox"); j.bbox(lo, hi);
-    j.key("shell"); j.u(d.loopShell[h]);
+    j.key("bbox");
+    j.bbox(lo, hi);
+    j.key("shell");
+    j.u(d.loopShell[h]);
     if (seams) {
       j.key("cutEdges");
       j.open('[');
@@ -77,7 +86,10 @@ void edgeVertices(Json& j, const Array<uint32_t>& vertices, size_t i) {
 
 void uintList(Json& j, const uint32_t* p, size_t n) {
   j.open('[');
-  for (size_t i = 0; i < n; ++i) { j.sep(); j.u(p[i]); }
+  for (size_t i = 0; i < n; ++i) {
+    j.sep();
+    j.u(p[i]);
+  }
   j.close(']');
 }
 
@@ -96,37 +108,61 @@ namespace {
 
 void writeShell(Json& j, const Shell& s, uint32_t id, const ShellNesting* nest = nullptr) {
   j.open('{');
-  j.key("id"); j.u(id);
-  j.key("triangles"); j.u(s.triangles);
-  j.key("vertices"); j.u(s.vertices);
+  j.key("id");
+  j.u(id);
+  j.key("triangles");
+  j.u(s.triangles);
+  j.key("vertices");
+  j.u(s.vertices);
 #define STLTOPO_COUNT_KEY(count, name, doc) \
   j.key(#name);                             \
   j.u(s.name);
   STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT_KEY)
 #undef STLTOPO_COUNT_KEY
-  j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic());
+  j.key("eulerCharacteristic");
+  j.i(s.eulerCharacteristic());
   j.key("genus");
-  if (s.hasGenus()) j.f64(s.genus()); else j.null();
-  j.key("closed"); j.b(s.closed());
-  j.key("manifold"); j.b(s.manifold());
-  j.key("consistent"); j.b(s.consistent());
-  j.key("orientation"); j.str(orientationName(s.orientation()));
+  if (s.hasGenus())
+    j.f64(s.genus());
+  else
+    j.null();
+  j.key("closed");
+  j.b(s.closed());
+  j.key("manifold");
+  j.b(s.manifold());
+  j.key("consistent");
+  j.b(s.consistent());
+  j.key("orientation");
+  j.str(orientationName(s.orientation()));
   j.key("solid");
-  if (s.solid == kMixedSolid) j.str("mixed");
-  else if (s.solid == kInvalid) j.null();
-  else j.u(s.solid);
-  j.key("bbox"); j.bbox(s.bboxMin, s.bboxMax);
-  j.key("area"); j.f64(s.area);
-  j.key("volume"); j.f64(s.volume);
+  if (s.solid == kMixedSolid)
+    j.str("mixed");
+  else if (s.solid == kInvalid)
+    j.null();
+  else
+    j.u(s.solid);
+  j.key("bbox");
+  j.bbox(s.bboxMin, s.bboxMax);
+  j.key("area");
+  j.f64(s.area);
+  j.key("volume");
+  j.f64(s.volume);
   if (nest) {
-    j.key("selfIntersects"); j.b(nest->selfIntersects[id] != 0);
+    j.key("selfIntersects");
+    j.b(nest->selfIntersects[id] != 0);
     j.key("intersectsShells");
     uintList(j, nest->intersectsShells.data() + nest->intersectsOffsets[id],
              nest->intersectsOffsets[id + 1] - nest->intersectsOffsets[id]);
     j.key("parent");
-    if (nest->parent[id] == kInvalid) j.null(); else j.u(nest->parent[id]);
+    if (nest->parent[id] == kInvalid)
+      j.null();
+    else
+      j.u(nest->parent[id]);
     j.key("depth");
-    if (nest->depth[id] == kInvalid) j.null(); else j.u(nest->depth[id]);
+    if (nest->depth[id] == kInvalid)
+      j.null();
+    else
+      j.u(nest->depth[id]);
   }
   j.close('}');
 }
@@ -153,8 +189,10 @@ std::string shellJson(const Shell& shell, uint32_t id) {
 std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t id) {
   Json j;
   j.open('{');
-  j.key("file"); j.str(file);
-  j.key("shell"); writeShell(j, shell, id);
+  j.key("file");
+  j.str(file);
+  j.key("shell");
+  writeShell(j, shell, id);
   j.close('}');
   return j.s;
 }
@@ -169,14 +207,17 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
                           const TriangleChecks* checks, const Intersections* x) {
   j.key("defects");
   j.open('{');
-  j.key("holes"); loops(j, mesh, t, d, false, max);
-  j.key("seams"); loops(j, mesh, t, d, true, max);
+  j.key("holes");
+  loops(j, mesh, t, d, false, max);
+  j.key("seams");
+  loops(j, mesh, t, d, true, max);
   for (int inconsistent = 0; inconsistent < 2; ++inconsistent) {
     const Array<uint32_t>& vertices = inconsistent ? d.inconsistentEdgeVertices : d.nonManifoldEdgeVertices;
     size_t n = vertices.size() / 2;
     j.key(inconsistent ? "inconsistentEdges" : "nonManifoldEdges");
     j.open('{');
-    j.key("count"); j.u(n);
+    j.key("count");
+    j.u(n);
     j.key("items");
     j.open('[');
     for (size_t i = 0; i < std::min<size_t>(n, max); ++i) {
@@ -191,9 +232,11 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
         j.point(position(mesh, vertices[2 * i + 1]));
         j.s += ']';
         uint32_t b = d.nonManifoldEdgeOffsets[i], e = d.nonManifoldEdgeOffsets[i + 1];
-        j.key("triangles"); uintList(j, d.nonManifoldEdgeTriangles.data() + b, e - b);
+        j.key("triangles");
+        uintList(j, d.nonManifoldEdgeTriangles.data() + b, e - b);
       } else {
-        j.key("triangles"); uintList(j, d.inconsistentEdgeTriangles.data() + 2 * i, 2);
+        j.key("triangles");
+        uintList(j, d.inconsistentEdgeTriangles.data() + 2 * i, 2);
       }
       j.close('}');
     }
@@ -202,29 +245,36 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
   }
   j.key("nonManifoldVertices");
   j.open('{');
-  j.key("count"); j.u(d.nonManifoldVertices.size());
+  j.key("count");
+  j.u(d.nonManifoldVertices.size());
   j.key("items");
   j.open('[');
   for (size_t i = 0; i < std::min<size_t>(d.nonManifoldVertices.size(), max); ++i) {
     j.sep();
     j.open('{');
-    j.key("vertex"); j.u(d.nonManifoldVertices[i]);
-    j.key("position"); j.point(position(mesh, d.nonManifoldVertices[i]));
-    j.key("cycles"); j.u(d.nonManifoldVertexCycles[i]);
+    j.key("vertex");
+    j.u(d.nonManifoldVertices[i]);
+    j.key("position");
+    j.point(position(mesh, d.nonManifoldVertices[i]));
+    j.key("cycles");
+    j.u(d.nonManifoldVertexCycles[i]);
     j.close('}');
   }
   j.close(']');
   j.close('}');
   j.key("degenerateTriangles");
   j.open('{');
-  j.key("count"); j.u(d.degenerateTriangles.size());
+  j.key("count");
+  j.u(d.degenerateTriangles.size());
   j.key("items");
   j.open('[');
   for (size_t i = 0; i < std::min<size_t>(d.degenerateTriangles.size(), max); ++i) {
     j.sep();
     j.open('{');
-    j.key("triangle"); j.u(d.degenerateTriangles[i]);
-    j.key("corners"); j.s += '[' + cornerList(d.degenerateCorners[i], ",") + ']';
+    j.key("triangle");
+    j.u(d.degenerateTriangles[i]);
+    j.key("corners");
+    j.s += '[' + cornerList(d.degenerateCorners[i], ",") + ']';
     j.close('}');
   }
   j.close(']');
@@ -234,13 +284,15 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
   j.key("zeroAreaTriangles");
   if (checks) {
     j.open('{');
-    j.key("count"); j.u(checks->zeroArea.size());
+    j.key("count");
+    j.u(checks->zeroArea.size());
     j.key("items");
     j.open('[');
     for (size_t i = 0; i < std::min<size_t>(checks->zeroArea.size(), max); ++i) {
       j.sep();
       j.open('{');
-      j.key("triangle"); j.u(checks->zeroArea[i]);
+      j.key("triangle");
+      j.u(checks->zeroArea[i]);
       j.close('}');
     }
     j.close(']');
@@ -252,15 +304,18 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
   if (checks) {
     const uint32_t groups = checks->nDuplicateGroups();
     j.open('{');
-    j.key("count"); j.u(groups);
+    j.key("count");
+    j.u(groups);
     j.key("items");
     j.open('[');
     for (uint32_t g = 0; g < std::min(groups, max); ++g) {
       j.sep();
       j.open('{');
       const uint32_t b = checks->duplicateOffsets[g], e = checks->duplicateOffsets[g + 1];
-      j.key("triangles"); uintList(j, checks->duplicateTriangles.data() + b, e - b);
-      j.key("orientation"); j.str(duplicateOrientationName(DuplicateOrientation(checks->duplicateOrientation[g])));
+      j.key("triangles");
+      uintList(j, checks->duplicateTriangles.data() + b, e - b);
+      j.key("orientation");
+      j.str(duplicateOrientationName(DuplicateOrientation(checks->duplicateOrientation[g])));
       j.close('}');
     }
     j.close(']');
@@ -271,17 +326,23 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
   j.key("selfIntersections");
   if (x) {
     j.open('{');
-    j.key("count"); j.u(x->nPairs());
+    j.key("count");
+    j.u(x->nPairs());
     j.key("items");
     j.open('[');
     for (size_t i = 0; i < std::min<uint64_t>(x->nPairs(), max); ++i) {
       j.sep();
       j.open('{');
-      j.key("triangles"); uintList(j, x->pairs.data() + 2 * i, 2);
-      j.key("kind"); j.str(intersectionKindName(IntersectionKind(x->kinds[i])));
+      j.key("triangles");
+      uintList(j, x->pairs.data() + 2 * i, 2);
+      j.key("kind");
+      j.str(intersectionKindName(IntersectionKind(x->kinds[i])));
       j.key("point");
       j.open('[');
-      for (int c = 0; c < 3; ++c) { j.sep(); j.f64(x->points[3 * i + c] + 0.0); }
+      for (int c = 0; c < 3; ++c) {
+        j.sep();
+        j.f64(x->points[3 * i + c] + 0.0);
+      }
       j.close(']');
       j.close('}');
     }
@@ -396,22 +457,30 @@ void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const Repor
       appendf(o, "  self-intersection: triangles %u and %u, %s, at [%g, %g, %g]\n", f.pairs[2 * i], f.pairs[2 * i + 1],
               intersectionKindName(IntersectionKind(f.kinds[i])), f.points[3 * i], f.points[3 * i + 1],
               f.points[3 * i + 2]);
-    if (f.nPairs() > shown) appendf(o, "  ... and %llu more self-intersections\n", (unsigned long long)(f.nPairs() - shown));
+    if (f.nPairs() > shown)
+      appendf(o, "  ... and %llu more self-intersections\n", (unsigned long long)(f.nPairs() - shown));
   }
 }
 
 void geometryJson(Json& j, const ReportExtras& e) {
   const Intersections& x = *e.intersections;
-  j.key("selfIntersections"); j.u(x.nPairs());
+  j.key("selfIntersections");
+  j.u(x.nPairs());
   j.key("intersectionKinds");
   j.open('{');
-  j.key("crossing"); j.u(x.nCrossing);
-  j.key("touching"); j.u(x.nTouching);
-  j.key("coplanar"); j.u(x.nCoplanar);
+  j.key("crossing");
+  j.u(x.nCrossing);
+  j.key("touching");
+  j.u(x.nTouching);
+  j.key("coplanar");
+  j.u(x.nCoplanar);
   j.close('}');
-  j.key("intersectingTriangles"); j.u(x.nIntersectingTriangles);
-  j.key("intersectionsComplete"); j.b(x.complete);
-  j.key("solid"); j.b(e.solid && x.complete);
+  j.key("intersectingTriangles");
+  j.u(x.nIntersectingTriangles);
+  j.key("intersectionsComplete");
+  j.b(x.complete);
+  j.key("solid");
+  j.b(e.solid && x.complete);
 }
 
 void geometryText(std::string& o, const ReportExtras& e) {

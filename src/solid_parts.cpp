@@ -10,10 +10,11 @@ Status solidParts(const Solid* solids, size_t nSolids, uint64_t nTriangles, Arra
   for (size_t s = 0; s < nSolids; ++s) {
     uint64_t end = uint64_t(solids[s].firstTriangle) + solids[s].triangleCount;
     if (solids[s].firstTriangle < covered || end > nTriangles)
-      return Status::error(Code::InvalidArgument,
-                           format("solid %zu (triangles %u..%llu) %s", s, solids[s].firstTriangle, (unsigned long long)end,
-                                  end > nTriangles ? format("runs past the last triangle (%llu)", (unsigned long long)nTriangles).c_str()
-                                                   : "overlaps the solid before it or is out of order"));
+      return Status::error(
+          Code::InvalidArgument,
+          format("solid %zu (triangles %u..%llu) %s", s, solids[s].firstTriangle, (unsigned long long)end,
+                 end > nTriangles ? format("runs past the last triangle (%llu)", (unsigned long long)nTriangles).c_str()
+                                  : "overlaps the solid before it or is out of order"));
     covered = end;
   }
   out.clear();
@@ -23,7 +24,8 @@ Status solidParts(const Solid* solids, size_t nSolids, uint64_t nTriangles, Arra
   };
   for (size_t s = 0; s < nSolids; ++s) {
     const Solid& so = solids[s];
-    if ((so.firstTriangle > at && !add(at, so.firstTriangle - at, kInvalid)) || !add(so.firstTriangle, so.triangleCount, uint32_t(s))) {
+    if ((so.firstTriangle > at && !add(at, so.firstTriangle - at, kInvalid)) ||
+        !add(so.firstTriangle, so.triangleCount, uint32_t(s))) {
       out.clear();
       return Status::error(Code::OutOfMemory, "could not allocate the solid list");
     }

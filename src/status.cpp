@@ -128,9 +128,25 @@ void detail::adviseHugePages(void* p, size_t bytes) {
 namespace {
 // Indexed by Code; the static_assert keeps it in step with the enum.
 constexpr const char* kCodeNames[] = {
-    "ok",         "empty",         "not-stl", "truncated",     "unexpected-end",   "ascii-syntax",
-    "non-finite", "too-large",     "out-of-memory", "invalid-argument", "aborted", "invalid",
-    "trailing-bytes", "missing-endsolid", "name-truncated", "invalid-index", "write-failed", "wasm-load", "edit-refused",
+    "ok",
+    "empty",
+    "not-stl",
+    "truncated",
+    "unexpected-end",
+    "ascii-syntax",
+    "non-finite",
+    "too-large",
+    "out-of-memory",
+    "invalid-argument",
+    "aborted",
+    "invalid",
+    "trailing-bytes",
+    "missing-endsolid",
+    "name-truncated",
+    "invalid-index",
+    "write-failed",
+    "wasm-load",
+    "edit-refused",
 };
 static_assert(sizeof(kCodeNames) / sizeof(kCodeNames[0]) == size_t(kCodeCount), "one name per Code");
 }  // namespace

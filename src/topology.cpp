@@ -17,10 +17,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "parallel.h"
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
-#include "parallel.h"
 #include "try_alloc.h"
 #include "weld_tolerance.h"
 
@@ -71,7 +71,10 @@ struct UnionFind {
     a = find(a);
     b = find(b);
     if (a == b) return;
-    if (a < b) parent[b] = a; else parent[a] = b;
+    if (a < b)
+      parent[b] = a;
+    else
+      parent[a] = b;
   }
 
   // uniteLater queues a union; the queue is done in batches of kBatch whose parent
@@ -115,8 +118,8 @@ struct Work {
   struct VertexInfo {
     uint32_t he, deg;  // chosen outgoing half-edge (kBoundaryBit: a boundary one), out-degree
   };
-  Array<VertexInfo> vinfo;      // nv
-  Array<uint64_t> unlabelled;   // a bit per half-edge: boundary-loop half-edge without loop yet
+  Array<VertexInfo> vinfo;     // nv
+  Array<uint64_t> unlabelled;  // a bit per half-edge: boundary-loop half-edge without loop yet
 };
 
 constexpr uint32_t kBoundaryBit = 0x80000000u;  // half-edge ids are < 2^31 (sides < 2^30)
@@ -236,8 +239,10 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
   if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
   uint64_t* K = w.keys.data();
   auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
-    if (a < b) K[cursor[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
-    else K[cursor[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
+    if (a < b)
+      K[cursor[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
+    else
+      K[cursor[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
   };
   for (uint32_t t = 0; t < nt; ++t) {
     if (degen[t]) continue;
@@ -312,8 +317,8 @@ struct SharedUnionFind {
 // pairSides over the buckets of vertices [v0, v1): sorts them, writes the partner words of
 // their sides, queues the unions in `uf`, adds to `c`. False when a queue cannot grow.
 template <class UF>
-bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys, uint32_t* P, UF& uf, PairCounts& counts,
-               Array<uint32_t> (&queue)[2]) {
+bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys, uint32_t* P, UF& uf,
+               PairCounts& counts, Array<uint32_t> (&queue)[2]) {
   PairCounts c = counts;  // a local copy: stores through P could alias `counts`
   for (uint32_t v = v0; v < v1; ++v) {
     uint64_t* k0 = keys + offsets[v];
@@ -323,7 +328,10 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
       for (uint32_t i = 1; i < k; ++i) {
         uint64_t x = k0[i];
         uint32_t j = i;
-        while (j > 0 && k0[j - 1] > x) { k0[j] = k0[j - 1]; --j; }
+        while (j > 0 && k0[j - 1] > x) {
+          k0[j] = k0[j - 1];
+          --j;
+        }
         k0[j] = x;
       }
     } else {
@@ -393,8 +401,8 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
       // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
       Array<uint32_t> queue[2];
       SharedUnionFind shared(uf.parent.data());
-      ok[part] = pairRange(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)), offsets,
-                           keys, P, shared, counts[part], queue);
+      ok[part] = pairRange(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)),
+                           offsets, keys, P, shared, counts[part], queue);
       shared.flush();
     });
     for (unsigned part = 0; part < n; ++part) {
@@ -442,8 +450,10 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   uint32_t* p = w.uf.parent.data();
   uint32_t n = 0;
   for (uint32_t t = 0; t < nt; ++t) {
-    if (degen[t]) p[t] = kInvalid;
-    else p[t] = p[t] == t ? n++ : p[p[t]];
+    if (degen[t])
+      p[t] = kInvalid;
+    else
+      p[t] = p[t] == t ? n++ : p[p[t]];
   }
   out.nShells = n;
   out.triangleShell = std::move(w.uf.parent);
@@ -604,7 +614,10 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
     if (!out.loopHalfedge.push_back(e) || !out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) ||
         !out.loopIsSeam.push_back(seam ? 1 : 0) || !out.loopPerimeter.push_back(perim))
       return detail::oom(kArrays);
-    if (seam) ++out.nSeams; else ++out.nHoles;
+    if (seam)
+      ++out.nSeams;
+    else
+      ++out.nHoles;
     ++nLoops;
   }
   w.boundary.release();

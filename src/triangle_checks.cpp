@@ -10,9 +10,9 @@
 
 namespace stltopo {
 using geometry_detail::checkWeld;
-using geometry_detail::weldOf;
 using geometry_detail::oom;
 using geometry_detail::Welded;
+using geometry_detail::weldOf;
 
 namespace {
 
@@ -84,7 +84,8 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
       const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
       if (a == b || b == c || a == c) continue;  // degenerate
       if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
-      if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !candidates.push_back(t)) return oom("the duplicate candidates");
+      if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !candidates.push_back(t))
+        return oom("the duplicate candidates");
     }
     return {};
   };
@@ -99,7 +100,8 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
     PartLists lists[detail::kMaxThreads];
     detail::runParts(n, [&](unsigned part) {
       PartLists& l = lists[part];
-      l.status = pass1(uint32_t(detail::partBegin(nt, n, part)), uint32_t(detail::partBegin(nt, n, part + 1)), l.zeroArea, l.cand);
+      l.status = pass1(uint32_t(detail::partBegin(nt, n, part)), uint32_t(detail::partBegin(nt, n, part + 1)),
+                       l.zeroArea, l.cand);
     });
     size_t nz = 0, ncand = 0;
     for (unsigned part = 0; part < n; ++part) {
@@ -112,7 +114,8 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
     nz = ncand = 0;
     for (unsigned part = 0; part < n; ++part) {
       const PartLists& l = lists[part];
-      if (l.zeroArea.size()) std::memcpy(out.zeroArea.data() + nz, l.zeroArea.data(), l.zeroArea.size() * sizeof(uint32_t));
+      if (l.zeroArea.size())
+        std::memcpy(out.zeroArea.data() + nz, l.zeroArea.data(), l.zeroArea.size() * sizeof(uint32_t));
       if (l.cand.size()) std::memcpy(cand.data() + ncand, l.cand.data(), l.cand.size() * sizeof(uint32_t));
       nz += l.zeroArea.size();
       ncand += l.cand.size();

@@ -26,7 +26,8 @@ inline TriangleFigures triangleFigures(const float* a, const float* b, const flo
 }
 // Whether a stored normal n points against the winding (Mesh::normalMismatches).
 inline bool normalMismatch(const float* n, const TriangleFigures& f) {
-  return (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) && double(n[0]) * f.nx + double(n[1]) * f.ny + double(n[2]) * f.nz < 0;
+  return (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) &&
+         double(n[0]) * f.nx + double(n[1]) * f.ny + double(n[2]) * f.nz < 0;
 }
 
 }  // namespace stltopo::detail

@@ -43,7 +43,8 @@ Status validate(const Mesh& mesh, const Topology& t) {
     return bad("prev and face were not built (TopologyOptions::prevAndFace = false)", nh);
   if (t.prev.size() != nh || t.vert.size() != nh || t.face.size() != nh || t.pairKind.size() != nh / 2)
     return bad("half-edge arrays differ in length", nh);
-  if (t.triangleHalfedge.size() != nt || t.triangleDegenerate.size() != nt) return bad("per-triangle arrays have the wrong length", nt);
+  if (t.triangleHalfedge.size() != nt || t.triangleDegenerate.size() != nt)
+    return bad("per-triangle arrays have the wrong length", nt);
   if (t.vertexHalfedge.size() != nv || t.vertexNonManifold.size() != nv || t.vertexWeld.size() != nv)
     return bad("per-vertex arrays have the wrong length", nv);
   if (t.loopOffsets.size() != size_t(nl) + 1 || t.loopIsSeam.size() != nl || t.loopPerimeter.size() != nl)
@@ -82,7 +83,8 @@ Status validate(const Mesh& mesh, const Topology& t) {
     for (int c = 0; c < 3; ++c) {
       uint32_t e = h;
       for (int k = 0; k < c; ++k) e = t.next[e];
-      if (t.vert[e] != t.vertexWeld[mesh.triangles[3 * size_t(f) + c]]) return bad("triangle half-edge vertex differs from its corner", f);
+      if (t.vert[e] != t.vertexWeld[mesh.triangles[3 * size_t(f) + c]])
+        return bad("triangle half-edge vertex differs from its corner", f);
     }
   }
   // The loop offsets span the listing in order (so every index below is in range).
@@ -179,9 +181,12 @@ Status validate(const Mesh& mesh, const Topology& t) {
   }
   uint32_t nBoundary = 0, nInconsistent = 0, nNonManifold = 0;
   for (uint32_t g = 0; g < nEdges; ++g) {
-    if (sides[g] == 1) ++nBoundary;
-    else if (sides[g] == 2 && cut[g]) ++nInconsistent;
-    else if (sides[g] >= 3) ++nNonManifold;
+    if (sides[g] == 1)
+      ++nBoundary;
+    else if (sides[g] == 2 && cut[g])
+      ++nInconsistent;
+    else if (sides[g] >= 3)
+      ++nNonManifold;
   }
   for (uint32_t k = 0; k < np; ++k) {
     uint32_t m = sides[edgeOf[k]];

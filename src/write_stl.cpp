@@ -9,14 +9,14 @@
 #include <new>
 
 #include "bit_cast.h"
-#include "stltopo/mesh.h"
-#include "stltopo/status.h"
-#include "text_format.h"
-#include "try_alloc.h"
 #include "float_shortest.h"
 #include "mesh_builder.h"
 #include "solid_parts.h"
+#include "stltopo/mesh.h"
+#include "stltopo/status.h"
 #include "stltopo/write.h"
+#include "text_format.h"
+#include "try_alloc.h"
 
 namespace stltopo {
 namespace {
@@ -117,8 +117,8 @@ struct StlWriter::Impl {
   // Position in the file.
   size_t part = 0;
   enum class Phase : uint8_t { Header, Body, Footer } phase = Phase::Header;
-  uint32_t next = 0;      // next triangle of the part
-  Name partName;          // the current part's name as written (ASCII)
+  uint32_t next = 0;  // next triangle of the part
+  Name partName;      // the current part's name as written (ASCII)
 
   Impl(const Mesh& m, const WriteOptions& o) : mesh(m), opt(o), ascii(o.format == Format::Ascii) {
     if (opt.chunkBytes < kMinChunkBytes) opt.chunkBytes = kMinChunkBytes;
@@ -128,28 +128,30 @@ struct StlWriter::Impl {
     const uint64_t nv = mesh.positions.size() / 3, nt3 = mesh.triangles.size();
     if (mesh.positions.size() % 3 != 0 || nt3 % 3 != 0)
       return Status::error(Code::InvalidArgument,
-                        format("positions (%zu) and triangles (%zu) must hold 3 values per element",
-                               mesh.positions.size(), mesh.triangles.size()));
+                           format("positions (%zu) and triangles (%zu) must hold 3 values per element",
+                                  mesh.positions.size(), mesh.triangles.size()));
     const uint64_t nt = nt3 / 3;
     if (nt > 0xFFFFFFFFull)
-      return Status::error(Code::TooLarge, format("%llu triangles: an STL file holds at most 2^32 - 1", (unsigned long long)nt));
+      return Status::error(Code::TooLarge,
+                           format("%llu triangles: an STL file holds at most 2^32 - 1", (unsigned long long)nt));
     auto lengthIs = [](size_t have, uint64_t want) { return have == 0 || have == want; };
     if (!lengthIs(mesh.attributes.size(), nt) || !lengthIs(mesh.normals.size(), 3 * nt))
-      return Status::error(Code::InvalidArgument,
-                        format("attributes (%zu) and normals (%zu) must be empty or hold 1 and 3 values per triangle (%llu)",
-                               mesh.attributes.size(), mesh.normals.size(), (unsigned long long)nt));
+      return Status::error(
+          Code::InvalidArgument,
+          format("attributes (%zu) and normals (%zu) must be empty or hold 1 and 3 values per triangle (%llu)",
+                 mesh.attributes.size(), mesh.normals.size(), (unsigned long long)nt));
     if (mesh.colorConvention != ColorConvention::None && (mesh.colors.size() != 3 * nt || mesh.colorValid.size() != nt))
       return Status::error(Code::InvalidArgument,
-                        format("colors (%zu) and colorValid (%zu) must hold 3 and 1 values per triangle (%llu)",
-                               mesh.colors.size(), mesh.colorValid.size(), (unsigned long long)nt));
+                           format("colors (%zu) and colorValid (%zu) must hold 3 and 1 values per triangle (%llu)",
+                                  mesh.colors.size(), mesh.colorValid.size(), (unsigned long long)nt));
     const uint32_t* tri = mesh.triangles.data();
     for (uint64_t t = 0; t < nt; ++t)
       for (int c = 0; c < 3; ++c)
         if (tri[3 * t + c] >= nv)
           return Status::error(Code::InvalidIndex,
-                            format("triangle %llu corner %d is vertex %u, but the mesh has %llu vertices",
-                                   (unsigned long long)t, c, tri[3 * t + c], (unsigned long long)nv),
-                            kNoOffset, 0, uint32_t(t));
+                               format("triangle %llu corner %d is vertex %u, but the mesh has %llu vertices",
+                                      (unsigned long long)t, c, tri[3 * t + c], (unsigned long long)nv),
+                               kNoOffset, 0, uint32_t(t));
     Status ps = detail::solidParts(mesh.solids.data(), mesh.solids.size(), nt, parts);
     if (!ps.ok()) return ps;
     if (!buf.resize(opt.chunkBytes)) return detail::oom(kBuffers);
@@ -163,7 +165,9 @@ struct StlWriter::Impl {
       words = Words::Raw;
       outColors = ascii ? ColorConvention::None : in;
     } else {
-      words = want == ColorConvention::None ? Words::Zero : want == ColorConvention::VisCam ? Words::ToVisCam : Words::ToMagics;
+      words = want == ColorConvention::None     ? Words::Zero
+              : want == ColorConvention::VisCam ? Words::ToVisCam
+                                                : Words::ToMagics;
       outColors = want;
     }
     return Status{};
@@ -382,9 +386,9 @@ Status writeStl(const Mesh& mesh, WriteSink sink, void* user, const WriteOptions
     if (!s.ok() || size == 0) return s;
     if (!sink(user, data, size))
       return Status::error(Code::WriteFailed,
-                        format("the output refused the %zu bytes at offset %llu", size,
-                               (unsigned long long)(w.bytesWritten() - size)),
-                        w.bytesWritten() - size);
+                           format("the output refused the %zu bytes at offset %llu", size,
+                                  (unsigned long long)(w.bytesWritten() - size)),
+                           w.bytesWritten() - size);
   }
 }
 

@@ -17,8 +17,8 @@ extern "C" void __libc_free(void*);
 
 namespace {
 bool armed = false;
-long countdown = 0;   // while armed: the allocation that sees 1 fails
-long seen = 0;        // allocations while armed
+long countdown = 0;             // while armed: the allocation that sees 1 fails
+long seen = 0;                  // allocations while armed
 size_t failAbove = ~size_t(0);  // while armed: every allocation larger than this fails
 
 // The core probes a standard container's growth with malloc + free (detail::canAllocate)
@@ -138,7 +138,8 @@ TEST(AllocFail, AsciiSolidsStreamed) {
 
 TEST(AllocFail, ConcatenatedBinaryParts) {
   std::string parts;
-  for (int i = 0; i < 6; ++i) parts += gen::binary(gen::cube(float(2 * i), 0, 0), "part number " + std::to_string(i) + " of many");
+  for (int i = 0; i < 6; ++i)
+    parts += gen::binary(gen::cube(float(2 * i), 0, 0), "part number " + std::to_string(i) + " of many");
   sweep(parts, {});
 }
 
@@ -157,8 +158,10 @@ TEST(AllocFail, LargeAllocationsFailAtEverySize) {
       Outcome r = run(bytes, to, 0);
       failAbove = ~size_t(0);
       const Status& s = r.read.ok() ? r.topo : r.read;
-      if (!s.ok()) EXPECT_EQ(s.code, Code::OutOfMemory) << s.message;
-      else EXPECT_EQ(r.json, good.json);
+      if (!s.ok())
+        EXPECT_EQ(s.code, Code::OutOfMemory) << s.message;
+      else
+        EXPECT_EQ(r.json, good.json);
       EXPECT_EQ(run(bytes, to, 0).json, good.json);
     }
   }
@@ -287,8 +290,10 @@ TEST(AllocFail, ShellsDefectsAndExtractShell) {
     SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
     std::string got;
     Status st = once(k, got);
-    if (!st.ok()) EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
-    else EXPECT_EQ(got, good);
+    if (!st.ok())
+      EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    else
+      EXPECT_EQ(got, good);
     std::string again;
     EXPECT_TRUE(once(0, again).ok());
     EXPECT_EQ(again, good);

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "stltopo/edit.h"
 #include "stl_gen.h"
+#include "stltopo/edit.h"
 
 namespace editcheck {
 
@@ -30,13 +30,15 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
 #define EDITCHECK_SAME(x) \
   if (!gen::sameArray(t.x, f.x)) return "array " #x " differs from a fresh build";
   EDITCHECK_SAME(next)
-  EDITCHECK_SAME(prev) EDITCHECK_SAME(vert) EDITCHECK_SAME(face) EDITCHECK_SAME(pairKind) EDITCHECK_SAME(
-      triangleHalfedge) EDITCHECK_SAME(vertexHalfedge) EDITCHECK_SAME(vertexWeld) EDITCHECK_SAME(loopHalfedge)
-      EDITCHECK_SAME(loopOffsets) EDITCHECK_SAME(loopHalfedges) EDITCHECK_SAME(loopIsSeam) EDITCHECK_SAME(loopPerimeter)
-          EDITCHECK_SAME(triangleDegenerate) EDITCHECK_SAME(vertexNonManifold)
+  EDITCHECK_SAME(prev)
+  EDITCHECK_SAME(vert) EDITCHECK_SAME(face) EDITCHECK_SAME(pairKind) EDITCHECK_SAME(triangleHalfedge)
+      EDITCHECK_SAME(vertexHalfedge) EDITCHECK_SAME(vertexWeld) EDITCHECK_SAME(loopHalfedge) EDITCHECK_SAME(loopOffsets)
+          EDITCHECK_SAME(loopHalfedges) EDITCHECK_SAME(loopIsSeam) EDITCHECK_SAME(loopPerimeter) EDITCHECK_SAME(
+              triangleDegenerate) EDITCHECK_SAME(vertexNonManifold)
 #undef EDITCHECK_SAME
 #define EDITCHECK_COUNT(x) \
-  if (t.x != f.x) return "count " #x " differs from a fresh build: " + std::to_string(t.x) + " vs " + std::to_string(f.x);
+  if (t.x != f.x)          \
+    return "count " #x " differs from a fresh build: " + std::to_string(t.x) + " vs " + std::to_string(f.x);
 #define EDITCHECK_LISTED(count, name, doc) EDITCHECK_COUNT(count)
               EDITCHECK_COUNT(nTriangles) EDITCHECK_COUNT(nVertices) EDITCHECK_COUNT(nWeldedVertices)
                   STLTOPO_COUNTS(EDITCHECK_LISTED) STLTOPO_OTHER_COUNTS(EDITCHECK_LISTED)
@@ -53,7 +55,7 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
   STLTOPO_COUNTS(EDITCHECK_STAT)
   STLTOPO_OTHER_COUNTS(EDITCHECK_STAT)
 #undef EDITCHECK_STAT
-      const EditLoops& l = em.loops();
+  const EditLoops& l = em.loops();
   if (!gen::sameArray(l.loopOffsets, f.loopOffsets) || !gen::sameArray(l.loopIsSeam, f.loopIsSeam) ||
       !gen::sameArray(l.loopPerimeter, f.loopPerimeter))
     return "loops() differ from a fresh build";
@@ -76,16 +78,35 @@ struct Snapshot {
   }
   explicit Snapshot(stltopo::EditableMesh& em) {
     const stltopo::EditStats& st = em.stats();  // first: reading the stats numbers the loops
-    add(em.positions()); add(em.triangles()); add(em.next()); add(em.prev()); add(em.vert()); add(em.faceWords());
-    add(em.pairKind()); add(em.triangleHalfedge()); add(em.vertexHalfedge());
+    add(em.positions());
+    add(em.triangles());
+    add(em.next());
+    add(em.prev());
+    add(em.vert());
+    add(em.faceWords());
+    add(em.pairKind());
+    add(em.triangleHalfedge());
+    add(em.vertexHalfedge());
     for (const std::string& n : em.attributeNames()) {
       const stltopo::AttributeView* v = em.attribute(n);
       const uint8_t* p = static_cast<const uint8_t*>(v->data);
       arrays.emplace_back(p, p + v->count * v->components * stltopo::valueTypeSize(v->type));
     }
-    const int64_t counts[] = {st.triangles, st.vertices, st.degenerate, st.edges, st.boundaryEdges,
-                              st.nonManifoldEdges, st.inconsistentEdges, st.nonManifoldVertices, st.usedVertices,
-                              st.holes, st.seams, st.shells, st.eulerCharacteristic, st.watertight, st.manifold};
+    const int64_t counts[] = {st.triangles,
+                              st.vertices,
+                              st.degenerate,
+                              st.edges,
+                              st.boundaryEdges,
+                              st.nonManifoldEdges,
+                              st.inconsistentEdges,
+                              st.nonManifoldVertices,
+                              st.usedVertices,
+                              st.holes,
+                              st.seams,
+                              st.shells,
+                              st.eulerCharacteristic,
+                              st.watertight,
+                              st.manifold};
     const uint8_t* p = reinterpret_cast<const uint8_t*>(counts);
     arrays.emplace_back(p, p + sizeof counts);
   }
@@ -112,16 +133,24 @@ class RandomEditor {
     if (checkEachEdit) snap = &snapshot;
     char buf[160];
     switch (op) {
-      case 0: case 1: {
+      case 0:
+      case 1: {
         uint32_t t = liveTriangle();
-        if (t == kInvalid) { what = "remove (no triangle)"; return ""; }
+        if (t == kInvalid) {
+          what = "remove (no triangle)";
+          return "";
+        }
         std::snprintf(buf, sizeof buf, "removeTriangle(%u)", t);
         s = em_.removeTriangle(t);
         break;
       }
-      case 2: case 3: {  // a triangle that closes an ear of a boundary loop
+      case 2:
+      case 3: {  // a triangle that closes an ear of a boundary loop
         uint32_t b = boundaryHalfedge();
-        if (b == kInvalid) { what = "add (no boundary)"; return ""; }
+        if (b == kInvalid) {
+          what = "add (no boundary)";
+          return "";
+        }
         uint32_t u = em_.vert()[b], v = em_.vert()[b ^ 1u], w = em_.vert()[em_.next()[b] ^ 1u];
         std::snprintf(buf, sizeof buf, "addTriangle(%u, %u, %u) on loop", u, v, w);
         s = em_.addTriangle(u, v, w);
@@ -129,7 +158,10 @@ class RandomEditor {
       }
       case 4: {  // a triangle on a boundary edge to a new vertex
         uint32_t b = boundaryHalfedge();
-        if (b == kInvalid) { what = "add (no boundary)"; return ""; }
+        if (b == kInvalid) {
+          what = "add (no boundary)";
+          return "";
+        }
         uint32_t u = em_.vert()[b], v = em_.vert()[b ^ 1u], w;
         const float* p = em_.positions().data();
         s = em_.addVertex(p[3 * u] + 0.25f, p[3 * u + 1] - 0.5f, p[3 * v + 2] + 0.125f, &w);
@@ -141,31 +173,46 @@ class RandomEditor {
       }
       case 5: {
         uint32_t n = em_.nVertices();
-        if (n == 0) { what = "add (no vertex)"; return ""; }
+        if (n == 0) {
+          what = "add (no vertex)";
+          return "";
+        }
         uint32_t a = pick_(n), b = pick_(n), c = pick_(n);
         bool nm = pick_(2) == 1;
         std::snprintf(buf, sizeof buf, "addTriangle(%u, %u, %u, nonManifold %d)", a, b, c, nm);
         s = em_.addTriangle(a, b, c, nullptr, nm);
         break;
       }
-      case 6: case 7: {
+      case 6:
+      case 7: {
         uint32_t e = liveHalfedge();
-        if (e == kInvalid) { what = "flip (none)"; return ""; }
+        if (e == kInvalid) {
+          what = "flip (none)";
+          return "";
+        }
         std::snprintf(buf, sizeof buf, "flipEdge(%u)", e);
         s = em_.flipEdge(e);
         break;
       }
-      case 8: case 9: {
+      case 8:
+      case 9: {
         uint32_t e = liveHalfedge();
-        if (e == kInvalid) { what = "split (none)"; return ""; }
+        if (e == kInvalid) {
+          what = "split (none)";
+          return "";
+        }
         double t = (1 + pick_(7)) / 8.0;
         std::snprintf(buf, sizeof buf, "splitEdge(%u, %g)", e, t);
         s = em_.splitEdge(e, t);
         break;
       }
-      case 10: case 11: {
+      case 10:
+      case 11: {
         uint32_t e = liveHalfedge();
-        if (e == kInvalid) { what = "collapse (none)"; return ""; }
+        if (e == kInvalid) {
+          what = "collapse (none)";
+          return "";
+        }
         double t = pick_(3) / 2.0;
         std::snprintf(buf, sizeof buf, "collapseEdge(%u, %g)", e, t);
         s = em_.collapseEdge(e, t);
@@ -173,21 +220,30 @@ class RandomEditor {
       }
       case 12: {
         uint32_t t = liveTriangle();
-        if (t == kInvalid) { what = "reverse (none)"; return ""; }
+        if (t == kInvalid) {
+          what = "reverse (none)";
+          return "";
+        }
         std::snprintf(buf, sizeof buf, "reverseTriangle(%u)", t);
         s = em_.reverseTriangle(t);
         break;
       }
       case 13: {
         uint32_t t = liveTriangle();
-        if (t == kInvalid) { what = "reverseShell (none)"; return ""; }
+        if (t == kInvalid) {
+          what = "reverseShell (none)";
+          return "";
+        }
         std::snprintf(buf, sizeof buf, "reverseShell(%u)", t);
         s = em_.reverseShell(t);
         break;
       }
       case 14: {
         uint32_t b = boundaryHalfedge();
-        if (b == kInvalid) { what = "fill (no boundary)"; return ""; }
+        if (b == kInvalid) {
+          what = "fill (no boundary)";
+          return "";
+        }
         FillMethod m = pick_(2) ? FillMethod::Ear : FillMethod::Fan;
         std::snprintf(buf, sizeof buf, "fillHole(%u, %s)", b, m == FillMethod::Ear ? "ear" : "fan");
         Array<uint32_t> added;
@@ -241,18 +297,25 @@ class RandomEditor {
         const uint32_t which = pick_(4);
         if (which == 1) {  // move a vertex (perhaps a dead one, perhaps to a non-finite place)
           uint32_t n = em_.nVertices();
-          if (n == 0) { what = "setPosition (no vertex)"; return ""; }
+          if (n == 0) {
+            what = "setPosition (no vertex)";
+            return "";
+          }
           uint32_t v = pick_(n), w = pick_(n);
           const float* p = em_.positions().data();
           float x = p[3 * w] + 0.25f * float(pick_(5)), y = p[3 * w + 1] - 0.125f, z = p[3 * v + 2];
           if (pick_(8) == 0) y = std::numeric_limits<float>::infinity();
           std::snprintf(buf, sizeof buf, "setPosition(%u, %g, %g, %g)", v, x, y, z);
           s = em_.setPosition(v, x, y, z);
-          if (s.ok() && (em_.positions()[3 * v] != x || em_.positions()[3 * v + 1] != y || em_.positions()[3 * v + 2] != z))
+          if (s.ok() &&
+              (em_.positions()[3 * v] != x || em_.positions()[3 * v + 1] != y || em_.positions()[3 * v + 2] != z))
             return std::string(buf) + " did not move the vertex there";
           break;
         }
-        if (which != 0) { what = "nothing"; return ""; }
+        if (which != 0) {
+          what = "nothing";
+          return "";
+        }
         std::snprintf(buf, sizeof buf, "compact()");
         const std::string json = em_.infoJson("f");
         s = em_.compact();

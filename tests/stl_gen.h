@@ -16,9 +16,9 @@
 namespace gen {
 
 struct Soup {
-  std::vector<std::array<float, 3>> v;      // vertices
-  std::vector<std::array<uint32_t, 3>> f;   // faces (indices into v)
-  std::vector<uint16_t> attr;               // optional per face
+  std::vector<std::array<float, 3>> v;     // vertices
+  std::vector<std::array<uint32_t, 3>> f;  // faces (indices into v)
+  std::vector<uint16_t> attr;              // optional per face
 };
 
 inline std::array<float, 3> normalOf(const Soup& s, size_t t) {
@@ -151,12 +151,13 @@ inline std::string leanTopologyDifference(const stltopo::Mesh& m, const stltopo:
   if (!lean.prev.empty() || !lean.face.empty()) return "prev or face was built";
 #define STLTOPO_SAME(f) \
   if (!sameArray(lean.f, full.f)) return #f;
-  STLTOPO_SAME(next) STLTOPO_SAME(vert) STLTOPO_SAME(pairKind) STLTOPO_SAME(triangleHalfedge)
-  STLTOPO_SAME(vertexHalfedge) STLTOPO_SAME(vertexWeld) STLTOPO_SAME(loopHalfedge) STLTOPO_SAME(loopOffsets)
-  STLTOPO_SAME(loopHalfedges) STLTOPO_SAME(loopIsSeam) STLTOPO_SAME(loopPerimeter) STLTOPO_SAME(triangleDegenerate)
-  STLTOPO_SAME(vertexNonManifold)
+  STLTOPO_SAME(next)
+  STLTOPO_SAME(vert) STLTOPO_SAME(pairKind) STLTOPO_SAME(triangleHalfedge) STLTOPO_SAME(vertexHalfedge)
+      STLTOPO_SAME(vertexWeld) STLTOPO_SAME(loopHalfedge) STLTOPO_SAME(loopOffsets) STLTOPO_SAME(loopHalfedges)
+          STLTOPO_SAME(loopIsSeam) STLTOPO_SAME(loopPerimeter) STLTOPO_SAME(triangleDegenerate)
+              STLTOPO_SAME(vertexNonManifold)
 #undef STLTOPO_SAME
-  if (stltopo::infoJson("f", m, &lean) != stltopo::infoJson("f", m, &full)) return "infoJson";
+                  if (stltopo::infoJson("f", m, &lean) != stltopo::infoJson("f", m, &full)) return "infoJson";
   if (lean.nHalfedges() > 0 && stltopo::validate(m, lean).code != stltopo::Code::Invalid)
     return "validate() accepted a topology without prev and face";
   return "";

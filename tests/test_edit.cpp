@@ -9,9 +9,9 @@
 #include <limits>
 #include <random>
 
-#include "stltopo/edit.h"
 #include "edit_check.h"
 #include "stl_gen.h"
+#include "stltopo/edit.h"
 
 using namespace stltopo;
 
@@ -494,28 +494,29 @@ TEST(EditRandom, GeneratedMeshesEveryEditChecked) {
   gen::append(cubes, gen::cube(1, 0, 0));  // two cubes sharing a side: non-manifold edges
   gen::Soup pinched = gen::cube();
   gen::append(pinched, gen::cube(1, 1, 1));  // touching at a corner: a non-manifold vertex
-  const std::pair<const char*, gen::Soup> cases[] = {{"torus with holes", torus}, {"two cubes", cubes}, {"pinched", pinched}};
+  const std::pair<const char*, gen::Soup> cases[] = {
+      {"torus with holes", torus}, {"two cubes", cubes}, {"pinched", pinched}};
   for (const auto& c : cases)
     for (uint64_t k = 0; k < 4; ++k) runRandomEdits(c.first, readSoup(c.second), seedFor(1000 + k), 600, 1);
 }
 
 TEST(EditRandom, FixturesClosedOpenAndBroken) {
   const char* small[] = {
-      "wolph_numpy-stl/tests/stl_binary/Moon.stl",          // closed
-      "hmeyer_stl_io/src/testdata/bunny_99.stl",            // open
-      "wolph_numpy-stl/tests/stl_tests/triamid.stl",        // inconsistent edges, seams
-      "mikedh_trimesh/models/shared.STL",                   // a non-manifold edge
-      "mikedh_trimesh/models/multibody.stl",                // inconsistent shells
-      "mikedh_trimesh/models/soup.stl",                     // separate triangles
+      "wolph_numpy-stl/tests/stl_binary/Moon.stl",    // closed
+      "hmeyer_stl_io/src/testdata/bunny_99.stl",      // open
+      "wolph_numpy-stl/tests/stl_tests/triamid.stl",  // inconsistent edges, seams
+      "mikedh_trimesh/models/shared.STL",             // a non-manifold edge
+      "mikedh_trimesh/models/multibody.stl",          // inconsistent shells
+      "mikedh_trimesh/models/soup.stl",               // separate triangles
   };
   for (const char* f : small) {
     Mesh m = readFixture(f);
     for (uint64_t k = 0; k < 2; ++k) runRandomEdits(f, m, seedFor(2000 + k), 1000, 1);
   }
   const char* larger[] = {
-      "assimp_assimp/test/models/STL/sphereWithHole.stl",   // open, non-manifold vertices
-      "assimp_assimp/test/models/STL/Spider_binary.stl",    // degenerate and inconsistent
-      "assimp_assimp/test/models/STL/3DSMaxExport.STL",     // non-manifold edges
+      "assimp_assimp/test/models/STL/sphereWithHole.stl",  // open, non-manifold vertices
+      "assimp_assimp/test/models/STL/Spider_binary.stl",   // degenerate and inconsistent
+      "assimp_assimp/test/models/STL/3DSMaxExport.STL",    // non-manifold edges
   };
   for (const char* f : larger) runRandomEdits(f, readFixture(f), seedFor(3000), 2000, 50);
 }

@@ -15,8 +15,8 @@
 #include <string>
 #include <utility>
 
-#include "stl_gen.h"
 #include <vector>
+#include "stl_gen.h"
 
 #include "stltopo.h"
 
@@ -53,14 +53,12 @@ Loaded load(const std::string& rel, const stltopo::ReadOptions& options = {}) {
   return l;
 }
 
-#define ASSERT_LOADED(l, rel)                                                        \
-  ASSERT_TRUE((l).read.ok()) << (rel) << ": " << stltopo::codeName((l).read.code) \
-                             << " " << (l).read.message;                          \
+#define ASSERT_LOADED(l, rel)                                                                                 \
+  ASSERT_TRUE((l).read.ok()) << (rel) << ": " << stltopo::codeName((l).read.code) << " " << (l).read.message; \
   ASSERT_TRUE((l).topoStatus.ok()) << (rel) << ": " << (l).topoStatus.message
 
 bool hasWarning(const stltopo::Mesh& m, Code c) {
-  return std::any_of(m.warnings.begin(), m.warnings.end(),
-                     [c](const stltopo::Status& w) { return w.code == c; });
+  return std::any_of(m.warnings.begin(), m.warnings.end(), [c](const stltopo::Status& w) { return w.code == c; });
 }
 
 std::vector<std::pair<std::string, uint32_t>> solidsOf(const stltopo::Mesh& m) {
@@ -231,12 +229,10 @@ TEST(Fixtures, NavigationIdentitiesHoldOnEveryReadableFixture) {
     ASSERT_EQ(t.prev.size(), t.nHalfedges());
     uint32_t bad = 0;
     for (uint32_t e = 0; e < t.nHalfedges() && bad < 5; ++e) {
-      bool ok = sym(sym(e)) == e && org(t, oNext(t, e)) == org(t, e) &&
-                lFace(t, lNext(t, e)) == lFace(t, e) && dst(t, dNext(t, e)) == dst(t, e) &&
-                rFace(t, rNext(t, e)) == rFace(t, e) && lPrev(t, lNext(t, e)) == e &&
-                oPrev(t, oNext(t, e)) == e && dPrev(t, dNext(t, e)) == e &&
-                rPrev(t, rNext(t, e)) == e && org(t, vnext(t, e)) == org(t, e) &&
-                t.vert[t.next[e]] == t.vert[e ^ 1u];
+      bool ok = sym(sym(e)) == e && org(t, oNext(t, e)) == org(t, e) && lFace(t, lNext(t, e)) == lFace(t, e) &&
+                dst(t, dNext(t, e)) == dst(t, e) && rFace(t, rNext(t, e)) == rFace(t, e) &&
+                lPrev(t, lNext(t, e)) == e && oPrev(t, oNext(t, e)) == e && dPrev(t, dNext(t, e)) == e &&
+                rPrev(t, rNext(t, e)) == e && org(t, vnext(t, e)) == org(t, e) && t.vert[t.next[e]] == t.vert[e ^ 1u];
       if (!ok) {
         ++bad;
         ADD_FAILURE() << "navigation identity broken at half-edge " << e;
@@ -273,8 +269,8 @@ TEST(Fixtures, FormatsCountsAndEdgesMatchTheManifest) {
     }
     EXPECT_EQ(l.topo.nDegenerate, row.degenerate);
     EXPECT_EQ(l.topo.nShells, row.shells);
-    const int64_t chi = int64_t(l.topo.nUsedVertices) - int64_t(l.topo.nEdges) +
-                        int64_t(l.mesh.nTriangles()) - int64_t(l.topo.nDegenerate);
+    const int64_t chi = int64_t(l.topo.nUsedVertices) - int64_t(l.topo.nEdges) + int64_t(l.mesh.nTriangles()) -
+                        int64_t(l.topo.nDegenerate);
     EXPECT_EQ(chi, row.euler);
   }
 }
@@ -307,8 +303,8 @@ TEST(Fixtures, OpenMeshCubeMatchesSourceCounts) {
   // face 0 normal ~ (-0.038545, -0.004330, 0.999247); for the ASCII and the binary file.
   stltopo::ReadOptions keep;
   keep.keepNormals = true;
-  for (const char* rel : {"Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl",
-                          "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1Binary.stl"}) {
+  for (const char* rel :
+       {"Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl", "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1Binary.stl"}) {
     SCOPED_TRACE(rel);
     Loaded l = load(rel, keep);
     ASSERT_LOADED(l, rel);
@@ -509,8 +505,8 @@ TEST(Fixtures, StlParserAsciiCubeHasNoColours) {
   Loaded l = load("amandaghassaei_stl-parser/test/stl/cubeAscii.stl");
   ASSERT_LOADED(l, "cubeAscii.stl");
   EXPECT_EQ(l.mesh.colorConvention, stltopo::ColorConvention::None);
-  EXPECT_EQ(l.mesh.nVertices(), 8u);  // test.ts: 8 vertices after mergeVertices()
-  EXPECT_EQ(l.topo.nEdges, 18u);      // merged edge list: 36 indices
+  EXPECT_EQ(l.mesh.nVertices(), 8u);            // test.ts: 8 vertices after mergeVertices()
+  EXPECT_EQ(l.topo.nEdges, 18u);                // merged edge list: 36 indices
   EXPECT_FLOAT_EQ(l.mesh.positions[0], 10.0f);  // first vertex [10, 0, -10]
   EXPECT_FLOAT_EQ(l.mesh.positions[1], 0.0f);
   EXPECT_FLOAT_EQ(l.mesh.positions[2], -10.0f);
@@ -616,7 +612,8 @@ TEST(Fixtures, AssimpSphereWithHoleHasOneBoundaryOfNineEdges) {
 }
 
 TEST(Fixtures, AssimpSpiderHasFiftySixDegenerateTriangles) {
-  for (const char* rel : {"assimp_assimp/test/models/STL/Spider_ascii.stl", "assimp_assimp/test/models/STL/Spider_binary.stl"}) {
+  for (const char* rel :
+       {"assimp_assimp/test/models/STL/Spider_ascii.stl", "assimp_assimp/test/models/STL/Spider_binary.stl"}) {
     SCOPED_TRACE(rel);
     Loaded l = load(rel);
     ASSERT_LOADED(l, rel);
@@ -642,7 +639,8 @@ TEST(Fixtures, BinaryAndAsciiTwinsGiveIdenticalPositionsAndTriangles) {
       {"wolph_numpy-stl/tests/stl_ascii/Star.stl", "wolph_numpy-stl/tests/stl_binary/Star.stl"},
       {"hmeyer_stl_io/src/testdata/bunny_99_ascii.stl", "hmeyer_stl_io/src/testdata/bunny_99.stl"},
       {"Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl", "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1Binary.stl"},
-      {"nmwsharp_geometry-central/test/assets/stl_box_ascii.stl", "nmwsharp_geometry-central/test/assets/stl_box_binary.stl"},
+      {"nmwsharp_geometry-central/test/assets/stl_box_ascii.stl",
+       "nmwsharp_geometry-central/test/assets/stl_box_binary.stl"},
       {"amandaghassaei_stl-parser/test/stl/cubeAscii.stl", "amandaghassaei_stl-parser/test/stl/cubeBinary.stl"},
   };
   for (const auto& [a, b] : exact) {
@@ -709,10 +707,14 @@ TEST(Fixtures, TwinsOfTheSameFileGiveTheSameTopology) {
 
 TEST(Fixtures, ChunkedReadingEqualsWholeBufferOnRealFiles) {
   const char* files[] = {
-      "wolph_numpy-stl/tests/stl_binary/HalfDonut.stl", "wolph_numpy-stl/tests/stl_tests/dos.stl",
-      "wolph_numpy-stl/tests/stl_ascii/Moon_Chinese.stl", "mikedh_trimesh/models/multibody.stl",
-      "amandaghassaei_stl-parser/test/stl/cubeBinary.stl", "assimp_assimp/test/models/STL/triangle_with_empty_solid.stl",
-      "assimp_assimp/test/models/STL/Spider_ascii.stl", kBrokenHistoryBlob,
+      "wolph_numpy-stl/tests/stl_binary/HalfDonut.stl",
+      "wolph_numpy-stl/tests/stl_tests/dos.stl",
+      "wolph_numpy-stl/tests/stl_ascii/Moon_Chinese.stl",
+      "mikedh_trimesh/models/multibody.stl",
+      "amandaghassaei_stl-parser/test/stl/cubeBinary.stl",
+      "assimp_assimp/test/models/STL/triangle_with_empty_solid.stl",
+      "assimp_assimp/test/models/STL/Spider_ascii.stl",
+      kBrokenHistoryBlob,
   };
   for (const char* rel : files) {
     const std::vector<uint8_t> bytes = readBytes(fixturePath(rel));

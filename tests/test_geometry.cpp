@@ -145,8 +145,10 @@ TEST(Geometry, CubesTouchingAlongAFaceWithOtherDiagonals) {
   // face x = 10 of cube b is {0, 4, 6, 2} -> triangles (0,4,6), (0,6,2); flip the diagonal.
   for (auto& f : b.f) {
     std::set<uint32_t> s(f.begin(), f.end());
-    if (s == std::set<uint32_t>{0, 4, 6}) f = {0, 4, 2};
-    else if (s == std::set<uint32_t>{0, 6, 2}) f = {4, 6, 2};
+    if (s == std::set<uint32_t>{0, 4, 6})
+      f = {0, 4, 2};
+    else if (s == std::set<uint32_t>{0, 6, 2})
+      f = {4, 6, 2};
   }
   Result r;
   analyze(join(cubeSoup(0, 0, 0, 10), b), r);
@@ -175,7 +177,9 @@ TEST(Geometry, FoldOverTJunctionNeedleDuplicates) {
   analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{2, 0, 0}, {8, 0, 0}, {5, -3, 0}}}}), flatT);
   EXPECT_EQ(pairsOf(flatT.geo.intersections), std::vector<std::string>{"0 1 touching"});
   Result needle;
-  analyze(tris({{{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}}, {{{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}}, {{{0, 0, 0}, {1, 1, 1}, {3, 3, 3}}}}),
+  analyze(tris({{{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}},
+                {{{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}},
+                {{{0, 0, 0}, {1, 1, 1}, {3, 3, 3}}}}),
           needle);
   ASSERT_EQ(needle.geo.checks.zeroArea.size(), 2u);
   EXPECT_EQ(needle.geo.checks.zeroArea[0], 0u);
@@ -200,7 +204,8 @@ TEST(Geometry, FoldOverTJunctionNeedleDuplicates) {
 
 TEST(Geometry, InterpenetratingTetrahedra) {
   Result r;
-  analyze(join(tetra({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}), tetra({1, 1, 1}, {5, 1, 1}, {1, 5, 1}, {1, 1, 5})), r);
+  analyze(join(tetra({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}), tetra({1, 1, 1}, {5, 1, 1}, {1, 5, 1}, {1, 1, 5})),
+          r);
   EXPECT_GT(r.geo.intersections.nPairs(), 0u);
   EXPECT_EQ(r.geo.intersections.nPairs(), r.geo.intersections.nCrossing);
   EXPECT_FALSE(r.geo.solid);
@@ -293,7 +298,10 @@ Brute brute(const std::vector<std::array<P, 3>>& t) {
   std::vector<int64_t> group(n, -1);
   for (size_t i = 0; i < n; ++i) {
     const auto& x = t[i];
-    if (x[0] == x[1] || x[1] == x[2] || x[0] == x[2]) { skip[i] = true; continue; }
+    if (x[0] == x[1] || x[1] == x[2] || x[0] == x[2]) {
+      skip[i] = true;
+      continue;
+    }
     if (isZero(cross(sub(x[1], x[0]), sub(x[2], x[0])))) skip[i] = true, r.zeroArea.push_back(uint32_t(i));
     std::set<P> key(x.begin(), x.end());
     auto it = firstOfSet.emplace(key, uint32_t(i)).first;
@@ -377,7 +385,8 @@ void runPass(const std::vector<std::array<P, 3>>& t, Passed& out) {
   stltopo::Intersections x;
   ASSERT_TRUE(stltopo::findIntersections(out.mesh, topo, out.checks, x).ok());
   for (size_t i = 0; i < x.nPairs(); ++i)
-    out.pairs.insert({x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
+    out.pairs.insert(
+        {x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
   out.ok = true;
 }
 
@@ -406,7 +415,8 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
     const stltopo::Mesh& mesh = run.mesh;
     const stltopo::TriangleChecks& checks = run.checks;
     const auto& got = run.pairs;
-    ASSERT_EQ(std::vector<uint32_t>(checks.zeroArea.begin(), checks.zeroArea.end()), want.zeroArea) << "round " << round;
+    ASSERT_EQ(std::vector<uint32_t>(checks.zeroArea.begin(), checks.zeroArea.end()), want.zeroArea)
+        << "round " << round;
     ASSERT_EQ(got, want.pairs) << "round " << round;
     std::vector<std::vector<uint32_t>> groups;
     for (uint32_t g = 0; g < checks.nDuplicateGroups(); ++g)
@@ -459,16 +469,14 @@ TEST(Geometry, NeighbourPairsAgreeWithTheFullPairTest) {
     const bool grid = round % 2 == 0;
     const bool side = round % 3 == 0;
     const bool flat = grid && round % 5 < 2;  // all in the plane z = 0
-    auto coord = [&]() -> float {
-      return grid ? float(int(rng() % 5) - 2) : float(int(rng() % 2001) - 1000) / 256.0f;
-    };
+    auto coord = [&]() -> float { return grid ? float(int(rng() % 5) - 2) : float(int(rng() % 2001) - 1000) / 256.0f; };
     auto point = [&]() -> std::array<float, 3> { return {coord(), coord(), flat ? 0.0f : coord()}; };
     std::array<float, 3> s0 = point(), s1 = point(), a1 = point(), a2 = point(), b2 = point();
     // a = (s0, a1, a2), b = (s0, s1, b2) or, sharing the side s0 a1, (a1, s0, b2); the corner
     // order of b varies.
     std::array<std::array<float, 3>, 3> ta{{s0, a1, a2}};
-    std::array<std::array<float, 3>, 3> tb = side ? std::array<std::array<float, 3>, 3>{{a1, s0, b2}}
-                                                  : std::array<std::array<float, 3>, 3>{{s0, s1, b2}};
+    std::array<std::array<float, 3>, 3> tb =
+        side ? std::array<std::array<float, 3>, 3>{{a1, s0, b2}} : std::array<std::array<float, 3>, 3>{{s0, s1, b2}};
     std::rotate(tb.begin(), tb.begin() + rng() % 3, tb.end());
     Soup soup = tris({ta, tb});
     stltopo::Mesh mesh;
@@ -499,7 +507,8 @@ TEST(Geometry, NeighbourPairsAgreeWithTheFullPairTest) {
       const bool same01 = std::equal(p01, p01 + 3, x.points.data()), same10 = std::equal(p10, p10 + 3, x.points.data());
       ASSERT_TRUE(same01 || same10) << "round " << round;
     }
-    ++seen[std::to_string(shared) + (k01 < 0 ? " apart" : std::string(" ") + stltopo::intersectionKindName(stltopo::IntersectionKind(k01)))];
+    ++seen[std::to_string(shared) +
+           (k01 < 0 ? " apart" : std::string(" ") + stltopo::intersectionKindName(stltopo::IntersectionKind(k01)))];
   }
   // Every outcome, often: fold-overs across a side, and crossings, touchings, coplanar
   // overlaps and misses at a corner.
@@ -541,7 +550,7 @@ TEST(Geometry, PredicatesAreExactAcrossScales) {
   // next to a huge corner: the naive double determinant loses it.
   Result r;
   analyze(tris({{{{1e7f, 1e7f, 0}, {-1e7f, 1e7f, 0}, {0, -1e7f, 0}}},
-                {{{0.5f, 0.5f, 0x1p-20f}, {0.5f, 0.75f, 5}, {0.75f, 0.5f, 5}}},  // above: no hit
+                {{{0.5f, 0.5f, 0x1p-20f}, {0.5f, 0.75f, 5}, {0.75f, 0.5f, 5}}},     // above: no hit
                 {{{0.5f, 0.5f, -0x1p-20f}, {0.5f, 0.75f, 5}, {0.75f, 0.5f, 5}}}}),  // through
           r);
   bool zeroTwo = false, zeroOne = false;
@@ -584,7 +593,10 @@ TEST(Geometry, ExactStagesAgree) {
         break;
       case 2:  // d exactly a corner moved by one ulp
         d = a;
-        { const int k = int(rng() % 3); d[k] = std::nextafter(d[k], 2.0f); }
+        {
+          const int k = int(rng() % 3);
+          d[k] = std::nextafter(d[k], 2.0f);
+        }
         break;
       case 3:  // on a grid: exact coplanarity is frequent
         for (auto* p : {&a, &b, &c, &d})

@@ -43,14 +43,17 @@ void expectSameTopology(const Mesh& a, const Mesh& b, const std::string& what) {
   ASSERT_TRUE(stltopo::buildTopology(b, tb).ok()) << what;
   EXPECT_TRUE(stltopo::validate(b, tb).ok()) << what;
 #define SAME(f) EXPECT_TRUE(sameArray(ta.f, tb.f)) << what << ": " #f;
-  SAME(next) SAME(prev) SAME(vert) SAME(face) SAME(pairKind) SAME(triangleHalfedge) SAME(vertexHalfedge)
-  SAME(loopHalfedge) SAME(loopOffsets) SAME(loopHalfedges) SAME(loopIsSeam) SAME(triangleDegenerate) SAME(vertexNonManifold)
+  SAME(next)
+  SAME(prev) SAME(vert) SAME(face) SAME(pairKind) SAME(triangleHalfedge) SAME(vertexHalfedge) SAME(loopHalfedge)
+      SAME(loopOffsets) SAME(loopHalfedges) SAME(loopIsSeam) SAME(triangleDegenerate) SAME(vertexNonManifold)
 #undef SAME
-  // The report's topology part (format, normals and warnings come from the file).
-  std::string ja = stltopo::infoJson("f", a, &ta), jb = stltopo::infoJson("f", b, &tb);
+      // The report's topology part (format, normals and warnings come from the file).
+      std::string ja = stltopo::infoJson("f", a, &ta),
+                  jb = stltopo::infoJson("f", b, &tb);
   EXPECT_EQ(ja.substr(ja.find("\"edges\"")), jb.substr(jb.find("\"edges\""))) << what;
   EXPECT_EQ(ja.substr(ja.find("\"bbox\""), ja.find("\"warnings\"") - ja.find("\"bbox\"")),
-            jb.substr(jb.find("\"bbox\""), jb.find("\"warnings\"") - jb.find("\"bbox\""))) << what;
+            jb.substr(jb.find("\"bbox\""), jb.find("\"warnings\"") - jb.find("\"bbox\"")))
+      << what;
 }
 
 std::vector<std::string> fixtureFiles() {
@@ -158,7 +161,7 @@ TEST(FromIndexed, ExactWeldClosesRendererSeamsAndNoneKeepsThem) {
   Mesh kept = seamCube(stltopo::Weld::None, &map);
   ASSERT_TRUE(stltopo::buildTopology(kept, t).ok());
   EXPECT_EQ(kept.nVertices(), 24u);
-  EXPECT_EQ(t.nHoles, 6u);   // each side a square with its own boundary
+  EXPECT_EQ(t.nHoles, 6u);  // each side a square with its own boundary
   EXPECT_EQ(t.nShells, 6u);
   EXPECT_TRUE(stltopo::validate(kept, t).ok());
   for (uint32_t v = 0; v < 24; ++v) EXPECT_EQ(map[v], v);
@@ -186,10 +189,14 @@ TEST(FromIndexed, ColoursBecomeVisCamWordsAndWriteOut) {
   EXPECT_TRUE(std::equal(rgb.begin(), rgb.end(), m.colors.begin()));
   EXPECT_EQ(m.attributes[4], 0u);
   std::string bytes;
-  ASSERT_TRUE(stltopo::writeStl(m, [](void* u, const uint8_t* d, size_t n) {
-    static_cast<std::string*>(u)->append(reinterpret_cast<const char*>(d), n);
-    return true;
-  }, &bytes).ok());
+  ASSERT_TRUE(stltopo::writeStl(
+                  m,
+                  [](void* u, const uint8_t* d, size_t n) {
+                    static_cast<std::string*>(u)->append(reinterpret_cast<const char*>(d), n);
+                    return true;
+                  },
+                  &bytes)
+                  .ok());
   Mesh back;
   ASSERT_TRUE(gen::read(bytes, back).ok());
   EXPECT_TRUE(sameArray(m.attributes, back.attributes));

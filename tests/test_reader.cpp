@@ -1,10 +1,10 @@
 // Reading: detection, ASCII grammar, streaming, welding, colours, errors.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <random>
-#include <cstdlib>
 #include <locale.h>
+#include <cmath>
+#include <cstdlib>
+#include <random>
 
 #include "stl_gen.h"
 
@@ -79,9 +79,12 @@ TEST(ReadStl, ChunkedReadingEqualsWholeBuffer) {
 }
 
 TEST(ReadStl, ChunkedReadingOfEveryFixtureEqualsWholeBuffer) {
-  const char* files[] = {"wolph_numpy-stl/tests/stl_binary/HalfDonut.stl", "wolph_numpy-stl/tests/stl_ascii/HalfDonut.stl",
-                         "mikedh_trimesh/models/multibody.stl", "wolph_numpy-stl/tests/stl_tests/dos.stl",
-                         "mikedh_trimesh/models/20mm-xyz-cube.stl", "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl"};
+  const char* files[] = {"wolph_numpy-stl/tests/stl_binary/HalfDonut.stl",
+                         "wolph_numpy-stl/tests/stl_ascii/HalfDonut.stl",
+                         "mikedh_trimesh/models/multibody.stl",
+                         "wolph_numpy-stl/tests/stl_tests/dos.stl",
+                         "mikedh_trimesh/models/20mm-xyz-cube.stl",
+                         "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl"};
   for (const char* f : files) {
     std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + f);
     ASSERT_FALSE(bytes.empty()) << f;
@@ -130,8 +133,9 @@ TEST(ReadStl, ConcatenatedBinaryFilesFormOneComplex) {
 }
 
 TEST(ReadStl, AsciiKeywordsAnyCaseWhitespaceAndBom) {
-  std::string f = "\xEF\xBB\xBF  \t\r\nSOLID  Mixed Name  \r\n  FaCeT NoRmAl 0 0 1\r  OUTER\tLOOP\n"
-                  "VERTEX 0 0 0 vertex 1 0 0\n vertex 0 1 0\n ENDLOOP trailing words\n ENDFACET more\nEndSolid Mixed\n";
+  std::string f =
+      "\xEF\xBB\xBF  \t\r\nSOLID  Mixed Name  \r\n  FaCeT NoRmAl 0 0 1\r  OUTER\tLOOP\n"
+      "VERTEX 0 0 0 vertex 1 0 0\n vertex 0 1 0\n ENDLOOP trailing words\n ENDFACET more\nEndSolid Mixed\n";
   Mesh m;
   Status s = gen::read(f, m);
   ASSERT_TRUE(s.ok()) << s.message;
@@ -153,13 +157,32 @@ TEST(ReadStl, SeveralSolidsWithEmptyAndUtf8Names) {
 }
 
 TEST(ReadStl, NumbersFollowStrtofInTheCLocale) {
-  const char* nums[] = {"1", "-0", "+1.5", ".5", "1.", "1E+02", "-1.25e-3", "0x1p-2", "3.4028234e38",
-                        "0.1000000000000000055511151231257827", "1.00000005960464477539062", "7e-46",
-                        "16777217", "123456789012345678901234567890", "1.17549435e-38", "0.3", "3.99999976",
-                        "-123.456789012", "1.5e-20", "9.87654321e21", "33554435", "0.000000000000000000000000000001"};
+  const char* nums[] = {"1",
+                        "-0",
+                        "+1.5",
+                        ".5",
+                        "1.",
+                        "1E+02",
+                        "-1.25e-3",
+                        "0x1p-2",
+                        "3.4028234e38",
+                        "0.1000000000000000055511151231257827",
+                        "1.00000005960464477539062",
+                        "7e-46",
+                        "16777217",
+                        "123456789012345678901234567890",
+                        "1.17549435e-38",
+                        "0.3",
+                        "3.99999976",
+                        "-123.456789012",
+                        "1.5e-20",
+                        "9.87654321e21",
+                        "33554435",
+                        "0.000000000000000000000000000001"};
   setlocale(LC_NUMERIC, "de_DE.UTF-8");  // the reader must not care (it may not exist; then a no-op)
   for (const char* n : nums) {
-    std::string f = std::string("solid n\n") + facet((std::string(n) + " 0 0").c_str(), "1 1 0", "0 1 1") + "endsolid\n";
+    std::string f =
+        std::string("solid n\n") + facet((std::string(n) + " 0 0").c_str(), "1 1 0", "0 1 1") + "endsolid\n";
     Mesh m;
     Status s = gen::read(f, m);
     ASSERT_TRUE(s.ok()) << n << ": " << s.message;
@@ -368,20 +391,27 @@ TEST(ReadStlErrors, EndInsideAFacetIsUnexpectedEnd) {
 }
 
 TEST(ReadStlErrors, WrongVertexCountAndBadNumbersAreAsciiSyntax) {
-  std::string four = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
+  std::string four =
+      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 "
+      "0\nendloop\nendfacet\nendsolid\n";
   Status s = readErr(four);
   EXPECT_EQ(s.code, Code::AsciiSyntax);
   EXPECT_EQ(s.line, 7u);
-  std::string two = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";
+  std::string two =
+      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n";
   s = readErr(two);
   EXPECT_EQ(s.code, Code::AsciiSyntax);
   EXPECT_EQ(s.line, 6u);
-  std::string bad = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1,5 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  std::string bad =
+      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1,5 0 0\nvertex 0 1 "
+      "0\nendloop\nendfacet\nendsolid\n";
   s = readErr(bad);
   EXPECT_EQ(s.code, Code::AsciiSyntax);
   EXPECT_EQ(s.line, 5u);
   EXPECT_NE(s.message.find("1,5"), std::string::npos);
-  std::string extra = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0 7\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  std::string extra =
+      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0 7\nvertex 1 0 0\nvertex 0 1 "
+      "0\nendloop\nendfacet\nendsolid\n";
   EXPECT_EQ(readErr(extra).code, Code::AsciiSyntax);
 }
 

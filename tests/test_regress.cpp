@@ -164,8 +164,8 @@ TEST(Regress, PeerChokersThroughTheCli) {
   struct Case {
     const char* name;
     std::string bytes;
-    Code code;        // expected whole-buffer code
-    Code warning;     // expected first warning on success (Code::Ok: none)
+    Code code;     // expected whole-buffer code
+    Code warning;  // expected first warning on success (Code::Ok: none)
   };
   const Case cases[] = {
       {"empty file", "", Code::Empty, Code::Ok},
@@ -188,15 +188,18 @@ TEST(Regress, PeerChokersThroughTheCli) {
       {"ASCII inf", "solid x\n" + facet("0 inf 0", "1 0 0", "0 1 0") + "endsolid\n", Code::NonFinite, Code::Ok},
       {"ASCII 1e999", "solid x\n" + facet("1e999 0 0", "1 0 0", "0 1 0") + "endsolid\n", Code::NonFinite, Code::Ok},
       {"ASCII -1e999", "solid x\n" + facet("0 0 -1e999", "1 0 0", "0 1 0") + "endsolid\n", Code::NonFinite, Code::Ok},
-      {"ASCII 1e999 normal", "solid x\nfacet normal 1e999 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n",
+      {"ASCII 1e999 normal",
+       "solid x\nfacet normal 1e999 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 "
+       "0\nendloop\nendfacet\nendsolid\n",
        Code::Ok, Code::Ok},
-      {"ASCII 1e-999 underflows to 0", "solid x\n" + facet("1e-999 0 0", "1 0 0", "0 1 0") + "endsolid\n", Code::Ok, Code::Ok},
+      {"ASCII 1e-999 underflows to 0", "solid x\n" + facet("1e-999 0 0", "1 0 0", "0 1 0") + "endsolid\n", Code::Ok,
+       Code::Ok},
       {"solid header, binary content", gen::binary(cube, "solid cad export"), Code::Ok, Code::Ok},
       {"solid header, binary content, truncated", solidTruncated, Code::Truncated, Code::Ok},
-      {"solid header, binary content, trailing", gen::binary(cube, "solid cad export") + "\n\n", Code::Ok, Code::TrailingBytes},
+      {"solid header, binary content, trailing", gen::binary(cube, "solid cad export") + "\n\n", Code::Ok,
+       Code::TrailingBytes},
       {"ASCII without endsolid", asciiOne, Code::Ok, Code::MissingEndsolid},
-      {"ASCII without endsolid or newline", asciiOne.substr(0, asciiOne.size() - 1), Code::Ok,
-       Code::MissingEndsolid},
+      {"ASCII without endsolid or newline", asciiOne.substr(0, asciiOne.size() - 1), Code::Ok, Code::MissingEndsolid},
       {"ASCII 'solid' only", "solid", Code::Ok, Code::MissingEndsolid},
       {"ASCII ends inside a facet", asciiOne.substr(0, asciiOne.find("endloop")), Code::UnexpectedEnd, Code::Ok},
       {"0xFF x 1", std::string(1, '\xff'), Code::NotStl, Code::Ok},
@@ -219,8 +222,10 @@ TEST(Regress, PeerChokersThroughTheCli) {
     std::string json;
     int rc = runCli(c.bytes, json);
     EXPECT_EQ(rc, s.ok() ? 0 : 1) << c.name << ": " << json;
-    if (!s.ok()) EXPECT_NE(json.find(std::string("\"code\":\"") + codeName(s.code) + "\""), std::string::npos) << json;
-    else EXPECT_EQ(json.find("\"error\""), std::string::npos) << json;
+    if (!s.ok())
+      EXPECT_NE(json.find(std::string("\"code\":\"") + codeName(s.code) + "\""), std::string::npos) << json;
+    else
+      EXPECT_EQ(json.find("\"error\""), std::string::npos) << json;
   }
 }
 
@@ -288,8 +293,8 @@ TEST(Regress, TokensAroundTheCaps) {
   }
   for (size_t len : {kMaxNameBytes - 1, kMaxNameBytes, kMaxNameBytes + 1, kMaxNameBytes + 5, kMaxNameBytes + 6}) {
     for (const char* sep : {"", " "}) {
-      std::string f = std::string("solid") + sep + std::string(len, 'a') + " b\n" + facet("0 0 0", "1 0 0", "0 1 0") +
-                      "endsolid\n";
+      std::string f =
+          std::string("solid") + sep + std::string(len, 'a') + " b\n" + facet("0 0 0", "1 0 0", "0 1 0") + "endsolid\n";
       Mesh m;
       Status s = checkInput(f, "name of " + std::to_string(len) + " bytes, sep '" + sep + "'", m);
       ASSERT_TRUE(s.ok()) << s.message;
@@ -344,22 +349,46 @@ TEST(Regress, ValidateSurvivesCorruptedTopologies) {
       ASSERT_TRUE(dst.resize(src.size()));
       for (size_t i = 0; i < src.size(); ++i) dst[i] = src[i];
     };
-    c.nTriangles = t.nTriangles; c.nVertices = t.nVertices;
-    dup(c.next, t.next); dup(c.prev, t.prev); dup(c.vert, t.vert); dup(c.face, t.face); dup(c.pairKind, t.pairKind);
-    dup(c.triangleHalfedge, t.triangleHalfedge); dup(c.vertexHalfedge, t.vertexHalfedge); dup(c.vertexWeld, t.vertexWeld);
-    dup(c.loopHalfedge, t.loopHalfedge); dup(c.loopOffsets, t.loopOffsets); dup(c.loopHalfedges, t.loopHalfedges);
-    dup(c.loopIsSeam, t.loopIsSeam); dup(c.loopPerimeter, t.loopPerimeter); dup(c.triangleDegenerate, t.triangleDegenerate);
+    c.nTriangles = t.nTriangles;
+    c.nVertices = t.nVertices;
+    dup(c.next, t.next);
+    dup(c.prev, t.prev);
+    dup(c.vert, t.vert);
+    dup(c.face, t.face);
+    dup(c.pairKind, t.pairKind);
+    dup(c.triangleHalfedge, t.triangleHalfedge);
+    dup(c.vertexHalfedge, t.vertexHalfedge);
+    dup(c.vertexWeld, t.vertexWeld);
+    dup(c.loopHalfedge, t.loopHalfedge);
+    dup(c.loopOffsets, t.loopOffsets);
+    dup(c.loopHalfedges, t.loopHalfedges);
+    dup(c.loopIsSeam, t.loopIsSeam);
+    dup(c.loopPerimeter, t.loopPerimeter);
+    dup(c.triangleDegenerate, t.triangleDegenerate);
     dup(c.vertexNonManifold, t.vertexNonManifold);
-    c.nEdges = t.nEdges; c.nBoundaryEdges = t.nBoundaryEdges; c.nNonManifoldEdges = t.nNonManifoldEdges;
-    c.nInconsistentEdges = t.nInconsistentEdges; c.nNonManifoldVertices = t.nNonManifoldVertices;
-    c.nDegenerate = t.nDegenerate; c.nShells = t.nShells; c.nUsedVertices = t.nUsedVertices;
-    c.nHoles = t.nHoles; c.nSeams = t.nSeams;
+    c.nEdges = t.nEdges;
+    c.nBoundaryEdges = t.nBoundaryEdges;
+    c.nNonManifoldEdges = t.nNonManifoldEdges;
+    c.nInconsistentEdges = t.nInconsistentEdges;
+    c.nNonManifoldVertices = t.nNonManifoldVertices;
+    c.nDegenerate = t.nDegenerate;
+    c.nShells = t.nShells;
+    c.nUsedVertices = t.nUsedVertices;
+    c.nHoles = t.nHoles;
+    c.nSeams = t.nSeams;
     return c;
   };
   using Field = Array<uint32_t> Topology::*;
-  const Field fields[] = {&Topology::next, &Topology::prev, &Topology::vert, &Topology::face,
-                          &Topology::triangleHalfedge, &Topology::vertexHalfedge, &Topology::vertexWeld,
-                          &Topology::loopHalfedge, &Topology::loopOffsets, &Topology::loopHalfedges};
+  const Field fields[] = {&Topology::next,
+                          &Topology::prev,
+                          &Topology::vert,
+                          &Topology::face,
+                          &Topology::triangleHalfedge,
+                          &Topology::vertexHalfedge,
+                          &Topology::vertexWeld,
+                          &Topology::loopHalfedge,
+                          &Topology::loopOffsets,
+                          &Topology::loopHalfedges};
   int checked = 0;
   for (Field f : fields) {
     size_t n = (good.*f).size();

@@ -33,7 +33,11 @@ std::string stlBytes(const Mesh& m) {
   WriteOptions wo;
   wo.format = Format::Binary;
   Status s = writeStl(
-      m, [](void* u, const uint8_t* d, size_t n) { static_cast<std::string*>(u)->append(reinterpret_cast<const char*>(d), n); return true; },
+      m,
+      [](void* u, const uint8_t* d, size_t n) {
+        static_cast<std::string*>(u)->append(reinterpret_cast<const char*>(d), n);
+        return true;
+      },
       &out, wo);
   EXPECT_TRUE(s.ok()) << s.message;
   return out;
@@ -157,8 +161,8 @@ TEST(Repair, StepNames) {
 
 TEST(Repair, DuplicatesKeepTheLowestId) {
   gen::Soup s = gen::cube();
-  s.f.push_back(s.f[3]);   // a copy, same orientation
-  s.f.push_back(s.f[3]);   // and another
+  s.f.push_back(s.f[3]);  // a copy, same orientation
+  s.f.push_back(s.f[3]);  // and another
   Mesh m = meshOf(s);
   Outcome r = checkRepair(m, only({RepairStepKind::Duplicates}), "cube + 2 copies");
   ASSERT_EQ(r.plan.steps.size(), 1u);
@@ -233,7 +237,8 @@ TEST(Repair, ZeroAreaOnABoundaryCollapses) {
   Outcome cap = checkRepair(meshOf(s), only({RepairStepKind::ZeroArea}), "strip with a boundary cap");
   ASSERT_EQ(cap.plan.steps[0].items.size(), 1u);
   EXPECT_TRUE(cap.plan.steps[0].items[0].skipped);
-  EXPECT_NE(cap.plan.steps[0].items[0].reason.find("not a needle"), std::string::npos) << cap.plan.steps[0].items[0].reason;
+  EXPECT_NE(cap.plan.steps[0].items[0].reason.find("not a needle"), std::string::npos)
+      << cap.plan.steps[0].items[0].reason;
   EXPECT_EQ(cap.log.after.zeroAreaTriangles, 1u);
 }
 
@@ -261,7 +266,7 @@ TEST(Repair, OrientFlipsTheSmallerSide) {
 TEST(Repair, OrientTurnsAnInsideOutShellAndKeepsACavity) {
   gen::Soup outer = gen::cube(0, 0, 0, 10);
   for (auto& f : outer.f) std::swap(f[1], f[2]);  // inside out
-  gen::Soup inner = gen::cube(4, 4, 4, 2);         // outward, inside: should become a cavity
+  gen::Soup inner = gen::cube(4, 4, 4, 2);        // outward, inside: should become a cavity
   gen::Soup s = outer;
   gen::append(s, inner);
   Mesh m = meshOf(s);
@@ -329,7 +334,12 @@ TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {
   EXPECT_EQ(applyRepair(em2, plan, log).code, Code::InvalidArgument);
   // Undo refuses a mesh that changed since.
   EditableMesh em3;
-  ASSERT_TRUE(em3.init(meshOf([] { gen::Soup s = gen::cube(); s.f.push_back(s.f[0]); return s; }())).ok());
+  ASSERT_TRUE(em3.init(meshOf([] {
+                   gen::Soup s = gen::cube();
+                   s.f.push_back(s.f[0]);
+                   return s;
+                 }()))
+                  .ok());
   Mesh m3;
   ASSERT_TRUE(em3.toMesh(m3, nullptr, nullptr).ok());
   RepairPlan p3;

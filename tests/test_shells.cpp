@@ -14,8 +14,8 @@
 #include <sys/wait.h>
 #endif
 
-#include "stltopo/shells.h"
 #include "stl_gen.h"
+#include "stltopo/shells.h"
 
 using namespace stltopo;
 
@@ -131,14 +131,16 @@ TEST(Shells, TwoCubesOneInsideOutAreOutwardAndInward) {
   EXPECT_EQ(a.shells[1].bboxMax[0], 5);
   std::string j = shellListJson(a.shells);
   EXPECT_EQ(j.substr(0, 13), "\"shellList\":[");
-  EXPECT_HAS(j, "{\"id\":1,\"triangles\":12,\"vertices\":8,\"edges\":18,\"boundaryEdges\":0,\"nonManifoldEdges\":0,"
-                "\"inconsistentEdges\":0,\"nonManifoldVertices\":0,\"holes\":0,\"seams\":0,\"eulerCharacteristic\":2,"
-                "\"genus\":0,\"closed\":true,\"manifold\":true,\"consistent\":true,\"orientation\":\"inward\",\"solid\":0,"
-                "\"bbox\":{\"min\":[3,0,0],\"max\":[5,2,2]},\"area\":");
+  EXPECT_HAS(j,
+             "{\"id\":1,\"triangles\":12,\"vertices\":8,\"edges\":18,\"boundaryEdges\":0,\"nonManifoldEdges\":0,"
+             "\"inconsistentEdges\":0,\"nonManifoldVertices\":0,\"holes\":0,\"seams\":0,\"eulerCharacteristic\":2,"
+             "\"genus\":0,\"closed\":true,\"manifold\":true,\"consistent\":true,\"orientation\":\"inward\",\"solid\":0,"
+             "\"bbox\":{\"min\":[3,0,0],\"max\":[5,2,2]},\"area\":");
   std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
-  EXPECT_EQ(d, "\"defects\":{\"holes\":{\"count\":0,\"items\":[]},\"seams\":{\"count\":0,\"items\":[]},"
-               "\"nonManifoldEdges\":{\"count\":0,\"items\":[]},\"inconsistentEdges\":{\"count\":0,\"items\":[]},"
-               "\"nonManifoldVertices\":{\"count\":0,\"items\":[]},\"degenerateTriangles\":{\"count\":0,\"items\":[]},"
+  EXPECT_EQ(d,
+            "\"defects\":{\"holes\":{\"count\":0,\"items\":[]},\"seams\":{\"count\":0,\"items\":[]},"
+            "\"nonManifoldEdges\":{\"count\":0,\"items\":[]},\"inconsistentEdges\":{\"count\":0,\"items\":[]},"
+            "\"nonManifoldVertices\":{\"count\":0,\"items\":[]},\"degenerateTriangles\":{\"count\":0,\"items\":[]},"
             "\"zeroAreaTriangles\":{\"count\":0,\"items\":[]},\"duplicateTriangles\":{\"count\":0,\"items\":[]},"
             "\"selfIntersections\":null}");
   EXPECT_EQ(defectsText(a.mesh, a.topo, a.defects, 5), "");
@@ -165,9 +167,10 @@ TEST(Shells, CubeWithOneFlippedFaceIsInconsistentWithThreeLocatedEdges) {
   for (size_t i = 0; i < 3; ++i) {
     uint32_t x = a.defects.inconsistentEdgeVertices[2 * i], y = a.defects.inconsistentEdgeVertices[2 * i + 1];
     EXPECT_LT(x, y);
-    if (i > 0) EXPECT_LT(std::make_pair(a.defects.inconsistentEdgeVertices[2 * i - 2],
-                                        a.defects.inconsistentEdgeVertices[2 * i - 1]),
-                         std::make_pair(x, y));
+    if (i > 0)
+      EXPECT_LT(
+          std::make_pair(a.defects.inconsistentEdgeVertices[2 * i - 2], a.defects.inconsistentEdgeVertices[2 * i - 1]),
+          std::make_pair(x, y));
     uint32_t t0 = a.defects.inconsistentEdgeTriangles[2 * i], t1 = a.defects.inconsistentEdgeTriangles[2 * i + 1];
     EXPECT_LT(t0, t1);
     EXPECT_TRUE(t0 == 5 || t1 == 5);
@@ -179,7 +182,8 @@ TEST(Shells, CubeWithOneFlippedFaceIsInconsistentWithThreeLocatedEdges) {
   // them (two vnext cycles), as in the whole report.
   EXPECT_EQ(sh.nonManifoldVertices, 3u);
   EXPECT_EQ(a.topo.nNonManifoldVertices, 3u);
-  EXPECT_HAS(j, "\"genus\":null,\"closed\":false,\"manifold\":false,\"consistent\":false,\"orientation\":\"inconsistent\"");
+  EXPECT_HAS(
+      j, "\"genus\":null,\"closed\":false,\"manifold\":false,\"consistent\":false,\"orientation\":\"inconsistent\"");
   std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
   EXPECT_HAS(d, "\"seams\":{\"count\":2,\"items\":[{\"id\":0,\"edges\":3,");
   EXPECT_HAS(d, "\"inconsistentEdges\":{\"count\":3,\"items\":[{\"vertices\":[");
@@ -220,8 +224,9 @@ TEST(Shells, SoupOfSeparateTrianglesIsOneOpenShellPerTriangle) {
   }
   std::string d = defectsJson(a.mesh, a.topo, a.defects, 2);
   // Cut at 2 items, the count says 3; a hole's vertex list is cut at 2, "edges" is 3.
-  EXPECT_HAS(d, "\"holes\":{\"count\":3,\"items\":[{\"id\":0,\"edges\":3,\"perimeter\":3.414213562373095,"
-                "\"vertices\":[1,0],\"bbox\":{\"min\":[0,0,0],\"max\":[1,1,0]},\"shell\":0},{\"id\":1,");
+  EXPECT_HAS(d,
+             "\"holes\":{\"count\":3,\"items\":[{\"id\":0,\"edges\":3,\"perimeter\":3.414213562373095,"
+             "\"vertices\":[1,0],\"bbox\":{\"min\":[0,0,0],\"max\":[1,1,0]},\"shell\":0},{\"id\":1,");
   EXPECT_HAS(d, "\"shell\":1}]},\"seams\"");
   std::string text = defectsText(a.mesh, a.topo, a.defects, 2);
   EXPECT_HAS(text, "  hole 0: 3 edges, perimeter 3.41421356, shell 0, bbox [0, 0, 0] .. [1, 1, 0]\n");
@@ -367,9 +372,10 @@ TEST(Shells, DegenerateTrianglesSayWhichCornersCoincide) {
   }
   EXPECT_EQ(a.shells[0].triangles, 12u);
   std::string d = defectsJson(a.mesh, a.topo, a.defects, 1000);
-  EXPECT_HAS(d, "\"degenerateTriangles\":{\"count\":4,\"items\":[{\"triangle\":12,\"corners\":[0,1]},"
-                "{\"triangle\":13,\"corners\":[1,2]},{\"triangle\":14,\"corners\":[0,2]},"
-                "{\"triangle\":15,\"corners\":[0,1,2]}]}");
+  EXPECT_HAS(d,
+             "\"degenerateTriangles\":{\"count\":4,\"items\":[{\"triangle\":12,\"corners\":[0,1]},"
+             "{\"triangle\":13,\"corners\":[1,2]},{\"triangle\":14,\"corners\":[0,2]},"
+             "{\"triangle\":15,\"corners\":[0,1,2]}]}");
   std::string text = defectsText(a.mesh, a.topo, a.defects, 5);
   EXPECT_HAS(text, "  degenerate triangle 13: corners 1 and 2 coincide at [1, 0, 0]\n");
   EXPECT_HAS(text, "  degenerate triangle 15: corners 0, 1 and 2 coincide at [0, 1, 0]\n");
@@ -397,7 +403,8 @@ TEST(Shells, ToleranceWeldCountsTheWeldedVertices) {
   // A crack: the +z side's triangles use a copy of corner 7 moved by 1e-4.
   s.v.push_back({s.v[7][0] + 1e-4f, s.v[7][1], s.v[7][2]});
   for (int t = 2; t < 4; ++t)
-    for (auto& c : s.f[t]) if (c == 7) c = 8;
+    for (auto& c : s.f[t])
+      if (c == 7) c = 8;
   Analyzed exact, welded;
   analyze(gen::binary(s), exact);
   analyze(gen::binary(s), welded, 1e-3);
@@ -457,7 +464,8 @@ std::vector<BruteShell> bruteForce(const Mesh& m, const Topology& t, const std::
     ++b.triangles;
     const float* p[3];
     for (int c = 0; c < 3; ++c) {
-      uint32_t u = t.vertexWeld[m.triangles[3 * size_t(tri) + c]], w = t.vertexWeld[m.triangles[3 * size_t(tri) + (c + 1) % 3]];
+      uint32_t u = t.vertexWeld[m.triangles[3 * size_t(tri) + c]],
+               w = t.vertexWeld[m.triangles[3 * size_t(tri) + (c + 1) % 3]];
       b.vertices.insert(u);
       auto& d = sides[std::minmax(u, w)];
       (u < w ? d.first : d.second) += 1;
@@ -466,15 +474,19 @@ std::vector<BruteShell> bruteForce(const Mesh& m, const Topology& t, const std::
     }
     b.volume += (double(p[0][0]) * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
                  double(p[0][1]) * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
-                 double(p[0][2]) * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) / 6.0;
+                 double(p[0][2]) * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) /
+                6.0;
   }
   for (auto& [key, d] : sides) {
     BruteShell& b = out[edgeShell[key]];
     ++b.edges;
     int n = d.first + d.second;
-    if (n == 1) ++b.boundary;
-    else if (n == 2 && (d.first == 0 || d.second == 0)) ++b.inconsistent;
-    else if (n > 2) ++b.nonManifold;
+    if (n == 1)
+      ++b.boundary;
+    else if (n == 2 && (d.first == 0 || d.second == 0))
+      ++b.inconsistent;
+    else if (n > 2)
+      ++b.nonManifold;
   }
   return out;
 }
@@ -512,8 +524,13 @@ TEST(Shells, EveryFixtureAgreesWithABruteForceCountAndTheWholeReport) {
       ASSERT_EQ(sh.inconsistentEdges, b.inconsistent) << "shell " << i;
       ASSERT_EQ(sh.volume, b.volume) << "shell " << i;
       ASSERT_LE(sh.nonManifoldVertices, sh.vertices);
-      tris += sh.triangles; edges += sh.edges; bnd += sh.boundaryEdges; nme += sh.nonManifoldEdges;
-      inc += sh.inconsistentEdges; holes += sh.holes; seams += sh.seams;
+      tris += sh.triangles;
+      edges += sh.edges;
+      bnd += sh.boundaryEdges;
+      nme += sh.nonManifoldEdges;
+      inc += sh.inconsistentEdges;
+      holes += sh.holes;
+      seams += sh.seams;
     }
     EXPECT_EQ(tris, t.nTriangles - t.nDegenerate);
     EXPECT_EQ(edges, t.nEdges);
@@ -567,8 +584,9 @@ TEST(ShellsCli, JsonAddsTheShellListAndTheDefectsOnlyWhenAsked) {
   EXPECT_EQ(both.substr(0, plain.size() - 2), plain.substr(0, plain.size() - 2));
   EXPECT_HAS(both, ",\"shellList\":[{\"id\":0,\"triangles\":24,");
   EXPECT_HAS(both, "\"orientation\":\"outward\"");
-  EXPECT_HAS(both, "\"nonManifoldEdges\":{\"count\":1,\"items\":[{\"vertices\":[0,2],\"positions\":[[0.5,0.5,0.5],"
-                   "[0.5,0.5,-0.5]],\"triangles\":[0,1,21,23]}]}");
+  EXPECT_HAS(both,
+             "\"nonManifoldEdges\":{\"count\":1,\"items\":[{\"vertices\":[0,2],\"positions\":[[0.5,0.5,0.5],"
+             "[0.5,0.5,-0.5]],\"triangles\":[0,1,21,23]}]}");
   EXPECT_EQ(cut.find("shellList"), std::string::npos);
   EXPECT_HAS(cut, "\"nonManifoldEdges\":{\"count\":1,\"items\":[]}");
   std::string text;
@@ -705,8 +723,10 @@ TEST(ShellsCli, SplitWritesOneFilePerShellThatReadsBackAsThatShell) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);
   // A bad input writes nothing; OUTDIR that is a file is a write-failed; usage errors.
   fs::remove_all(dir);
-  EXPECT_EQ(cli("split '" + std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/tmp/test_args_False_0/binary.stl' '" +
-                    dir.string() + "'", out), 1);
+  EXPECT_EQ(cli("split '" + std::string(STLTOPO_FIXTURES) +
+                    "/wolph_numpy-stl/tests/tmp/test_args_False_0/binary.stl' '" + dir.string() + "'",
+                out),
+            1);
   EXPECT_FALSE(fs::exists(dir));
   EXPECT_EQ(cli("split '" + in + "' '" + in + "'", out), 1);
   EXPECT_EQ(cli("split '" + in + "'", out), 2);

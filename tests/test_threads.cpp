@@ -50,16 +50,35 @@ struct Dump {
 };
 
 void dumpTopology(Dump& d, const stltopo::Topology& t) {
-  d.arr("next", t.next); d.arr("prev", t.prev); d.arr("vert", t.vert); d.arr("face", t.face);
-  d.arr("pairKind", t.pairKind); d.arr("triangleHalfedge", t.triangleHalfedge);
-  d.arr("vertexHalfedge", t.vertexHalfedge); d.arr("vertexWeld", t.vertexWeld);
-  d.arr("loopHalfedge", t.loopHalfedge); d.arr("loopOffsets", t.loopOffsets);
-  d.arr("loopHalfedges", t.loopHalfedges); d.arr("loopIsSeam", t.loopIsSeam);
-  d.arr("loopPerimeter", t.loopPerimeter); d.arr("triangleDegenerate", t.triangleDegenerate);
-  d.arr("vertexNonManifold", t.vertexNonManifold); d.arr("triangleShell", t.triangleShell);
-  uint32_t counts[] = {t.nTriangles, t.nVertices, t.nEdges, t.nBoundaryEdges, t.nNonManifoldEdges,
-                       t.nInconsistentEdges, t.nNonManifoldVertices, t.nDegenerate, t.nShells,
-                       t.nUsedVertices, t.nHoles, t.nSeams, t.nWeldedVertices};
+  d.arr("next", t.next);
+  d.arr("prev", t.prev);
+  d.arr("vert", t.vert);
+  d.arr("face", t.face);
+  d.arr("pairKind", t.pairKind);
+  d.arr("triangleHalfedge", t.triangleHalfedge);
+  d.arr("vertexHalfedge", t.vertexHalfedge);
+  d.arr("vertexWeld", t.vertexWeld);
+  d.arr("loopHalfedge", t.loopHalfedge);
+  d.arr("loopOffsets", t.loopOffsets);
+  d.arr("loopHalfedges", t.loopHalfedges);
+  d.arr("loopIsSeam", t.loopIsSeam);
+  d.arr("loopPerimeter", t.loopPerimeter);
+  d.arr("triangleDegenerate", t.triangleDegenerate);
+  d.arr("vertexNonManifold", t.vertexNonManifold);
+  d.arr("triangleShell", t.triangleShell);
+  uint32_t counts[] = {t.nTriangles,
+                       t.nVertices,
+                       t.nEdges,
+                       t.nBoundaryEdges,
+                       t.nNonManifoldEdges,
+                       t.nInconsistentEdges,
+                       t.nNonManifoldVertices,
+                       t.nDegenerate,
+                       t.nShells,
+                       t.nUsedVertices,
+                       t.nHoles,
+                       t.nSeams,
+                       t.nWeldedVertices};
   d.val("counts", counts);
   d.val("tolerance", t.tolerance);
 }
@@ -75,12 +94,21 @@ std::string run(const std::string& bytes, unsigned threads, size_t chunk, bool e
   stltopo::Status s = chunk ? gen::readChunked(bytes, chunk, m, ro) : gen::read(bytes, m, ro);
   d.status("read", s);
   if (!s.ok()) return d.out;
-  d.arr("positions", m.positions); d.arr("triangles", m.triangles); d.arr("attributes", m.attributes);
-  d.arr("normals", m.normals); d.arr("colors", m.colors); d.arr("colorValid", m.colorValid);
-  d.val("format", m.format); d.val("colorConvention", m.colorConvention);
-  d.val("normalMismatches", m.normalMismatches); d.val("area", m.area); d.val("volume", m.volume);
-  d.val("bboxMin", m.bboxMin); d.val("bboxMax", m.bboxMax);
-  for (const stltopo::Solid& so : m.solids) d.out += so.name + ' ' + std::to_string(so.firstTriangle) + ' ' + std::to_string(so.triangleCount) + '\n';
+  d.arr("positions", m.positions);
+  d.arr("triangles", m.triangles);
+  d.arr("attributes", m.attributes);
+  d.arr("normals", m.normals);
+  d.arr("colors", m.colors);
+  d.arr("colorValid", m.colorValid);
+  d.val("format", m.format);
+  d.val("colorConvention", m.colorConvention);
+  d.val("normalMismatches", m.normalMismatches);
+  d.val("area", m.area);
+  d.val("volume", m.volume);
+  d.val("bboxMin", m.bboxMin);
+  d.val("bboxMax", m.bboxMax);
+  for (const stltopo::Solid& so : m.solids)
+    d.out += so.name + ' ' + std::to_string(so.firstTriangle) + ' ' + std::to_string(so.triangleCount) + '\n';
   for (const stltopo::Status& w : m.warnings) d.status("warning", w);
   if (!everything) return d.out;
   for (int mode = 0; mode < 3; ++mode) {
@@ -103,11 +131,14 @@ std::string run(const std::string& bytes, unsigned threads, size_t chunk, bool e
     s = stltopo::analyzeGeometry(m, t, geo, io);
     d.status("geometry", s);
     if (s.ok()) {
-      d.arr("zeroArea", geo.checks.zeroArea); d.arr("duplicateOffsets", geo.checks.duplicateOffsets);
+      d.arr("zeroArea", geo.checks.zeroArea);
+      d.arr("duplicateOffsets", geo.checks.duplicateOffsets);
       d.arr("duplicateTriangles", geo.checks.duplicateTriangles);
       d.arr("duplicateOrientation", geo.checks.duplicateOrientation);
-      d.arr("pairs", geo.intersections.pairs); d.arr("kinds", geo.intersections.kinds);
-      d.arr("points", geo.intersections.points); d.arr("triangleIntersects", geo.intersections.triangleIntersects);
+      d.arr("pairs", geo.intersections.pairs);
+      d.arr("kinds", geo.intersections.kinds);
+      d.arr("points", geo.intersections.points);
+      d.arr("triangleIntersects", geo.intersections.triangleIntersects);
       uint64_t ic[] = {geo.intersections.nCrossing, geo.intersections.nTouching, geo.intersections.nCoplanar,
                        geo.intersections.nIntersectingTriangles, geo.intersections.complete};
       d.val("intersectionCounts", ic);
@@ -144,8 +175,8 @@ void expectSameForAllThreads(const std::string& name, const std::string& bytes) 
 std::vector<std::string> filesUnder(const std::string& dir) {
   std::vector<std::string> out;
   std::error_code ec;
-  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::recursive_directory_iterator();
-       it.increment(ec))
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
     if (it->is_regular_file()) out.push_back(it->path().string());
   std::sort(out.begin(), out.end());
   return out;
@@ -214,13 +245,18 @@ TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
   std::string truncated = shuffled.substr(0, shuffled.size() - 75);
   std::string withWords = grid;
   for (size_t r = 0; r < 2000; ++r) withWords[84 + 50 * r * 7 + 49] = char(0x80 | (r & 0x7f));
-  const std::pair<const char*, const std::string*> cases[] = {
-      {"grid", &grid}, {"shuffled", &shuffled}, {"signed zeros", &signedZeros}, {"parts", &parts},
-      {"non-finite", &nonFinite}, {"truncated", &truncated}, {"viscam words", &withWords}};
+  const std::pair<const char*, const std::string*> cases[] = {{"grid", &grid},
+                                                              {"shuffled", &shuffled},
+                                                              {"signed zeros", &signedZeros},
+                                                              {"parts", &parts},
+                                                              {"non-finite", &nonFinite},
+                                                              {"truncated", &truncated},
+                                                              {"viscam words", &withWords}};
   for (size_t g : {size_t(0), size_t(1), size_t(64)}) {
     SmallGrain grain(g);
     const uint64_t splits = stltopo::parallelSplitsForTesting();
-    for (const auto& [name, bytes] : cases) expectSameForAllThreads(std::string(name) + " grain " + std::to_string(g), *bytes);
+    for (const auto& [name, bytes] : cases)
+      expectSameForAllThreads(std::string(name) + " grain " + std::to_string(g), *bytes);
     if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits) << "grain " << g;
   }
   // The non-finite case is an error, and the same one.
@@ -252,7 +288,8 @@ TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
   std::string files;
   for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
     if (path.size() < 3 || path.compare(path.size() - 3, 3, ".md") != 0) files += " '" + path + "'";
-  for (const char* flags : {"info --json --shells --defects --intersections --max-pairs 1000", "info --tolerance 0.001"}) {
+  for (const char* flags :
+       {"info --json --shells --defects --intersections --max-pairs 1000", "info --tolerance 0.001"}) {
     const std::string one = cli(std::string(flags) + " --threads 1" + files);
     EXPECT_NE(one.find("triangles"), std::string::npos);
     for (const char* threads : {"2", "3", "8"})

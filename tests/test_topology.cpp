@@ -87,7 +87,8 @@ TEST(Topology, ClosedCubeIsWatertightGenusZero) {
   EXPECT_EQ(t.nShells, 1u);
   EXPECT_EQ(t.nNonManifoldVertices, 0u);
   std::string j = infoJson("cube", b.mesh, &t);
-  EXPECT_NE(j.find("\"eulerCharacteristic\":2,\"genus\":0,\"watertight\":true,\"manifold\":true"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"eulerCharacteristic\":2,\"genus\":0,\"watertight\":true,\"manifold\":true"), std::string::npos)
+      << j;
   checkNavigation(t);
 }
 
@@ -119,7 +120,10 @@ TEST(Topology, OpenCubeHasOneHoleOfFourEdges) {
   // Walking around a boundary vertex from its hole half-edge visits its whole fan:
   // corner (0,0,1) has 2 triangles left, so 2 triangle half-edges + 1 hole half-edge.
   uint32_t v = vid(b.mesh, {0, 0, 1}), n = 0;
-  forEachOutgoing(t, t.vertexHalfedge[v], [&](uint32_t e) { EXPECT_EQ(org(t, e), v); ++n; });
+  forEachOutgoing(t, t.vertexHalfedge[v], [&](uint32_t e) {
+    EXPECT_EQ(org(t, e), v);
+    ++n;
+  });
   EXPECT_EQ(n, 3u);
   checkNavigation(t);
 }
@@ -186,7 +190,9 @@ TEST(Topology, TwoCubesTouchingAtACorner) {
   std::string j = infoJson("c", b.mesh, &t);
   // chi = 15 - 36 + 24 = 3; watertight (no bad edges) but not manifold: a pinched closed mesh
   // is no surface, so it has no genus ((4 - 3) / 2 = 0.5 would mislead).
-  EXPECT_NE(j.find("\"eulerCharacteristic\":3,\"genus\":null,\"watertight\":true,\"manifold\":false"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"eulerCharacteristic\":3,\"genus\":null,\"watertight\":true,\"manifold\":false"),
+            std::string::npos)
+      << j;
 }
 
 TEST(Topology, FlippedTriangleGivesThreeInconsistentEdgesAndSeamsNotHoles) {
@@ -308,11 +314,16 @@ TEST(Topology, ToleranceWeldEqualsTheBruteForceRule) {
       rep[v] = v;
       for (uint32_t r = 0; r < v; ++r) {
         if (rep[r] != r) continue;
-        double dx = double(p[3 * r]) - p[3 * v], dy = double(p[3 * r + 1]) - p[3 * v + 1], dz = double(p[3 * r + 2]) - p[3 * v + 2];
-        if (dx * dx + dy * dy + dz * dz <= tol * tol) { rep[v] = r; break; }
+        double dx = double(p[3 * r]) - p[3 * v], dy = double(p[3 * r + 1]) - p[3 * v + 1],
+               dz = double(p[3 * r + 2]) - p[3 * v + 2];
+        if (dx * dx + dy * dy + dz * dz <= tol * tol) {
+          rep[v] = r;
+          break;
+        }
       }
     }
-    for (uint32_t v = 0; v < mesh.nVertices(); ++v) ASSERT_EQ(topo.vertexWeld[v], rep[v]) << "round " << round << " vertex " << v;
+    for (uint32_t v = 0; v < mesh.nVertices(); ++v)
+      ASSERT_EQ(topo.vertexWeld[v], rep[v]) << "round " << round << " vertex " << v;
   }
 }
 
@@ -323,7 +334,10 @@ TEST(Topology, ToleranceWeldClosesCracksWithoutMovingPositions) {
   for (auto it = s.f.rbegin(); it != s.f.rend(); ++it) {
     bool done = false;
     for (auto& c : *it)
-      if (c == 7) { c = 8; done = true; }
+      if (c == 7) {
+        c = 8;
+        done = true;
+      }
     if (done) break;
   }
   Built exact = build(s);
@@ -337,7 +351,8 @@ TEST(Topology, ToleranceWeldClosesCracksWithoutMovingPositions) {
   EXPECT_EQ(welded.topo.nWeldedVertices, 8u);
   std::string j = infoJson("c", welded.mesh, &welded.topo);
   EXPECT_NE(j.find("\"vertices\":9,\"weldedVertices\":8,"), std::string::npos) << j;
-  EXPECT_NE(infoText("c", welded.mesh, &welded.topo).find("9 vertices (8 after the tolerance weld)"), std::string::npos);
+  EXPECT_NE(infoText("c", welded.mesh, &welded.topo).find("9 vertices (8 after the tolerance weld)"),
+            std::string::npos);
   // The exact weld prints no weldedVertices.
   EXPECT_EQ(exact.topo.nWeldedVertices, 9u);
   EXPECT_EQ(infoJson("c", exact.mesh, &exact.topo).find("weldedVertices"), std::string::npos);
@@ -401,20 +416,30 @@ TEST(Validate, EachCheckCatchesItsCorruption) {
       {"pairKind interior->boundary", +[] { return build(gen::cube()); },
        [](Topology& t) { t.pairKind[0] = uint8_t(EdgeKind::Boundary); }, "pairKind differs"},
       {"pairKind boundary->inconsistent", openCubeBuilt,
-       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::Boundary)] = uint8_t(EdgeKind::Inconsistent); }, "pairKind differs"},
+       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::Boundary)] = uint8_t(EdgeKind::Inconsistent); },
+       "pairKind differs"},
       {"pairKind non-manifold->interior", cubesSharingAnEdge,
-       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::NonManifold)] = uint8_t(EdgeKind::Interior); }, "pairKind differs"},
+       [](Topology& t) { t.pairKind[pairOfKind(t, EdgeKind::NonManifold)] = uint8_t(EdgeKind::Interior); },
+       "pairKind differs"},
       {"loopIsSeam hole->seam", openCubeBuilt, [](Topology& t) { t.loopIsSeam[0] = 1; }, "loopIsSeam differs"},
       {"loopIsSeam seam->hole", flippedCube, [](Topology& t) { t.loopIsSeam[0] = 0; }, "loopIsSeam differs"},
-      {"vertexNonManifold set", openCubeBuilt, [](Topology& t) { t.vertexNonManifold[0] = 1; }, "vertexNonManifold differs"},
+      {"vertexNonManifold set", openCubeBuilt, [](Topology& t) { t.vertexNonManifold[0] = 1; },
+       "vertexNonManifold differs"},
       {"vertexNonManifold cleared", cubesSharingACorner,
-       [](Topology& t) { for (auto& f : t.vertexNonManifold) f = 0; }, "vertexNonManifold differs"},
-      {"nNonManifoldVertices", cubesSharingACorner, [](Topology& t) { t.nNonManifoldVertices = 0; }, "non-manifold-vertex count differs"},
+       [](Topology& t) {
+         for (auto& f : t.vertexNonManifold) f = 0;
+       },
+       "vertexNonManifold differs"},
+      {"nNonManifoldVertices", cubesSharingACorner, [](Topology& t) { t.nNonManifoldVertices = 0; },
+       "non-manifold-vertex count differs"},
       {"nEdges", openCubeBuilt, [](Topology& t) { ++t.nEdges; }, "edge count differs"},
       {"nBoundaryEdges", openCubeBuilt, [](Topology& t) { --t.nBoundaryEdges; }, "boundary-edge count differs"},
-      {"nInconsistentEdges", flippedCube, [](Topology& t) { t.nInconsistentEdges = 0; }, "inconsistent-edge count differs"},
-      {"nNonManifoldEdges", cubesSharingAnEdge, [](Topology& t) { t.nNonManifoldEdges = 2; }, "non-manifold-edge count differs"},
-      {"nHoles/nSeams swapped", flippedCube, [](Topology& t) { std::swap(t.nHoles, t.nSeams); }, "hole or seam count differs"},
+      {"nInconsistentEdges", flippedCube, [](Topology& t) { t.nInconsistentEdges = 0; },
+       "inconsistent-edge count differs"},
+      {"nNonManifoldEdges", cubesSharingAnEdge, [](Topology& t) { t.nNonManifoldEdges = 2; },
+       "non-manifold-edge count differs"},
+      {"nHoles/nSeams swapped", flippedCube, [](Topology& t) { std::swap(t.nHoles, t.nSeams); },
+       "hole or seam count differs"},
       {"nUsedVertices", openCubeBuilt, [](Topology& t) { ++t.nUsedVertices; }, "used-vertex count differs"},
       {"nDegenerate", cubeWithDegenerate, [](Topology& t) { t.nDegenerate = 0; }, "degenerate-triangle count differs"},
       {"nWeldedVertices", openCubeBuilt, [](Topology& t) { --t.nWeldedVertices; }, "welded-vertex count differs"},
@@ -434,7 +459,9 @@ TEST(Validate, EachCheckCatchesItsCorruption) {
 
 TEST(Report, JsonEscapesAndNumbers) {
   EXPECT_EQ(jsonString("a\"b\\c\n\x01"), "\"a\\\"b\\\\c\\n\\u0001\"");
-  EXPECT_EQ(jsonString("\xff" "ok"), "\"\xEF\xBF\xBDok\"");
+  EXPECT_EQ(jsonString("\xff"
+                       "ok"),
+            "\"\xEF\xBF\xBDok\"");
   Mesh m;
   ASSERT_TRUE(gen::read(gen::binary(gen::cube(0, 0, 0, 0.1f)), m).ok());
   std::string j = infoJson("f", m, nullptr);
@@ -445,5 +472,7 @@ TEST(Report, JsonEscapesAndNumbers) {
   e.message = "truncated: x";
   e.offset = 7;
   e.triangle = 2;
-  EXPECT_EQ(errorJson("f", e), "{\"file\":\"f\",\"error\":{\"code\":\"truncated\",\"message\":\"truncated: x\",\"offset\":7,\"triangle\":2}}");
+  EXPECT_EQ(
+      errorJson("f", e),
+      "{\"file\":\"f\",\"error\":{\"code\":\"truncated\",\"message\":\"truncated: x\",\"offset\":7,\"triangle\":2}}");
 }

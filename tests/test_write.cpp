@@ -70,7 +70,8 @@ std::vector<std::string> readableFixtures() {
 // A name as ASCII carries it: cut before the first control byte other than tab, VT, FF.
 std::string asciiName(const std::string& s) {
   size_t n = 0;
-  while (n < s.size() && !(static_cast<unsigned char>(s[n]) < 0x20 && s[n] != '\t' && s[n] != '\v' && s[n] != '\f')) ++n;
+  while (n < s.size() && !(static_cast<unsigned char>(s[n]) < 0x20 && s[n] != '\t' && s[n] != '\v' && s[n] != '\f'))
+    ++n;
   while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\v' || s[n - 1] == '\f')) --n;
   return s.substr(0, n);
 }
@@ -180,7 +181,9 @@ TEST(WriteStl, ComputedNormalsAreUnitLengthFromTheWindingAndZeroWhenDegenerate) 
 
 TEST(WriteStl, ChunksAreBoundedAndJoinToTheSameFile) {
   Mesh m;
-  ASSERT_TRUE(gen::read(gen::readFile(std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/stl_binary/rear_case.stl"), m).ok());
+  ASSERT_TRUE(
+      gen::read(gen::readFile(std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/stl_binary/rear_case.stl"), m)
+          .ok());
   for (Format f : {Format::Binary, Format::Ascii}) {
     WriteOptions big;
     big.format = f;
@@ -352,7 +355,8 @@ Mesh colouredCube(const std::vector<uint16_t>& words, const char* header = "colo
 TEST(WriteStl, VisCamAndMagicsColoursRoundTripAndConvert) {
   // Every 5-bit value on each channel, VisCAM layout (bit 15 = coloured), some uncoloured.
   std::vector<uint16_t> vis;
-  for (unsigned t = 0; t < 12; ++t) vis.push_back(t == 3 ? 0x1234 : uint16_t(0x8000u | (t * 2) << 10 | (31 - t) << 5 | (t + 19)));
+  for (unsigned t = 0; t < 12; ++t)
+    vis.push_back(t == 3 ? 0x1234 : uint16_t(0x8000u | (t * 2) << 10 | (31 - t) << 5 | (t + 19)));
   Mesh m = colouredCube(vis);
   ASSERT_EQ(m.colorConvention, stltopo::ColorConvention::VisCam);
 
@@ -491,7 +495,8 @@ TEST(ConvertCli, AFailedConversionLeavesNoOutputBehind) {
   std::string dir = freshDir("convert-fail");
   std::string out = dir + "/out.stl";
   // An input that does not read: exit 1, the error JSON on stderr, no OUT.
-  Ran r = shell(cli() + " convert '" + std::string(STLTOPO_FIXTURES) + "/regress/stream-long-number.stl' '" + out + "'");
+  Ran r =
+      shell(cli() + " convert '" + std::string(STLTOPO_FIXTURES) + "/regress/stream-long-number.stl' '" + out + "'");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("\"code\":\"ascii-syntax\""), std::string::npos) << r.err;
   EXPECT_EQ(entries(dir), 0u);

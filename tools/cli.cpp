@@ -12,9 +12,9 @@
 #endif
 
 #include <algorithm>
-#include <cmath>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
@@ -85,7 +85,8 @@ struct Args {
 // (no copy through a buffer), anything else is read 1 MiB at a time.
 stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& base, stltopo::Mesh& mesh) {
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
-  if (!f) return stltopo::Status::error(stltopo::Code::InvalidArgument, "cannot open " + path + ": " + std::strerror(errno));
+  if (!f)
+    return stltopo::Status::error(stltopo::Code::InvalidArgument, "cannot open " + path + ": " + std::strerror(errno));
   stltopo::ReadOptions opt = base;
   struct stat st;
   if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode)) opt.sizeHint = uint64_t(st.st_size);
@@ -116,7 +117,8 @@ stltopo::Status readFile(const std::string& path, const stltopo::ReadOptions& ba
       }
       if (n < buf.size()) {
         if (std::ferror(f))
-          s = stltopo::Status::error(stltopo::Code::InvalidArgument, "read error on " + path + ": " + std::strerror(errno));
+          s = stltopo::Status::error(stltopo::Code::InvalidArgument,
+                                     "read error on " + path + ": " + std::strerror(errno));
         break;
       }
     }
@@ -182,8 +184,10 @@ void walk(const std::string& root, std::vector<Input>& out) {
 // (standard input, a file, a path that does not exist) is one input.
 void expand(const std::string& arg, std::vector<Input>& out) {
   struct stat st;
-  if (arg != "-" && stat(arg.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) walk(arg, out);
-  else out.push_back({arg, 0});
+  if (arg != "-" && stat(arg.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    walk(arg, out);
+  else
+    out.push_back({arg, 0});
 }
 
 // Reads a --list: one FILE or DIR per line, '\r\n' or '\n', empty lines skipped.
@@ -254,8 +258,10 @@ Result reportOne(const Input& in, const InfoConfig& c) {
   if (s.ok() && c.topology && c.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, c.io);
   if (!s.ok()) {
     r.ok = false;
-    if (c.json) r.out = stltopo::errorJson(file, s) + "\n";
-    else r.err = file + ": " + s.message + "\n";
+    if (c.json)
+      r.out = stltopo::errorJson(file, s) + "\n";
+    else
+      r.err = file + ": " + s.message + "\n";
     return r;
   }
   const stltopo::Topology* t = c.topology ? &topo : nullptr;
@@ -265,7 +271,8 @@ Result reportOne(const Input& in, const InfoConfig& c) {
   extras.defects = c.defects && t ? &found : nullptr;
   // The report's triangle checks, on the threads (analyzeGeometry has them with --intersections).
   stltopo::TriangleChecks checks;
-  const bool ownChecks = t && !c.intersections && c.threads != 1 && stltopo::checkTriangles(mesh, &topo, checks, c.threads).ok();
+  const bool ownChecks =
+      t && !c.intersections && c.threads != 1 && stltopo::checkTriangles(mesh, &topo, checks, c.threads).ok();
   extras.checks = !t ? nullptr : c.intersections ? &geo.checks : ownChecks ? &checks : nullptr;
   extras.intersections = c.intersections && t ? &geo.intersections : nullptr;
   extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
@@ -370,7 +377,8 @@ struct Output {
     name.push_back('\0');
     fd = mkstemp(name.data());
     if (fd < 0)
-      return stltopo::Status::error(stltopo::Code::WriteFailed, "cannot create a file next to " + out + ": " + std::strerror(errno));
+      return stltopo::Status::error(stltopo::Code::WriteFailed,
+                                    "cannot create a file next to " + out + ": " + std::strerror(errno));
     temp = name.data();
     mode_t mask = umask(0);
     umask(mask);
@@ -397,7 +405,8 @@ struct Output {
     if (s.ok() && fsync(fd) != 0) err = errno;
     if (::close(fd) != 0 && s.ok() && !err) err = errno;
     if (s.ok() && !err && std::rename(temp.c_str(), path.c_str()) != 0) err = errno;
-    if (s.ok() && err) s = stltopo::Status::error(stltopo::Code::WriteFailed, "cannot write " + path + ": " + std::strerror(err));
+    if (s.ok() && err)
+      s = stltopo::Status::error(stltopo::Code::WriteFailed, "cannot write " + path + ": " + std::strerror(err));
     if (!s.ok()) std::remove(temp.c_str());
     return s;
   }
@@ -419,7 +428,10 @@ int writeArgs(int argc, char** argv, bool colorsAndName, std::vector<std::string
       continue;
     }
     bool takesValue = colorsAndName && (s == "--colors" || s == "--name");
-    if (takesValue && i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str()); return 2; }
+    if (takesValue && i + 1 >= argc) {
+      std::fprintf(stderr, "stltopo: %s needs a value\n", s.c_str());
+      return 2;
+    }
     std::string v = takesValue ? argv[++i] : "";
     if (s == "--ascii" || s == "--binary") {
       wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
@@ -427,7 +439,9 @@ int writeArgs(int argc, char** argv, bool colorsAndName, std::vector<std::string
     } else if (takesValue && s == "--name") {
       wo.name = v;
     } else if (takesValue && (v == "viscam" || v == "magics" || v == "none")) {
-      wo.colors = v == "viscam" ? stltopo::WriteColors::VisCam : v == "magics" ? stltopo::WriteColors::Magics : stltopo::WriteColors::None;
+      wo.colors = v == "viscam"   ? stltopo::WriteColors::VisCam
+                  : v == "magics" ? stltopo::WriteColors::Magics
+                                  : stltopo::WriteColors::None;
     } else if (takesValue) {
       std::fprintf(stderr, "stltopo: bad --colors '%s' (viscam, magics or none)\n", v.c_str());
       return 2;
@@ -444,7 +458,10 @@ int convert(int argc, char** argv) {
   stltopo::WriteOptions wo;
   bool formatGiven;
   if (int rc = writeArgs(argc, argv, true, files, wo, formatGiven)) return rc;
-  if (files.size() != 2) { std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage); return 2; }
+  if (files.size() != 2) {
+    std::fprintf(stderr, "stltopo: convert needs IN and OUT\n%s", kUsage);
+    return 2;
+  }
   stltopo::Mesh mesh;
   stltopo::Status s = readFile(files[0], stltopo::ReadOptions{}, mesh);
   if (!s.ok()) {
@@ -478,7 +495,10 @@ int split(int argc, char** argv) {
   stltopo::WriteOptions wo;
   bool formatGiven;
   if (int rc = writeArgs(argc, argv, false, files, wo, formatGiven)) return rc;
-  if (files.size() != 2) { std::fprintf(stderr, "stltopo: split needs IN and OUTDIR\n%s", kUsage); return 2; }
+  if (files.size() != 2) {
+    std::fprintf(stderr, "stltopo: split needs IN and OUTDIR\n%s", kUsage);
+    return 2;
+  }
   const std::string& in = files[0];
   const std::string& dir = files[1];
   auto fail = [](const std::string& file, const stltopo::Status& s) {
@@ -497,7 +517,8 @@ int split(int argc, char** argv) {
   if (!s.ok()) return fail(in, s);
   struct stat st;
   if (mkdir(dir.c_str(), 0777) != 0 && !(errno == EEXIST && stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode)))
-    return fail(dir, stltopo::Status::error(stltopo::Code::WriteFailed, "cannot create the folder " + dir + ": " + std::strerror(errno)));
+    return fail(dir, stltopo::Status::error(stltopo::Code::WriteFailed,
+                                            "cannot create the folder " + dir + ": " + std::strerror(errno)));
   if (!formatGiven) wo.format = mesh.format;
   std::signal(SIGXFSZ, SIG_IGN);  // over a file size limit, write() fails instead (write-failed)
   for (uint32_t k = 0; k < shells.size(); ++k) {
@@ -555,17 +576,27 @@ int repair(int argc, char** argv) {
       files.push_back(s);
       continue;
     }
-    if (s == "--plan") { planOnly = true; continue; }
-    if (s == "--remove-walls") { ro.removeOppositeDuplicates = true; continue; }
-    if (s == "--no-intersections") { ro.intersections = false; continue; }
+    if (s == "--plan") {
+      planOnly = true;
+      continue;
+    }
+    if (s == "--remove-walls") {
+      ro.removeOppositeDuplicates = true;
+      continue;
+    }
+    if (s == "--no-intersections") {
+      ro.intersections = false;
+      continue;
+    }
     if (s == "--ascii" || s == "--binary") {
       wo.format = s == "--ascii" ? stltopo::Format::Ascii : stltopo::Format::Binary;
       formatGiven = true;
       continue;
     }
-    const bool takes = s == "--steps" || s == "--stitch-tolerance" || s == "--max-hole-edges" || s == "--max-hole-area" ||
-                       s == "--max-hole-perimeter" || s == "--fill" || s == "--min-shell-triangles" ||
-                       s == "--min-shell-volume" || s == "--exclude" || s == "--max-pairs";
+    const bool takes = s == "--steps" || s == "--stitch-tolerance" || s == "--max-hole-edges" ||
+                       s == "--max-hole-area" || s == "--max-hole-perimeter" || s == "--fill" ||
+                       s == "--min-shell-triangles" || s == "--min-shell-volume" || s == "--exclude" ||
+                       s == "--max-pairs";
     if (!takes) return usage("unknown option '" + s + "'");
     if (i + 1 >= argc) return usage(s + " needs a value");
     std::string v = argv[++i];
@@ -580,9 +611,12 @@ int repair(int argc, char** argv) {
     } else if (s == "--fill") {
       ro.fillRefine = ro.fillFair = false;
       for (const std::string& n : splitList(v)) {
-        if (n == "refine") ro.fillRefine = true;
-        else if (n == "fair") ro.fillFair = true;
-        else if (n != "none") return usage("bad --fill '" + n + "' (refine, fair or none)");
+        if (n == "refine")
+          ro.fillRefine = true;
+        else if (n == "fair")
+          ro.fillFair = true;
+        else if (n != "none")
+          return usage("bad --fill '" + n + "' (refine, fair or none)");
       }
     } else if (s == "--exclude") {
       for (const std::string& n : splitList(v)) {
@@ -601,10 +635,14 @@ int repair(int argc, char** argv) {
       ro.maxPairs = uint64_t(d);
     } else {
       if (!numberArg(v, d, false, 1e300)) return usage("bad " + s + " '" + v + "' (a number >= 0)");
-      if (s == "--stitch-tolerance") ro.stitchTolerance = d;
-      else if (s == "--max-hole-area") ro.maxHoleArea = d;
-      else if (s == "--max-hole-perimeter") ro.maxHolePerimeter = d;
-      else ro.minShellVolume = d;
+      if (s == "--stitch-tolerance")
+        ro.stitchTolerance = d;
+      else if (s == "--max-hole-area")
+        ro.maxHoleArea = d;
+      else if (s == "--max-hole-perimeter")
+        ro.maxHolePerimeter = d;
+      else
+        ro.minShellVolume = d;
     }
   }
   if (files.size() != (planOnly ? 1u : 2u) && files.size() != 2)
@@ -659,64 +697,101 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   Args a;
-  if (argc < 2) { std::fputs(kUsage, stderr); return 2; }
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
   std::string cmd = argv[1];
-  if (cmd == "--help" || cmd == "-h" || cmd == "help") { std::fputs(kUsage, stdout); return 0; }
-  if (cmd == "--version") { std::puts("stltopo 0.1.0"); return 0; }
+  if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (cmd == "--version") {
+    std::puts("stltopo 0.1.0");
+    return 0;
+  }
   if (cmd == "convert") return convert(argc, argv);
   if (cmd == "split") return split(argc, argv);
   if (cmd == "repair") return repair(argc, argv);
-  if (cmd != "info") { std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage); return 2; }
+  if (cmd != "info") {
+    std::fprintf(stderr, "stltopo: unknown command '%s'\n%s", cmd.c_str(), kUsage);
+    return 2;
+  }
   bool endOfOptions = false;
   for (int i = 2; i < argc; ++i) {
     std::string s = argv[i];
     auto value = [&](const char* name) -> const char* {
-      if (i + 1 >= argc) { std::fprintf(stderr, "stltopo: %s needs a value\n", name); std::exit(2); }
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "stltopo: %s needs a value\n", name);
+        std::exit(2);
+      }
       return argv[++i];
     };
-    if (!endOfOptions && s == "--") endOfOptions = true;
-    else if (!endOfOptions && s == "--json") a.json = true;
-    else if (!endOfOptions && s == "--no-topology") a.topology = false;
-    else if (!endOfOptions && s == "--shells") a.shells = true;
-    else if (!endOfOptions && s == "--defects") a.defects = true;
-    else if (!endOfOptions && s == "--intersections") a.intersections = true;
+    if (!endOfOptions && s == "--")
+      endOfOptions = true;
+    else if (!endOfOptions && s == "--json")
+      a.json = true;
+    else if (!endOfOptions && s == "--no-topology")
+      a.topology = false;
+    else if (!endOfOptions && s == "--shells")
+      a.shells = true;
+    else if (!endOfOptions && s == "--defects")
+      a.defects = true;
+    else if (!endOfOptions && s == "--intersections")
+      a.intersections = true;
     else if (!endOfOptions && s == "--max-pairs") {
       const char* v = value("--max-pairs");
       if (!v) return 2;
       char* end = nullptr;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-' || n == 0 || n > (1ull << 40)) { std::fprintf(stderr, "stltopo: bad --max-pairs '%s'\n", v); return 2; }
+      if (*end || !*v || *v == '-' || n == 0 || n > (1ull << 40)) {
+        std::fprintf(stderr, "stltopo: bad --max-pairs '%s'\n", v);
+        return 2;
+      }
       a.maxPairs = n;
-    }
-    else if (!endOfOptions && s == "--max-defects") {
+    } else if (!endOfOptions && s == "--max-defects") {
       const char* v = value("--max-defects");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-' || n > 0xFFFFFFFFull) { std::fprintf(stderr, "stltopo: bad --max-defects '%s'\n", v); return 2; }
+      if (*end || !*v || *v == '-' || n > 0xFFFFFFFFull) {
+        std::fprintf(stderr, "stltopo: bad --max-defects '%s'\n", v);
+        return 2;
+      }
       a.maxDefects = int64_t(n);
-    }
-    else if (!endOfOptions && s == "--tolerance") {
+    } else if (!endOfOptions && s == "--tolerance") {
       const char* v = value("--tolerance");
       char* end;
       a.tolerance = std::strtod(v, &end);
-      if (*end || !(a.tolerance >= 0)) { std::fprintf(stderr, "stltopo: bad --tolerance '%s'\n", v); return 2; }
+      if (*end || !(a.tolerance >= 0)) {
+        std::fprintf(stderr, "stltopo: bad --tolerance '%s'\n", v);
+        return 2;
+      }
     } else if (!endOfOptions && s == "--max-triangles") {
       const char* v = value("--max-triangles");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || n == 0 || n > 0xFFFFFFFFull) { std::fprintf(stderr, "stltopo: bad --max-triangles '%s'\n", v); return 2; }
+      if (*end || n == 0 || n > 0xFFFFFFFFull) {
+        std::fprintf(stderr, "stltopo: bad --max-triangles '%s'\n", v);
+        return 2;
+      }
       a.maxTriangles = uint32_t(n);
     } else if (!endOfOptions && s == "--max-bytes") {
       const char* v = value("--max-bytes");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || n == 0) { std::fprintf(stderr, "stltopo: bad --max-bytes '%s'\n", v); return 2; }
+      if (*end || n == 0) {
+        std::fprintf(stderr, "stltopo: bad --max-bytes '%s'\n", v);
+        return 2;
+      }
       a.maxBytes = n;
     } else if (!endOfOptions && s == "--jobs") {
       const char* v = value("--jobs");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-' || n == 0 || n > 256) { std::fprintf(stderr, "stltopo: bad --jobs '%s' (1 to 256)\n", v); return 2; }
+      if (*end || !*v || *v == '-' || n == 0 || n > 256) {
+        std::fprintf(stderr, "stltopo: bad --jobs '%s' (1 to 256)\n", v);
+        return 2;
+      }
       a.jobs = unsigned(n);
     } else if (!endOfOptions && s == "--list") {
       a.inputs.push_back({value("--list"), true});
@@ -724,14 +799,20 @@ int main(int argc, char** argv) {
       const char* v = value("--threads");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-' || n > 1024) { std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v); return 2; }
+      if (*end || !*v || *v == '-' || n > 1024) {
+        std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v);
+        return 2;
+      }
       a.threads = unsigned(n);
     } else if (!endOfOptions && s == "--test-parallel-grain") {
       // Not in the usage: the tests make every threaded stage split small files with it.
       const char* v = value("--test-parallel-grain");
       char* end;
       unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-') { std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v); return 2; }
+      if (*end || !*v || *v == '-') {
+        std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v);
+        return 2;
+      }
       stltopo::setParallelGrainForTesting(size_t(n));
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
@@ -740,7 +821,10 @@ int main(int argc, char** argv) {
       a.inputs.push_back({s, false});
     }
   }
-  if (a.inputs.empty()) { std::fprintf(stderr, "stltopo: no input files\n%s", kUsage); return 2; }
+  if (a.inputs.empty()) {
+    std::fprintf(stderr, "stltopo: no input files\n%s", kUsage);
+    return 2;
+  }
   if (!a.topology && (a.shells || a.defects || a.intersections)) {
     std::fprintf(stderr, "stltopo: --shells, --defects and --intersections need the topology (not --no-topology)\n");
     return 2;

@@ -23,9 +23,19 @@ class Array {
   Array() = default;
   Array(const Array&) = delete;
   Array& operator=(const Array&) = delete;
-  Array(Array&& o) noexcept : p_(o.p_), n_(o.n_), cap_(o.cap_) { o.p_ = nullptr; o.n_ = o.cap_ = 0; }
+  Array(Array&& o) noexcept : p_(o.p_), n_(o.n_), cap_(o.cap_) {
+    o.p_ = nullptr;
+    o.n_ = o.cap_ = 0;
+  }
   Array& operator=(Array&& o) noexcept {
-    if (this != &o) { std::free(p_); p_ = o.p_; n_ = o.n_; cap_ = o.cap_; o.p_ = nullptr; o.n_ = o.cap_ = 0; }
+    if (this != &o) {
+      std::free(p_);
+      p_ = o.p_;
+      n_ = o.n_;
+      cap_ = o.cap_;
+      o.p_ = nullptr;
+      o.n_ = o.cap_ = 0;
+    }
     return *this;
   }
   ~Array() { std::free(p_); }
@@ -70,8 +80,14 @@ class Array {
     return true;
   }
   void clear() { n_ = 0; }
-  void release() { std::free(p_); p_ = nullptr; n_ = cap_ = 0; }
-  void shrink(size_t n) { if (n < n_) n_ = n; }
+  void release() {
+    std::free(p_);
+    p_ = nullptr;
+    n_ = cap_ = 0;
+  }
+  void shrink(size_t n) {
+    if (n < n_) n_ = n;
+  }
 
  private:
   T* p_ = nullptr;

@@ -55,7 +55,7 @@
 
 namespace stltopo {
 
-inline constexpr uint32_t kLoopFaceBit = 0x80000000u;         // stored face word of a boundary half-edge
+inline constexpr uint32_t kLoopFaceBit = 0x80000000u;                   // stored face word of a boundary half-edge
 inline constexpr uint32_t kStaleLoopFace = kLoopFaceBit | 0x7FFFFFFEu;  // loop not numbered yet
 
 // ---------------------------------------------------------------------------
@@ -100,10 +100,10 @@ struct AttributeView {
 };
 
 // The names of the attributes an EditableMesh creates from a Mesh.
-inline constexpr const char* kAttrWord = "attribute";   // Triangle, U16 x1: the binary attribute word
-inline constexpr const char* kAttrColor = "color";      // Triangle, U8 x3, if the mesh has colours
+inline constexpr const char* kAttrWord = "attribute";         // Triangle, U16 x1: the binary attribute word
+inline constexpr const char* kAttrColor = "color";            // Triangle, U8 x3, if the mesh has colours
 inline constexpr const char* kAttrColorValid = "colorValid";  // Triangle, U8 x1, with "color"
-inline constexpr const char* kAttrNormal = "normal";    // Triangle, F32 x3, if the mesh kept normals
+inline constexpr const char* kAttrNormal = "normal";          // Triangle, F32 x3, if the mesh kept normals
 
 enum class FillMethod : uint8_t { Fan, Ear };
 
@@ -307,8 +307,8 @@ class EditableMesh {
   // the current slots (count = nVertices(), nTriangles() or nHalfedges() / 2), or null for
   // all defaults. `defaultValue`: `components` numbers, or null for zeros. InvalidArgument
   // for zero components or an empty name.
-  Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
-                      const void* values, const AttributeRules& rules = {}, const double* defaultValue = nullptr);
+  Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components, const void* values,
+                      const AttributeRules& rules = {}, const double* defaultValue = nullptr);
   // Null when there is no such attribute.
   const AttributeView* attribute(const std::string& name) const;
   bool removeAttribute(const std::string& name);

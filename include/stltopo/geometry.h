@@ -33,11 +33,11 @@ const char* duplicateOrientationName(DuplicateOrientation o);
 //  - Duplicates: non-degenerate triangles (zero-area ones too) with the same set of three
 //    welded corners, in either orientation. Groups are ordered by their lowest triangle.
 struct TriangleChecks {
-  Array<uint32_t> zeroArea;               // ascending triangle ids
-  Array<uint32_t> duplicateOffsets;       // groups + 1: group g is duplicateTriangles[off[g]..off[g + 1])
-  Array<uint32_t> duplicateTriangles;     // each group's members, ascending
-  Array<uint8_t> duplicateOrientation;    // per group: DuplicateOrientation
-  uint32_t nDuplicateTriangles = 0;       // members that are not the lowest of their group
+  Array<uint32_t> zeroArea;             // ascending triangle ids
+  Array<uint32_t> duplicateOffsets;     // groups + 1: group g is duplicateTriangles[off[g]..off[g + 1])
+  Array<uint32_t> duplicateTriangles;   // each group's members, ascending
+  Array<uint8_t> duplicateOrientation;  // per group: DuplicateOrientation
+  uint32_t nDuplicateTriangles = 0;     // members that are not the lowest of their group
 
   uint32_t nDuplicateGroups() const { return duplicateOffsets.empty() ? 0 : uint32_t(duplicateOffsets.size() - 1); }
 };
@@ -81,14 +81,14 @@ struct IntersectionOptions {
 // triangle; with a shared side ab, (a, b, c) and (a, b, d) coplanar with c and d strictly
 // on the same side of ab.
 struct Intersections {
-  Array<uint32_t> pairs;            // 2 per pair: i < j, pairs ordered by (i, j)
-  Array<uint8_t> kinds;             // per pair: IntersectionKind
-  Array<double> points;             // 3 per pair: one point of their intersection (float64,
-                                    // computed in floating point: for framing a camera)
+  Array<uint32_t> pairs;              // 2 per pair: i < j, pairs ordered by (i, j)
+  Array<uint8_t> kinds;               // per pair: IntersectionKind
+  Array<double> points;               // 3 per pair: one point of their intersection (float64,
+                                      // computed in floating point: for framing a camera)
   Array<uint8_t> triangleIntersects;  // per triangle: 1 when it is in a pair
   uint64_t nCrossing = 0, nTouching = 0, nCoplanar = 0;
   uint32_t nIntersectingTriangles = 0;
-  bool complete = true;             // false: the work limit stopped the pass
+  bool complete = true;  // false: the work limit stopped the pass
 
   uint64_t nPairs() const { return pairs.size() / 2; }
 };
@@ -132,8 +132,8 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
 // Whether the mesh bounds a volume without ambiguity: watertight and manifold, no
 // zero-area, duplicate or intersecting triangles (with a complete pass), and every shell
 // outward at even depth and inward at odd depth.
-bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found,
-             const Array<Shell>& shells, const ShellNesting& nesting);
+bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found, const Array<Shell>& shells,
+             const ShellNesting& nesting);
 
 // Everything above in one call, for a report: the checks, the intersections, the shells
 // (findShellsAndDefects, without the defects) and their nesting, and `solid`. Needs
@@ -145,6 +145,7 @@ struct GeometryReport {
   ShellNesting nesting;
   bool solid = false;
 };
-Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options = {});
+Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out,
+                       const IntersectionOptions& options = {});
 
 }  // namespace stltopo

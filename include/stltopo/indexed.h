@@ -18,7 +18,7 @@ enum class Weld : uint8_t {
 
 // The caller's arrays, borrowed for the call. The lengths count values, not elements.
 struct IndexedMesh {
-  const float* positions = nullptr;     // x, y, z per vertex
+  const float* positions = nullptr;  // x, y, z per vertex
   size_t positionsLength = 0;
   const uint32_t* triangles = nullptr;  // 3 vertex ids per triangle
   size_t trianglesLength = 0;

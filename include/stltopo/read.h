@@ -9,7 +9,7 @@
 
 namespace stltopo {
 
-inline constexpr size_t kMaxNumberChars = 4096;    // longer ASCII numbers are an error
+inline constexpr size_t kMaxNumberChars = 4096;  // longer ASCII numbers are an error
 
 struct ReadOptions {
   uint32_t maxTriangles = 1u << 28;  // more gives Code::TooLarge
@@ -51,6 +51,7 @@ class Reader {
   uint64_t bytesRead() const;
 
   struct Impl;
+
  private:
   Impl* impl_;
 };

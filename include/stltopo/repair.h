@@ -99,12 +99,12 @@ struct RepairOptions {
 
 // One thing a step does (or would do).
 struct RepairItem {
-  std::string action;             // what it does, in words ("remove triangle 17, a copy of 12")
+  std::string action;  // what it does, in words ("remove triangle 17, a copy of 12")
   bool skipped = false;
-  std::string reason;             // why it is skipped
+  std::string reason;                                // why it is skipped
   std::vector<uint32_t> triangles, vertices, loops;  // ids as the step finds the mesh
-  float bbox[6] = {0, 0, 0, 0, 0, 0};  // min xyz, max xyz of the elements it touches
-  double moved = 0;               // how far it moves geometry (a collapse: the merged vertex)
+  float bbox[6] = {0, 0, 0, 0, 0, 0};                // min xyz, max xyz of the elements it touches
+  double moved = 0;                                  // how far it moves geometry (a collapse: the merged vertex)
 };
 
 // The figures of a mesh: EditStats plus the geometry counts.
@@ -118,55 +118,55 @@ struct RepairFigures {
 
 struct RepairStepPlan {
   RepairStepKind kind = RepairStepKind::Duplicates;
-  std::string note;                 // e.g. "closed shells oriented by volume sign only"
+  std::string note;  // e.g. "closed shells oriented by volume sign only"
   std::vector<RepairItem> items;
-  RepairFigures after;              // the figures after this step
+  RepairFigures after;  // the figures after this step
   uint32_t nDone() const;
   uint32_t nSkipped() const;
 };
 
 struct RepairPlan {
   RepairOptions options;
-  uint64_t fingerprint = 0;         // of the input (positions and triangles)
+  uint64_t fingerprint = 0;  // of the input (positions and triangles)
   RepairFigures before;
-  bool beforeKnown = false;         // planRepair computed `before` (apply then reuses it)
+  bool beforeKnown = false;           // planRepair computed `before` (apply then reuses it)
   std::vector<RepairStepPlan> steps;  // the chosen steps, in run order
-  std::string remaining;            // what the steps leave (self-intersections: advice)
-  std::string afterReport;          // infoJson("") of the predicted result
+  std::string remaining;              // what the steps leave (self-intersections: advice)
+  std::string afterReport;            // infoJson("") of the predicted result
 };
 
 // What one step changed. Ids: see the header comment.
 struct RepairStepLog {
   RepairStepKind kind = RepairStepKind::Duplicates;
-  Status status;                    // Ok, or why the step failed (the mesh is then as before it)
+  Status status;  // Ok, or why the step failed (the mesh is then as before it)
   uint32_t trianglesBefore = 0, verticesBefore = 0, trianglesAfter = 0, verticesAfter = 0;
-  std::vector<Solid> solidsBefore;       // names and triangle ranges before
-  Array<uint32_t> removedTriangles;      // ascending ids before
-  Array<uint32_t> removedCorners;        // 3 per removed triangle (vertex ids before)
-  Array<uint32_t> changedTriangles;      // ascending ids before
-  Array<uint32_t> changedCorners;        // 3 per changed triangle: corners before
-  uint32_t addedTriangles = 0;           // ids trianglesAfter - added .. trianglesAfter - 1
-  Array<uint32_t> removedVertices;       // ascending ids before
-  Array<float> removedPositions;         // 3 per removed vertex
-  Array<uint32_t> changedVertices;       // ascending ids before: moved or attributes changed
-  Array<float> changedPositions;         // 3 per changed vertex: position before
+  std::vector<Solid> solidsBefore;   // names and triangle ranges before
+  Array<uint32_t> removedTriangles;  // ascending ids before
+  Array<uint32_t> removedCorners;    // 3 per removed triangle (vertex ids before)
+  Array<uint32_t> changedTriangles;  // ascending ids before
+  Array<uint32_t> changedCorners;    // 3 per changed triangle: corners before
+  uint32_t addedTriangles = 0;       // ids trianglesAfter - added .. trianglesAfter - 1
+  Array<uint32_t> removedVertices;   // ascending ids before
+  Array<float> removedPositions;     // 3 per removed vertex
+  Array<uint32_t> changedVertices;   // ascending ids before: moved or attributes changed
+  Array<float> changedPositions;     // 3 per changed vertex: position before
   uint32_t addedVertices = 0;
   // Attribute values before, per triangle/vertex attribute (in attributeNames() order):
   // for the removed then the changed elements, stride bytes each.
   std::vector<std::string> attributeNames;
   std::vector<Array<uint8_t>> attributeBefore;
-  double maxMoved = 0;                   // largest distance geometry moved (a surviving vertex,
-                                         // or a vertex merged into another)
+  double maxMoved = 0;  // largest distance geometry moved (a surviving vertex,
+                        // or a vertex merged into another)
   double areaRemoved = 0, areaAdded = 0;
   uint32_t itemsDone = 0, itemsSkipped = 0;
-  uint64_t fingerprintAfter = 0;         // repairFingerprint of the mesh after the step
+  uint64_t fingerprintAfter = 0;  // repairFingerprint of the mesh after the step
 };
 
 struct RepairLog {
   uint64_t fingerprintBefore = 0, fingerprintAfter = 0;
   std::string beforeReport, afterReport;  // infoJson("") before and after
   RepairFigures before, after;
-  std::vector<RepairStepLog> steps;       // the steps that ran, in order
+  std::vector<RepairStepLog> steps;  // the steps that ran, in order
 };
 
 // A fingerprint of the live mesh in compacted order (positions, corners). O(n).

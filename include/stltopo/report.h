@@ -36,12 +36,12 @@ struct ReportExtras {
   uint32_t maxDefects = 1000;            // items per defect kind, and entries of each loop's
                                          // vertex and cut-edge lists (JSON)
   // The geometry (stltopo/geometry.h) of the same mesh and topology.
-  const TriangleChecks* checks = nullptr;  // null: the report runs checkTriangles itself
+  const TriangleChecks* checks = nullptr;        // null: the report runs checkTriangles itself
   const Intersections* intersections = nullptr;  // the intersection keys, and the defects'
                                                  // "selfIntersections" (else null)
-  const ShellNesting* nesting = nullptr;   // with shells: each shell's "selfIntersects",
-                                           // "intersectsShells", "parent" and "depth"
-  bool solid = false;                      // "solid", when intersections is given
+  const ShellNesting* nesting = nullptr;         // with shells: each shell's "selfIntersects",
+                                                 // "intersectsShells", "parent" and "depth"
+  bool solid = false;                            // "solid", when intersections is given
 };
 // infoJson with "shellList" and then "defects" as the last keys (`topo` must not be null
 // when `extras` has a member). Keeps the guarantees of infoJson.

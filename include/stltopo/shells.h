@@ -45,10 +45,10 @@ struct Shell {
 #define STLTOPO_SHELL_MEMBER(count, name, doc) uint32_t name = 0;
   STLTOPO_SURFACE_COUNTS(STLTOPO_SHELL_MEMBER)
 #undef STLTOPO_SHELL_MEMBER
-  uint32_t solid = kInvalid;          // index into Mesh::solids of the solid holding all of its
-                                      // triangles, kMixedSolid if several do, kInvalid if none
-  double area = 0;                    // sum of triangle areas
-  double volume = 0;                  // signed volume: sum of the signed tetrahedra (origin, a, b, c)
+  uint32_t solid = kInvalid;  // index into Mesh::solids of the solid holding all of its
+                              // triangles, kMixedSolid if several do, kInvalid if none
+  double area = 0;            // sum of triangle areas
+  double volume = 0;          // signed volume: sum of the signed tetrahedra (origin, a, b, c)
   float bboxMin[3] = {0, 0, 0}, bboxMax[3] = {0, 0, 0};  // of its triangles' corners
 
   int64_t eulerCharacteristic() const { return int64_t(vertices) - int64_t(edges) + int64_t(triangles); }

@@ -12,16 +12,18 @@
 //   twin(e) = e ^ 1;  vnext(e) = next[e ^ 1]
 #pragma once
 
-#include "stltopo/status.h"
+// clang-format off: each header after the ones it builds on (kept by hand)
 #include "stltopo/array.h"
-#include "stltopo/mesh.h"
 #include "stltopo/counts.h"
-#include "stltopo/read.h"
-#include "stltopo/topology.h"
-#include "stltopo/report.h"
-#include "stltopo/shells.h"
+#include "stltopo/edit.h"
 #include "stltopo/geometry.h"
 #include "stltopo/indexed.h"
-#include "stltopo/write.h"
-#include "stltopo/edit.h"
+#include "stltopo/mesh.h"
+#include "stltopo/read.h"
 #include "stltopo/repair.h"
+#include "stltopo/report.h"
+#include "stltopo/shells.h"
+#include "stltopo/status.h"
+#include "stltopo/topology.h"
+#include "stltopo/write.h"
+// clang-format on

@@ -30,10 +30,10 @@ struct TopologyOptions {
 
 // Edge classes per half-edge pair (index k = e >> 1).
 enum class EdgeKind : uint8_t {
-  Interior = 0,     // paired: the edge is used by exactly two opposite sides
-  Boundary = 1,     // edge used by exactly one triangle side
-  Inconsistent = 2, // edge used by two sides running the same way (cut)
-  NonManifold = 3,  // edge used by three or more sides (paired or cut)
+  Interior = 0,      // paired: the edge is used by exactly two opposite sides
+  Boundary = 1,      // edge used by exactly one triangle side
+  Inconsistent = 2,  // edge used by two sides running the same way (cut)
+  NonManifold = 3,   // edge used by three or more sides (paired or cut)
 };
 
 // The counts (nTriangles, nEdges, ..., nShells, nDegenerate, nUsedVertices) and the figures
@@ -43,10 +43,10 @@ struct Topology : TopologyCounts {
   uint32_t nVertices = 0;
 
   // Half-edges: length nHalfedges() = 2 * number of pairs.
-  Array<uint32_t> next;   // next half-edge around the same face (triangle or boundary loop)
-  Array<uint32_t> prev;   // inverse of next (O(1) lPrev on long boundary loops)
-  Array<uint32_t> vert;   // origin vertex
-  Array<uint32_t> face;   // triangle id, or nTriangles + loop id
+  Array<uint32_t> next;     // next half-edge around the same face (triangle or boundary loop)
+  Array<uint32_t> prev;     // inverse of next (O(1) lPrev on long boundary loops)
+  Array<uint32_t> vert;     // origin vertex
+  Array<uint32_t> face;     // triangle id, or nTriangles + loop id
   Array<uint8_t> pairKind;  // per pair k: EdgeKind of the side(s) in the pair
 
   // Lookups.
@@ -57,19 +57,19 @@ struct Topology : TopologyCounts {
                                      // (identity for exact weld)
 
   // Boundary loops ("hole faces"): loop h is face nTriangles + h.
-  Array<uint32_t> loopHalfedge;      // per loop: its lowest-id half-edge
-  Array<uint32_t> loopOffsets;       // nLoops + 1: loop h's half-edges are loopHalfedges[off[h]..off[h+1])
-  Array<uint32_t> loopHalfedges;     // in next order, starting at loopHalfedge[h]
-  Array<uint8_t> loopIsSeam;         // 1 when the loop contains a cut (inconsistent/non-manifold) side
-  Array<double> loopPerimeter;       // per loop: sum of edge lengths
+  Array<uint32_t> loopHalfedge;   // per loop: its lowest-id half-edge
+  Array<uint32_t> loopOffsets;    // nLoops + 1: loop h's half-edges are loopHalfedges[off[h]..off[h+1])
+  Array<uint32_t> loopHalfedges;  // in next order, starting at loopHalfedge[h]
+  Array<uint8_t> loopIsSeam;      // 1 when the loop contains a cut (inconsistent/non-manifold) side
+  Array<double> loopPerimeter;    // per loop: sum of edge lengths
 
   // Per-element problem flags.
-  Array<uint8_t> triangleDegenerate;   // per triangle: 1 if two corners weld together
-  Array<uint8_t> vertexNonManifold;    // per vertex: 1 if its outgoing half-edges form > 1 vnext cycle
+  Array<uint8_t> triangleDegenerate;  // per triangle: 1 if two corners weld together
+  Array<uint8_t> vertexNonManifold;   // per vertex: 1 if its outgoing half-edges form > 1 vnext cycle
 
   // Shells (edge-connected components of the non-degenerate triangles), numbered in the
   // order of their lowest triangle id. Built when TopologyOptions::triangleShell, else empty.
-  Array<uint32_t> triangleShell;       // per triangle: its shell, kInvalid if degenerate
+  Array<uint32_t> triangleShell;  // per triangle: its shell, kInvalid if degenerate
 
   // The weld the topology was built with: TopologyOptions::tolerance, and the number of
   // representatives (vertices v with vertexWeld[v] == v; = nVertices for the exact weld).
@@ -110,8 +110,8 @@ inline uint32_t rFace(const Topology& t, uint32_t e) { return t.face[e ^ 1u]; }
 inline uint32_t lNext(const Topology& t, uint32_t e) { return t.next[e]; }
 inline uint32_t lPrev(const Topology& t, uint32_t e) { return t.prev[e]; }
 inline uint32_t vnext(const Topology& t, uint32_t e) { return t.next[e ^ 1u]; }
-inline uint32_t oPrev(const Topology& t, uint32_t e) { return t.next[e ^ 1u]; }   // = vnext
-inline uint32_t oNext(const Topology& t, uint32_t e) { return t.prev[e] ^ 1u; }   // sym(lPrev e)
+inline uint32_t oPrev(const Topology& t, uint32_t e) { return t.next[e ^ 1u]; }    // = vnext
+inline uint32_t oNext(const Topology& t, uint32_t e) { return t.prev[e] ^ 1u; }    // sym(lPrev e)
 inline uint32_t rPrev(const Topology& t, uint32_t e) { return oNext(t, e ^ 1u); }  // oNext(sym e)
 inline uint32_t rNext(const Topology& t, uint32_t e) { return oPrev(t, e) ^ 1u; }  // sym(oPrev e)
 inline uint32_t dNext(const Topology& t, uint32_t e) { return rPrev(t, e) ^ 1u; }  // sym(rPrev e)
@@ -121,13 +121,19 @@ inline uint32_t dPrev(const Topology& t, uint32_t e) { return t.next[e] ^ 1u; } 
 template <class F>
 void forEachFaceHalfedge(const Topology& t, uint32_t e0, F&& f) {
   uint32_t e = e0;
-  do { f(e); e = t.next[e]; } while (e != e0);
+  do {
+    f(e);
+    e = t.next[e];
+  } while (e != e0);
 }
 // Visit the outgoing half-edges of the vnext cycle that contains e0.
 template <class F>
 void forEachOutgoing(const Topology& t, uint32_t e0, F&& f) {
   uint32_t e = e0;
-  do { f(e); e = vnext(t, e); } while (e != e0);
+  do {
+    f(e);
+    e = vnext(t, e);
+  } while (e != e0);
 }
 
 }  // namespace stltopo

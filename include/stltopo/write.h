@@ -73,6 +73,7 @@ class StlWriter {
   uint64_t bytesWritten() const;
 
   struct Impl;
+
  private:
   Impl* impl_;
 };

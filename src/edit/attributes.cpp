@@ -13,12 +13,36 @@ double readValue(ValueType t, const uint8_t* p) {
   switch (t) {
     case ValueType::U8: return *p;
     case ValueType::I8: return int8_t(*p);
-    case ValueType::U16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case ValueType::I16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-    case ValueType::U32: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    case ValueType::I32: { int32_t v; std::memcpy(&v, p, 4); return v; }
-    case ValueType::F32: { float v; std::memcpy(&v, p, 4); return v; }
-    case ValueType::F64: { double v; std::memcpy(&v, p, 8); return v; }
+    case ValueType::U16: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case ValueType::I16: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case ValueType::U32: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case ValueType::I32: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case ValueType::F32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case ValueType::F64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
   }
   return 0;
 }
@@ -38,7 +62,11 @@ void writeValue(ValueType t, double x, uint8_t* p) {
     case ValueType::I16: storeInt<int16_t>(x, p, -32768, 32767); break;
     case ValueType::U32: storeInt<uint32_t>(x, p, 0, 4294967295.0); break;
     case ValueType::I32: storeInt<int32_t>(x, p, -2147483648.0, 2147483647.0); break;
-    case ValueType::F32: { float v = float(x); std::memcpy(p, &v, 4); break; }
+    case ValueType::F32: {
+      float v = float(x);
+      std::memcpy(p, &v, 4);
+      break;
+    }
     case ValueType::F64: std::memcpy(p, &x, 8); break;
   }
 }
@@ -47,9 +75,13 @@ void writeValue(ValueType t, double x, uint8_t* p) {
 
 size_t valueTypeSize(ValueType t) {
   switch (t) {
-    case ValueType::U8: case ValueType::I8: return 1;
-    case ValueType::U16: case ValueType::I16: return 2;
-    case ValueType::U32: case ValueType::I32: case ValueType::F32: return 4;
+    case ValueType::U8:
+    case ValueType::I8: return 1;
+    case ValueType::U16:
+    case ValueType::I16: return 2;
+    case ValueType::U32:
+    case ValueType::I32:
+    case ValueType::F32: return 4;
     case ValueType::F64: return 8;
   }
   return 1;
@@ -87,7 +119,8 @@ void EditableMesh::Impl::copySlot(M& m, Element e, size_t from, size_t to) {
     if (a.view.element == e) std::memmove(at(a, to), at(a, from), stride(a));
 }
 
-bool EditableMesh::Impl::evalRule(const Attribute& a, bool merge, const uint8_t* x, const uint8_t* y, double t, uint8_t* out) {
+bool EditableMesh::Impl::evalRule(const Attribute& a, bool merge, const uint8_t* x, const uint8_t* y, double t,
+                                  uint8_t* out) {
   const Rule r = merge ? a.rules.merge : a.rules.split;
   const size_t w = valueTypeSize(a.view.type), s = w * a.view.components;
   switch (r) {
@@ -135,7 +168,7 @@ void EditableMesh::Impl::writePending(M& m, const PendingWrites& pw) {
 // ============================================================================ attributes
 
 Status EditableMesh::Impl::addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
-                                  const void* values, const AttributeRules& rules, const double* defaultValue) {
+                                        const void* values, const AttributeRules& rules, const double* defaultValue) {
   if (name.empty()) return badArgument("an attribute needs a name");
   if (components == 0 || components > kMaxComponents)
     return badArgument(detail::format("an attribute has 1 to %u components, not %u", kMaxComponents, components));
@@ -168,9 +201,8 @@ Status EditableMesh::Impl::addAttribute(const std::string& name, Element element
       }
     attributes_.push_back(std::move(a));
     attributes_.back().view.data = attributes_.back().bytes.data();
-  } STLTOPO_CATCH {
-    return detail::oom(kEditArrays);
   }
+  STLTOPO_CATCH { return detail::oom(kEditArrays); }
   return Status{};
 }
 

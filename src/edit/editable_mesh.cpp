@@ -37,7 +37,9 @@ EditableMesh& EditableMesh::operator=(EditableMesh&& o) noexcept {
 #define STLTOPO_WRITE(call, otherwise) return ensure(impl_) ? impl_->call : otherwise
 
 Status EditableMesh::init(const Mesh& mesh, const Topology& topo) { STLTOPO_WRITE(init(mesh, topo), noImpl()); }
-Status EditableMesh::init(const Mesh& mesh, const TopologyOptions& options) { STLTOPO_WRITE(init(mesh, options), noImpl()); }
+Status EditableMesh::init(const Mesh& mesh, const TopologyOptions& options) {
+  STLTOPO_WRITE(init(mesh, options), noImpl());
+}
 
 uint32_t EditableMesh::nVertices() const { return STLTOPO_READ.nVertices(); }
 uint32_t EditableMesh::nTriangles() const { return STLTOPO_READ.nTriangles(); }
@@ -75,8 +77,12 @@ const EditStats& EditableMesh::stats() {
 }
 std::string EditableMesh::infoJson(const std::string& file) { STLTOPO_WRITE(infoJson(file), std::string()); }
 
-Status EditableMesh::reserve(uint32_t vertices, uint32_t triangles) { STLTOPO_WRITE(reserve(vertices, triangles), noImpl()); }
-Status EditableMesh::addVertex(float x, float y, float z, uint32_t* out) { STLTOPO_WRITE(addVertex(x, y, z, out), noImpl()); }
+Status EditableMesh::reserve(uint32_t vertices, uint32_t triangles) {
+  STLTOPO_WRITE(reserve(vertices, triangles), noImpl());
+}
+Status EditableMesh::addVertex(float x, float y, float z, uint32_t* out) {
+  STLTOPO_WRITE(addVertex(x, y, z, out), noImpl());
+}
 Status EditableMesh::setPosition(uint32_t v, float x, float y, float z) {
   STLTOPO_WRITE(setPosition(v, x, y, z), noImpl());
 }
@@ -85,14 +91,20 @@ Status EditableMesh::addTriangle(uint32_t a, uint32_t b, uint32_t c, uint32_t* o
   STLTOPO_WRITE(addTriangle(a, b, c, out, allowNonManifold), noImpl());
 }
 Status EditableMesh::flipEdge(uint32_t e) { STLTOPO_WRITE(flipEdge(e), noImpl()); }
-Status EditableMesh::splitEdge(uint32_t e, double t, uint32_t* newVertex) { STLTOPO_WRITE(splitEdge(e, t, newVertex), noImpl()); }
+Status EditableMesh::splitEdge(uint32_t e, double t, uint32_t* newVertex) {
+  STLTOPO_WRITE(splitEdge(e, t, newVertex), noImpl());
+}
 Status EditableMesh::collapseEdge(uint32_t e, double t, uint32_t* remaining) {
   STLTOPO_WRITE(collapseEdge(e, t, remaining), noImpl());
 }
 Status EditableMesh::reverseTriangle(uint32_t t) { STLTOPO_WRITE(reverseTriangle(t), noImpl()); }
 Status EditableMesh::reverseShell(uint32_t t) { STLTOPO_WRITE(reverseShell(t), noImpl()); }
-Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out) { STLTOPO_WRITE(fillHole(e, method, out), noImpl()); }
-Status EditableMesh::fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out) { STLTOPO_WRITE(fillLoop(h, method, out), noImpl()); }
+Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out) {
+  STLTOPO_WRITE(fillHole(e, method, out), noImpl());
+}
+Status EditableMesh::fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out) {
+  STLTOPO_WRITE(fillLoop(h, method, out), noImpl());
+}
 Status EditableMesh::mergeVertices(const uint32_t* keep, const uint32_t* gone, uint32_t n, bool allowNonManifold) {
   STLTOPO_WRITE(mergeVertices(keep, gone, n, allowNonManifold), noImpl());
 }
@@ -118,7 +130,9 @@ const AttributeView* EditableMesh::attribute(const std::string& name) const { re
 bool EditableMesh::removeAttribute(const std::string& name) { return impl_ && impl_->removeAttribute(name); }
 std::vector<std::string> EditableMesh::attributeNames() const { return STLTOPO_READ.attributeNames(); }
 
-Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const { return STLTOPO_READ.toMesh(out, topo, maps); }
+Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const {
+  return STLTOPO_READ.toMesh(out, topo, maps);
+}
 Status EditableMesh::compact(CompactMaps* maps) { STLTOPO_WRITE(compact(maps), noImpl()); }
 Status EditableMesh::validate() const { return STLTOPO_READ.validate(); }
 

@@ -30,9 +30,7 @@ namespace edit_detail {
 
 inline uint32_t nextCorner(uint32_t c) { return c == 2 ? 0 : c + 1; }
 inline uint32_t prevCorner(uint32_t c) { return c == 0 ? 2 : c - 1; }
-inline uint64_t edgeKey(uint32_t a, uint32_t b) {
-  return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
-}
+inline uint64_t edgeKey(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
 inline Status refused(const std::string& why) { return Status::error(Code::EditRefused, why); }
 inline Status badArgument(const std::string& why) { return Status::error(Code::InvalidArgument, why); }
 // What out-of-memory says could not be allocated (detail::oom).
@@ -93,8 +91,8 @@ struct EditableMesh::Impl {
   Status stitch(const uint32_t* keep, const uint32_t* gone, uint32_t n, const uint32_t* edges, const uint32_t* vertices,
                 uint32_t nSplits, bool allowNonManifold = false);
   Status splitVertex(uint32_t v, uint32_t* firstNew = nullptr, uint32_t* newCount = nullptr);
-  Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components,
-                      const void* values, const AttributeRules& rules = {}, const double* defaultValue = nullptr);
+  Status addAttribute(const std::string& name, Element element, ValueType type, uint32_t components, const void* values,
+                      const AttributeRules& rules = {}, const double* defaultValue = nullptr);
   const AttributeView* attribute(const std::string& name) const;
   bool removeAttribute(const std::string& name);
   std::vector<std::string> attributeNames() const;
@@ -128,7 +126,7 @@ struct EditableMesh::Impl {
   // File-level data carried to toMesh().
   Format format_ = Format::Unknown;
   ColorConvention colorConvention_ = ColorConvention::None;
-  std::vector<Solid> solids_;       // names; firstTriangle of the original ranges
+  std::vector<Solid> solids_;  // names; firstTriangle of the original ranges
   std::vector<Status> warnings_;
   // Attributes.
   struct Attribute {
@@ -182,9 +180,9 @@ struct EditableMesh::Impl {
   // bytes). Kept in a small list; an edit makes a handful.
   struct Pending {
     size_t attr;
-    uint32_t id;       // vertex or triangle id; for edges kInvalid
-    uint32_t u, v;     // the edge (for Element::Edge)
-    size_t offset;     // into bytes
+    uint32_t id;    // vertex or triangle id; for edges kInvalid
+    uint32_t u, v;  // the edge (for Element::Edge)
+    size_t offset;  // into bytes
   };
   struct PendingWrites {
     std::vector<Pending> list;
@@ -201,12 +199,12 @@ struct EditableMesh::Impl {
         return false;
       }
       if (!evalRule(a, merge, x, y, t, bytes.data() + off)) {
-        refusal = detail::format("attribute \"%s\" refuses to %s the values", a.name.c_str(), merge ? "merge" : "split");
+        refusal =
+            detail::format("attribute \"%s\" refuses to %s the values", a.name.c_str(), merge ? "merge" : "split");
         return false;
       }
-      STLTOPO_TRY {
-        list.push_back(Pending{ai, id, u, v, off});
-      } STLTOPO_CATCH {
+      STLTOPO_TRY { list.push_back(Pending{ai, id, u, v, off}); }
+      STLTOPO_CATCH {
         oom = true;
         return false;
       }
@@ -227,7 +225,10 @@ struct EditableMesh::Impl {
   }
   static void unlink(M& m, uint32_t q) {
     uint32_t v = m.triangles_[q], n = m.cornerNext_[q], p = m.cornerPrev_[q];
-    if (p != kInvalid) m.cornerNext_[p] = n; else m.vertexCorner_[v] = n;
+    if (p != kInvalid)
+      m.cornerNext_[p] = n;
+    else
+      m.vertexCorner_[v] = n;
     if (n != kInvalid) m.cornerPrev_[n] = p;
     m.cornerNext_[q] = m.cornerPrev_[q] = kInvalid;
     --m.vertexCornerCount_[v];

@@ -46,10 +46,10 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
   };
   if (!positions_.resize(size_t(nv) * 3) || !triangles_.resize(size_t(nt) * 3) || !vertexDead_.assign(nv, 0) ||
       !degenerate_.resize(nt) || !cornerNext_.resize(size_t(nt) * 3) || !cornerPrev_.resize(size_t(nt) * 3) ||
-      !vertexCorner_.assign(nv, kInvalid) || !vertexCornerCount_.assign(nv, 0) || !sideHalfedge_.assign(size_t(nt) * 3, kInvalid) ||
-      !next_.resize(nh) || !prev_.resize(nh) || !vert_.resize(nh) || !face_.resize(nh) || !pairKind_.resize(nh / 2) ||
-      !triangleHalfedge_.resize(nt) || !vertexHalfedge_.resize(nv) || !vertexNonManifold_.resize(nv) ||
-      !stamp_.assign(nv, 0) || !triStamp_.assign(nt, 0))
+      !vertexCorner_.assign(nv, kInvalid) || !vertexCornerCount_.assign(nv, 0) ||
+      !sideHalfedge_.assign(size_t(nt) * 3, kInvalid) || !next_.resize(nh) || !prev_.resize(nh) || !vert_.resize(nh) ||
+      !face_.resize(nh) || !pairKind_.resize(nh / 2) || !triangleHalfedge_.resize(nt) || !vertexHalfedge_.resize(nv) ||
+      !vertexNonManifold_.resize(nv) || !stamp_.assign(nv, 0) || !triStamp_.assign(nt, 0))
     return fail();
   if (nv > 0) std::memcpy(positions_.data(), mesh.positions.data(), size_t(nv) * 3 * sizeof(float));
   for (size_t i = 0; i < size_t(nt) * 3; ++i) triangles_[i] = topo.vertexWeld[mesh.triangles[i]];
@@ -98,9 +98,8 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
   STLTOPO_TRY {
     solids_ = mesh.solids;
     warnings_ = mesh.warnings;
-  } STLTOPO_CATCH {
-    return fail();
   }
+  STLTOPO_CATCH { return fail(); }
   // The file's per-triangle data as triangle attributes.
   Status s = addAttribute(kAttrWord, Element::Triangle, ValueType::U16, 1,
                           mesh.attributes.size() == nt ? mesh.attributes.data() : nullptr);
@@ -208,8 +207,11 @@ Status EditableMesh::Impl::addTriangle(uint32_t a, uint32_t b, uint32_t c, uint3
         ++m;
         if (triangles_[s] == p) ++same;
       });
-      if (m >= 2) return refused(detail::format("edge %u-%u has %u sides already: a third would make it non-manifold", p, q, m));
-      if (same > 0) return refused(detail::format("edge %u-%u has a side running the same way (%u -> %u): it would become inconsistent", p, q, p, q));
+      if (m >= 2)
+        return refused(detail::format("edge %u-%u has %u sides already: a third would make it non-manifold", p, q, m));
+      if (same > 0)
+        return refused(detail::format(
+            "edge %u-%u has a side running the same way (%u -> %u): it would become inconsistent", p, q, p, q));
     }
   }
   Impl::clearChange(*this);
@@ -230,8 +232,12 @@ Status EditableMesh::Impl::addTriangle(uint32_t a, uint32_t b, uint32_t c, uint3
 Status EditableMesh::Impl::flipEdge(uint32_t e) {
   Status s = Impl::checkHalfedge(*this, e);
   if (!s.ok()) return s;
-  if (pairKind_[e >> 1] != uint8_t(EdgeKind::Interior) || Impl::boundaryFace(face_[e]) || Impl::boundaryFace(face_[e ^ 1u]))
-    return refused(detail::format("half-edge %u is not on an interior manifold edge (a boundary, inconsistent or non-manifold edge cannot be flipped)", e));
+  if (pairKind_[e >> 1] != uint8_t(EdgeKind::Interior) || Impl::boundaryFace(face_[e]) ||
+      Impl::boundaryFace(face_[e ^ 1u]))
+    return refused(
+        detail::format("half-edge %u is not on an interior manifold edge (a boundary, inconsistent or non-manifold "
+                       "edge cannot be flipped)",
+                       e));
   const uint32_t t1 = face_[e], t2 = face_[e ^ 1u];
   uint32_t s1 = kInvalid, s2 = kInvalid;
   for (uint32_t k = 0; k < 3; ++k) {
@@ -241,8 +247,7 @@ Status EditableMesh::Impl::flipEdge(uint32_t e) {
   const uint32_t a = triangles_[s1], b = Impl::sideDst(*this, s1);
   const uint32_t c = Impl::thirdCorner(*this, s1), d = Impl::thirdCorner(*this, s2);
   if (c == d) return refused(detail::format("the two triangles of half-edge %u share all three vertices", e));
-  if (Impl::edgeExists(*this, c, d))
-    return refused(detail::format("the flipped edge %u-%u exists already", c, d));
+  if (Impl::edgeExists(*this, c, d)) return refused(detail::format("the flipped edge %u-%u exists already", c, d));
   Impl::PendingWrites pw;
   for (size_t ai = 0; ai < attributes_.size(); ++ai) {
     const Attribute& at = attributes_[ai];
@@ -251,7 +256,8 @@ Status EditableMesh::Impl::flipEdge(uint32_t e) {
       const uint8_t* y = Impl::valueOf(*this, ai, t2);
       if (!pw.add(*this, ai, true, x, y, 0.5, t1) || !pw.add(*this, ai, true, y, x, 0.5, t2)) return pw.status();
     } else if (at.view.element == Element::Edge) {
-      if (!pw.add(*this, ai, false, Impl::valueOf(*this, ai, e >> 1), Impl::valueOf(*this, ai, e >> 1), 0.5, kInvalid, c, d))
+      if (!pw.add(*this, ai, false, Impl::valueOf(*this, ai, e >> 1), Impl::valueOf(*this, ai, e >> 1), 0.5, kInvalid,
+                  c, d))
         return pw.status();
     }
   }
@@ -271,7 +277,8 @@ Status EditableMesh::Impl::flipEdge(uint32_t e) {
 Status EditableMesh::Impl::splitEdge(uint32_t e, double t, uint32_t* newVertex) {
   Status s = Impl::checkHalfedge(*this, e);
   if (!s.ok()) return s;
-  if (!(t > 0 && t < 1)) return badArgument(detail::format("the split parameter must be strictly between 0 and 1, not %g", t));
+  if (!(t > 0 && t < 1))
+    return badArgument(detail::format("the split parameter must be strictly between 0 and 1, not %g", t));
   const uint32_t a = vert_[e], b = vert_[e ^ 1u];
   // The sides on the edge, in side order.
   Impl::clearChange(*this);
@@ -294,7 +301,8 @@ Status EditableMesh::Impl::splitEdge(uint32_t e, double t, uint32_t* newVertex) 
       uint32_t added = nTriangles();
       for (uint32_t x : sides) {
         const uint8_t* y = Impl::valueOf(*this, ai, x / 3);
-        if (!pw.add(*this, ai, false, y, y, t, x / 3) || !pw.add(*this, ai, false, y, y, t, added++)) return pw.status();
+        if (!pw.add(*this, ai, false, y, y, t, x / 3) || !pw.add(*this, ai, false, y, y, t, added++))
+          return pw.status();
       }
     }
   }
@@ -354,10 +362,16 @@ Status EditableMesh::Impl::collapseEdge(uint32_t e, double t, uint32_t* remainin
     for (uint32_t k = 0; k < 3; ++k)
       if (sideHalfedge_[3 * t2 + k] == (e ^ 1u)) d = Impl::thirdCorner(*this, 3 * t2 + k);
   }
-  if (interior && c == d) return refused(detail::format("the two triangles of half-edge %u share all three vertices", e));
-  auto onBoundary = [&](uint32_t v) { return vertexHalfedge_[v] != kInvalid && Impl::boundaryFace(face_[vertexHalfedge_[v]]); };
+  if (interior && c == d)
+    return refused(detail::format("the two triangles of half-edge %u share all three vertices", e));
+  auto onBoundary = [&](uint32_t v) {
+    return vertexHalfedge_[v] != kInvalid && Impl::boundaryFace(face_[vertexHalfedge_[v]]);
+  };
   if (interior && onBoundary(a) && onBoundary(b))
-    return refused(detail::format("vertices %u and %u are both on the boundary but the edge between them is not: the collapse would pinch the surface", a, b));
+    return refused(
+        detail::format("vertices %u and %u are both on the boundary but the edge between them is not: the collapse "
+                       "would pinch the surface",
+                       a, b));
   // Link condition: the common neighbours of a and b are the opposite vertices c and d.
   Impl::newEpoch(*this);
   Impl::forEachCorner(*this, a, [&](uint32_t q) {
@@ -375,7 +389,8 @@ Status EditableMesh::Impl::collapseEdge(uint32_t e, double t, uint32_t* remainin
     }
   });
   if (common != kInvalid)
-    return refused(detail::format("link condition: vertices %u and %u share the neighbour %u besides the edge's triangles", a, b, common));
+    return refused(detail::format(
+        "link condition: vertices %u and %u share the neighbour %u besides the edge's triangles", a, b, common));
   auto hasTriangle = [&](uint32_t x, uint32_t y, uint32_t z) {
     bool found = false;
     Impl::forEachCorner(*this, x, [&](uint32_t q) {
@@ -388,7 +403,9 @@ Status EditableMesh::Impl::collapseEdge(uint32_t e, double t, uint32_t* remainin
     return found;
   };
   if (interior && hasTriangle(a, c, d) && hasTriangle(b, c, d))
-    return refused(detail::format("link condition: triangles %u-%u-%u and %u-%u-%u both exist (the collapse would close a tetrahedron)", a, c, d, b, c, d));
+    return refused(detail::format(
+        "link condition: triangles %u-%u-%u and %u-%u-%u both exist (the collapse would close a tetrahedron)", a, c, d,
+        b, c, d));
   // The boundary seen as a vertex at infinity: for a boundary edge, a triangle whose other
   // two edges are boundary edges too would vanish with the edge.
   if (!interior) {
@@ -419,7 +436,9 @@ Status EditableMesh::Impl::collapseEdge(uint32_t e, double t, uint32_t* remainin
       triangleNormal(Q[0], Q[1], Q[2], n1);
       if (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2] < 0) folded = tr;
     });
-  if (folded != kInvalid) return refused(detail::format("triangle %u would fold over (its normal would turn by more than 90 degrees)", folded));
+  if (folded != kInvalid)
+    return refused(
+        detail::format("triangle %u would fold over (its normal would turn by more than 90 degrees)", folded));
   // Attributes: the two vertices merge; on each side the edges to c (d) merge.
   Impl::PendingWrites pw;
   auto pairOf = [&](uint32_t x, uint32_t y) {
@@ -517,7 +536,8 @@ Status EditableMesh::Impl::reverseShell(uint32_t t) {
   for (uint32_t tr : chRewritten_) {
     const uint32_t* C = triangles_.data() + 3 * size_t(tr);
     uint32_t c0 = C[0], c1 = C[1], c2 = C[2];
-    ok = ok && chRewrittenCorners_.push_back(c0) && chRewrittenCorners_.push_back(c2) && chRewrittenCorners_.push_back(c1);
+    ok = ok && chRewrittenCorners_.push_back(c0) && chRewrittenCorners_.push_back(c2) &&
+         chRewrittenCorners_.push_back(c1);
   }
   Array<uint32_t> done;  // apply() clears the change
   ok = ok && done.resize(chRewritten_.size());
@@ -547,7 +567,8 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
   uint32_t x = e;
   do {
     if (pairKind_[x >> 1] != uint8_t(EdgeKind::Boundary))
-      return refused(detail::format("the loop of half-edge %u is a seam (it has a cut side): filling it would make non-manifold edges", e));
+      return refused(detail::format(
+          "the loop of half-edge %u is a seam (it has a cut side): filling it would make non-manifold edges", e));
     if (!loop.push_back(vert_[x])) return detail::oom(kEditArrays);
     x = next_[x];
   } while (x != e);
@@ -582,7 +603,9 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
   for (size_t p = 0; p + 1 < polyOffsets.size(); ++p) {
     const uint32_t* P = polys.data() + polyOffsets[p];
     const uint32_t n = polyOffsets[p + 1] - polyOffsets[p];
-    if (n < 3) return refused(detail::format("the loop of half-edge %u has a part of %u edges, which no triangle can fill", e, n));
+    if (n < 3)
+      return refused(
+          detail::format("the loop of half-edge %u has a part of %u edges, which no triangle can fill", e, n));
     auto isDiagonalFree = [&](uint32_t u, uint32_t v) { return !Impl::edgeExists(*this, u, v); };
     bool ear = method == FillMethod::Ear && n > 3;
     double basis[2][3] = {{0, 0, 0}, {0, 0, 0}};
@@ -604,7 +627,7 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
         for (double& c : nrm) c /= len;
         int axis = std::fabs(nrm[0]) <= std::fabs(nrm[1]) && std::fabs(nrm[0]) <= std::fabs(nrm[2]) ? 0
                    : std::fabs(nrm[1]) <= std::fabs(nrm[2])                                         ? 1
-                                                                                                     : 2;
+                                                                                                    : 2;
         double ax[3] = {0, 0, 0};
         ax[axis] = 1;
         double* u = basis[0];
@@ -621,7 +644,8 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
     }
     if (!ear) {
       for (uint32_t i = 1; i + 1 < n; ++i) {
-        if (!tris.push_back(P[0]) || !tris.push_back(P[i]) || !tris.push_back(P[i + 1])) return detail::oom(kEditArrays);
+        if (!tris.push_back(P[0]) || !tris.push_back(P[i]) || !tris.push_back(P[i + 1]))
+          return detail::oom(kEditArrays);
         if (i + 1 < n - 1 && !diagonals.push_back(edgeKey(P[0], P[i + 1]))) return detail::oom(kEditArrays);
       }
       continue;
@@ -638,7 +662,8 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
       ring[i] = i;
     }
     auto cross = [&](uint32_t i, uint32_t j, uint32_t k) {
-      return (xy[2 * j] - xy[2 * i]) * (xy[2 * k + 1] - xy[2 * i + 1]) - (xy[2 * j + 1] - xy[2 * i + 1]) * (xy[2 * k] - xy[2 * i]);
+      return (xy[2 * j] - xy[2 * i]) * (xy[2 * k + 1] - xy[2 * i + 1]) -
+             (xy[2 * j + 1] - xy[2 * i + 1]) * (xy[2 * k] - xy[2 * i]);
     };
     uint32_t m = n;
     while (m > 3) {
@@ -659,14 +684,17 @@ Status EditableMesh::Impl::fillHole(uint32_t e, FillMethod method, Array<uint32_
       }
       if (pick == kInvalid) pick = fallback;
       if (pick == kInvalid)
-        return refused(detail::format("every ear of the loop of half-edge %u would make an existing edge non-manifold", e));
+        return refused(
+            detail::format("every ear of the loop of half-edge %u would make an existing edge non-manifold", e));
       uint32_t i = ring[(pick + m - 1) % m], j = ring[pick], k = ring[(pick + 1) % m];
-      if (!tris.push_back(P[i]) || !tris.push_back(P[j]) || !tris.push_back(P[k]) || !diagonals.push_back(edgeKey(P[i], P[k])))
+      if (!tris.push_back(P[i]) || !tris.push_back(P[j]) || !tris.push_back(P[k]) ||
+          !diagonals.push_back(edgeKey(P[i], P[k])))
         return detail::oom(kEditArrays);
       for (uint32_t r = pick; r + 1 < m; ++r) ring[r] = ring[r + 1];
       --m;
     }
-    if (!tris.push_back(P[ring[0]]) || !tris.push_back(P[ring[1]]) || !tris.push_back(P[ring[2]])) return detail::oom(kEditArrays);
+    if (!tris.push_back(P[ring[0]]) || !tris.push_back(P[ring[1]]) || !tris.push_back(P[ring[2]]))
+      return detail::oom(kEditArrays);
   }
   // No inner edge may land on an existing edge, nor on another inner edge.
   std::sort(diagonals.begin(), diagonals.end());

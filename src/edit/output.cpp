@@ -116,9 +116,8 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
     }
     if (out.solids.empty() && nt > 0) out.solids.push_back(Solid{});
     out.warnings = warnings_;
-  } STLTOPO_CATCH {
-    return detail::oom(kEditArrays);
   }
+  STLTOPO_CATCH { return detail::oom(kEditArrays); }
   size_t solid = 0;
   for (uint32_t t = 0; t < ntSlots; ++t) {
     uint32_t w = mp.triangles[t];
@@ -194,9 +193,9 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
   if (!loopOf.assign(nhSlots, kInvalid)) return detail::oom(kEditArrays);
   for (uint32_t h = 0; h < L.nLoops(); ++h)
     for (uint32_t i = L.loopOffsets[h]; i < L.loopOffsets[h + 1]; ++i) loopOf[L.loopHalfedges[i]] = h;
-  if (!T.next.resize(nh) || !T.prev.resize(nh) || !T.vert.resize(nh) || !T.face.resize(nh) || !T.pairKind.resize(nPairs) ||
-      !T.triangleHalfedge.resize(nt) || !T.vertexHalfedge.assign(nv, kInvalid) || !T.vertexWeld.resize(nv) ||
-      !T.triangleDegenerate.resize(nt) || !T.vertexNonManifold.resize(nv))
+  if (!T.next.resize(nh) || !T.prev.resize(nh) || !T.vert.resize(nh) || !T.face.resize(nh) ||
+      !T.pairKind.resize(nPairs) || !T.triangleHalfedge.resize(nt) || !T.vertexHalfedge.assign(nv, kInvalid) ||
+      !T.vertexWeld.resize(nv) || !T.triangleDegenerate.resize(nt) || !T.vertexNonManifold.resize(nv))
     return detail::oom(kEditArrays);
   for (uint32_t e = 0; e < nhSlots; ++e) {
     uint32_t y = mp.halfedges[e];
@@ -265,11 +264,8 @@ Status EditableMesh::Impl::compact(CompactMaps* maps) {
   if (!s.ok()) return s;
   // Every attribute, renumbered (init made the file's ones again; these replace them).
   std::vector<Attribute> renumbered;
-  STLTOPO_TRY {
-    renumbered.resize(attributes_.size());
-  } STLTOPO_CATCH {
-    return detail::oom(kEditArrays);
-  }
+  STLTOPO_TRY { renumbered.resize(attributes_.size()); }
+  STLTOPO_CATCH { return detail::oom(kEditArrays); }
   for (size_t i = 0; i < attributes_.size(); ++i) {
     Attribute& a = attributes_[i];
     Attribute& x = renumbered[i];
@@ -277,9 +273,19 @@ Status EditableMesh::Impl::compact(CompactMaps* maps) {
     const Array<uint32_t>* map = nullptr;
     size_t n = 0, step = 1;
     switch (a.view.element) {
-      case Element::Vertex: map = &mp.vertices; n = t.nVertices; break;
-      case Element::Triangle: map = &mp.triangles; n = t.nTriangles; break;
-      case Element::Edge: map = &mp.halfedges; n = t.nHalfedges() / 2; step = 2; break;
+      case Element::Vertex:
+        map = &mp.vertices;
+        n = t.nVertices;
+        break;
+      case Element::Triangle:
+        map = &mp.triangles;
+        n = t.nTriangles;
+        break;
+      case Element::Edge:
+        map = &mp.halfedges;
+        n = t.nHalfedges() / 2;
+        step = 2;
+        break;
     }
     if (!x.bytes.resize(n * st)) return detail::oom(kEditArrays);
     for (size_t i0 = 0; i0 < map->size(); i0 += step) {
@@ -290,9 +296,8 @@ Status EditableMesh::Impl::compact(CompactMaps* maps) {
       x.name = a.name;
       x.rules = a.rules;
       x.defaultValue = a.defaultValue;
-    } STLTOPO_CATCH {
-      return detail::oom(kEditArrays);
     }
+    STLTOPO_CATCH { return detail::oom(kEditArrays); }
     x.view = a.view;
     x.view.data = x.bytes.data();
     x.view.count = n;
@@ -326,8 +331,10 @@ Status EditableMesh::Impl::validate() const {
     }
     for (uint32_t c = 0; c < 3; ++c) {
       uint32_t h = sideHalfedge_[3 * size_t(t) + c];
-      if (h >= nh || vert_[h] != triangles_[3 * size_t(t) + c] || face_[h] != t) return bad("side half-edge differs from its side", t);
-      if (next_[h] != sideHalfedge_[3 * size_t(t) + nextCorner(c)]) return bad("triangle next differs from its sides", t);
+      if (h >= nh || vert_[h] != triangles_[3 * size_t(t) + c] || face_[h] != t)
+        return bad("side half-edge differs from its side", t);
+      if (next_[h] != sideHalfedge_[3 * size_t(t) + nextCorner(c)])
+        return bad("triangle next differs from its sides", t);
     }
     if (triangleHalfedge_[t] != sideHalfedge_[3 * size_t(t)]) return bad("triangleHalfedge is not side 0", t);
   }
@@ -356,7 +363,8 @@ Status EditableMesh::Impl::validate() const {
       continue;
     }
     ++livePairs;
-    if (Impl::boundaryFace(face_[e]) && Impl::boundaryFace(face_[e + 1])) return bad("pair of two boundary half-edges", e);
+    if (Impl::boundaryFace(face_[e]) && Impl::boundaryFace(face_[e + 1]))
+      return bad("pair of two boundary half-edges", e);
     for (uint32_t x = e; x < e + 2; ++x) {
       if (next_[x] >= nh || prev_[next_[x]] != x) return bad("next/prev differ", x);
       if (vert_[next_[x]] != vert_[x ^ 1u]) return bad("vert[next[e]] != vert[twin(e)]", x);

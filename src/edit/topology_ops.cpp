@@ -13,8 +13,8 @@ bool EditableMesh::Impl::reserveChange(M& m, uint32_t newVertices) {
       !growTo(m.stamp_, nv) || !reserveAttributes(m, Element::Vertex, nv))
     return false;
   if (!growTo(m.triangles_, 3 * nt) || !growTo(m.degenerate_, nt) || !growTo(m.cornerNext_, 3 * nt) ||
-      !growTo(m.cornerPrev_, 3 * nt) || !growTo(m.sideHalfedge_, 3 * nt) || !growTo(m.triangleHalfedge_, nt) || !growTo(m.triStamp_, nt) ||
-      !reserveAttributes(m, Element::Triangle, nt))
+      !growTo(m.cornerPrev_, 3 * nt) || !growTo(m.sideHalfedge_, 3 * nt) || !growTo(m.triangleHalfedge_, nt) ||
+      !growTo(m.triStamp_, nt) || !reserveAttributes(m, Element::Triangle, nt))
     return false;
   const size_t np = m.pairKind_.size() + 3 * (A + W);
   if (!growTo(m.next_, 2 * np) || !growTo(m.prev_, 2 * np) || !growTo(m.vert_, 2 * np) || !growTo(m.face_, 2 * np) ||
@@ -286,8 +286,10 @@ void EditableMesh::Impl::repair(M& m, uint32_t lo, uint32_t hi, size_t d0, size_
       if (ea == kInvalid) {
         uint32_t k = newPairSlot(m);
         ea = 2 * k;
-        if (!m.oldSlots_.empty()) copySlot(m, Element::Edge, m.oldSlots_[0], k);
-        else resetDefault(m, Element::Edge, k);
+        if (!m.oldSlots_.empty())
+          copySlot(m, Element::Edge, m.oldSlots_[0], k);
+        else
+          resetDefault(m, Element::Edge, k);
       }
     }
     setSide(a, ea);

@@ -52,7 +52,8 @@ Status shellsNow(const EditableMesh& em, Mesh& mesh, Topology& topo, Array<Shell
 
 std::string idText(const std::vector<uint32_t>& ids, size_t from, size_t maxShown = 8) {
   std::string s;
-  for (size_t i = from; i < ids.size() && i < from + maxShown; ++i) detail::appendf(s, "%s%u", i > from ? ", " : "", ids[i]);
+  for (size_t i = from; i < ids.size() && i < from + maxShown; ++i)
+    detail::appendf(s, "%s%u", i > from ? ", " : "", ids[i]);
   if (ids.size() > from + maxShown) detail::appendf(s, " and %zu more", ids.size() - from - maxShown);
   return s;
 }
@@ -174,7 +175,8 @@ Status runZeroArea(StepContext& ctx) {
       } else {
         why = "the longest edge is on a boundary";
       }
-      ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z}, {m, p, q});
+      ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z},
+                {m, p, q});
       if (ctx.excluded()) continue;
       if (flippable) {
         s = em.flipEdge(e);
@@ -195,9 +197,10 @@ Status runZeroArea(StepContext& ctx) {
       for (uint32_t end : ends) {
         double moved = dist(pos(em, m), pos(em, end));
         if (moved > 0.1 * length) {
-          why += detail::format("; not a needle: collapsing %u onto %u would move it by %g, more than a tenth of the "
-                                "triangle's length %g",
-                                m, end, moved, length);
+          why += detail::format(
+              "; not a needle: collapsing %u onto %u would move it by %g, more than a tenth of the "
+              "triangle's length %g",
+              m, end, moved, length);
           break;
         }
         uint32_t h = sideOf(em, z, end, m);
@@ -262,7 +265,8 @@ Status runOrient(StepContext& ctx) {
     }
   }
   STLTOPO_CATCH { return detail::oom(kStepArrays); }
-  std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
+  std::sort(cuts.begin(), cuts.end(),
+            [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
   auto eachLink = [&](auto&& f) {
     for (uint32_t k = 0; k < nPairs; ++k) {
       uint32_t a = T.face[2 * k], b = T.face[2 * k + 1];
@@ -330,8 +334,8 @@ Status runOrient(StepContext& ctx) {
     }
     const uint32_t kept = n - uint32_t(flip.size());
     ctx.begin(conflict ? detail::format("orient the shell of triangle %u consistently", seed)
-                       : detail::format("flip %zu triangle%s of the shell of triangle %u to match the other %u", flip.size(),
-                                        flip.size() == 1 ? "" : "s", seed, kept),
+                       : detail::format("flip %zu triangle%s of the shell of triangle %u to match the other %u",
+                                        flip.size(), flip.size() == 1 ? "" : "s", seed, kept),
               conflict ? std::vector<uint32_t>{seed} : flip);
     if (ctx.excluded()) continue;
     if (conflict) {
@@ -366,10 +370,11 @@ Status runOrient(StepContext& ctx) {
     if (!s.ok()) return s;
     nested = true;
   }
-  ctx.plan.note = !ctx.options.intersections
-                      ? "closed shells are oriented by volume sign only (outward): the intersection pass is off"
-                      : "closed shells outward, inward at odd nesting depth (a cavity stays a cavity); shells that overlap "
-                        "others are oriented by volume sign only";
+  ctx.plan.note =
+      !ctx.options.intersections
+          ? "closed shells are oriented by volume sign only (outward): the intersection pass is off"
+          : "closed shells outward, inward at odd nesting depth (a cavity stays a cavity); shells that overlap "
+            "others are oriented by volume sign only";
   for (uint32_t k = 0; k < shells.size(); ++k) {
     const Shell& sh = shells[k];
     if (!sh.closed() || !sh.manifold()) continue;

@@ -1027,9 +1027,10 @@ Status Filler::fillItem(uint32_t h) {
     for (uint32_t p = 0; p + 1 < parts.offsets.size(); ++p) {
       const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
       if (m < 3) {
-        ctx.skip(detail::format("the loop passes vertex %u more than once, with a part of %u edges between: no "
-                                "triangle can fill it",
-                                lv[parts.pos[parts.offsets[p]]], m));
+        ctx.skip(
+            detail::format("the loop passes vertex %u more than once, with a part of %u edges between: no "
+                           "triangle can fill it",
+                           lv[parts.pos[parts.offsets[p]]], m));
         return Status{};
       }
     }

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <cstring>
 
-#include "report_json.h"
-#include "text_format.h"
 #include "repair/steps.h"
+#include "report_json.h"
 #include "stltopo/geometry.h"
 #include "stltopo/report.h"
 #include "stltopo/shells.h"
 #include "stltopo/topology.h"
+#include "text_format.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
 
@@ -60,13 +60,17 @@ double meshTriangleArea(const Mesh& m, uint32_t t) {
 }
 
 Status checkOptions(const RepairOptions& o) {
-  auto bad = [](const char* what) { return Status::error(Code::InvalidArgument, std::string("repair options: ") + what); };
+  auto bad = [](const char* what) {
+    return Status::error(Code::InvalidArgument, std::string("repair options: ") + what);
+  };
   if (o.steps >> kRepairStepCount) return bad("steps has bits of no step");
-  if (!std::isfinite(o.stitchTolerance) || o.stitchTolerance < 0) return bad("stitchTolerance must be a finite number >= 0");
+  if (!std::isfinite(o.stitchTolerance) || o.stitchTolerance < 0)
+    return bad("stitchTolerance must be a finite number >= 0");
   if (!std::isfinite(o.maxHoleArea) || o.maxHoleArea < 0) return bad("maxHoleArea must be a finite number >= 0");
   if (!std::isfinite(o.maxHolePerimeter) || o.maxHolePerimeter < 0)
     return bad("maxHolePerimeter must be a finite number >= 0");
-  if (!std::isfinite(o.minShellVolume) || o.minShellVolume < 0) return bad("minShellVolume must be a finite number >= 0");
+  if (!std::isfinite(o.minShellVolume) || o.minShellVolume < 0)
+    return bad("minShellVolume must be a finite number >= 0");
   if (o.maxPairs == 0) return bad("maxPairs must be at least 1");
   for (const RepairOptions::Exclusion& x : o.exclude)
     if (int(x.step) >= kRepairStepCount) return bad("an exclusion names no step");
@@ -77,9 +81,10 @@ Status checkOptions(const RepairOptions& o) {
 Status checkAttributes(const EditableMesh& em) {
   for (const std::string& n : em.attributeNames())
     if (!fileAttribute(n))
-      return Status::error(Code::InvalidArgument,
-                           "repair carries only the file's attributes (attribute, color, colorValid, normal); remove \"" + n +
-                               "\" first");
+      return Status::error(
+          Code::InvalidArgument,
+          "repair carries only the file's attributes (attribute, color, colorValid, normal); remove \"" + n +
+              "\" first");
   return Status{};
 }
 
@@ -135,12 +140,20 @@ struct AttrLayout {
 };
 AttrLayout layoutOf(const Mesh& m) {
   AttrLayout l;
-  if (!m.attributes.empty()) { l.names.push_back(kAttrWord); l.strides.push_back(2); }
-  if (!m.colors.empty()) {
-    l.names.push_back(kAttrColor); l.strides.push_back(3);
-    l.names.push_back(kAttrColorValid); l.strides.push_back(1);
+  if (!m.attributes.empty()) {
+    l.names.push_back(kAttrWord);
+    l.strides.push_back(2);
   }
-  if (!m.normals.empty()) { l.names.push_back(kAttrNormal); l.strides.push_back(12); }
+  if (!m.colors.empty()) {
+    l.names.push_back(kAttrColor);
+    l.strides.push_back(3);
+    l.names.push_back(kAttrColorValid);
+    l.strides.push_back(1);
+  }
+  if (!m.normals.empty()) {
+    l.names.push_back(kAttrNormal);
+    l.strides.push_back(12);
+  }
   return l;
 }
 const uint8_t* meshAttr(const Mesh& m, const std::string& n, uint32_t t) {
@@ -181,7 +194,8 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
   // Triangles: removed first, then changed, attribute bytes in the same order.
   for (uint32_t t = 0; t < nTb; ++t) {
     if (maps.triangles[t] != kInvalid) continue;
-    if (!L.removedTriangles.push_back(t) || !append(L.removedCorners, before.triangles.data() + 3 * size_t(t), 3)) return oom();
+    if (!L.removedTriangles.push_back(t) || !append(L.removedCorners, before.triangles.data() + 3 * size_t(t), 3))
+      return oom();
     for (size_t a = 0; a < lay.names.size(); ++a)
       if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
     L.areaRemoved += meshTriangleArea(before, t);
@@ -193,11 +207,12 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
     for (size_t a = 0; a < lay.names.size() && !changed; ++a) {
       const AttributeView* v = views[a];
       if (!v) continue;
-      changed = std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t) * lay.strides[a], meshAttr(before, lay.names[a], t),
-                            lay.strides[a]) != 0;
+      changed = std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t) * lay.strides[a],
+                            meshAttr(before, lay.names[a], t), lay.strides[a]) != 0;
     }
     if (!changed) continue;
-    if (!L.changedTriangles.push_back(t) || !append(L.changedCorners, before.triangles.data() + 3 * size_t(t), 3)) return oom();
+    if (!L.changedTriangles.push_back(t) || !append(L.changedCorners, before.triangles.data() + 3 * size_t(t), 3))
+      return oom();
     for (size_t a = 0; a < lay.names.size(); ++a)
       if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
     L.areaRemoved += meshTriangleArea(before, t);
@@ -224,11 +239,8 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
   }
   for (uint32_t v = nVb; v < em.nVertices(); ++v)
     if (maps.vertices[v] != kInvalid) ++L.addedVertices;
-  STLTOPO_TRY {
-    L.solidsBefore = before.solids;
-  } STLTOPO_CATCH {
-    return oom();
-  }
+  STLTOPO_TRY { L.solidsBefore = before.solids; }
+  STLTOPO_CATCH { return oom(); }
   return Status{};
 }
 
@@ -247,9 +259,8 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   STLTOPO_TRY {
     b.warnings = after.warnings;
     b.solids = L.solidsBefore;
-  } STLTOPO_CATCH {
-    return detail::oom(kRepairArrays);
   }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   Array<uint32_t> afterToBefore;
   if (!b.positions.resize(size_t(nVb) * 3) || !b.triangles.resize(size_t(nTb) * 3) ||
       !afterToBefore.assign(after.nVertices(), kInvalid))
@@ -400,10 +411,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         L.trianglesAfter = L.trianglesBefore;
         L.verticesAfter = L.verticesBefore;
         L.fingerprintAfter = fingerprintOf(cur);
-        STLTOPO_TRY {
-          log->steps.push_back(std::move(L));
-        } STLTOPO_CATCH {
-        }
+        STLTOPO_TRY { log->steps.push_back(std::move(L)); }
+        STLTOPO_CATCH {}
       }
       return r.ok() ? s : r;
     }
@@ -412,9 +421,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     STLTOPO_TRY {
       if (plan) plan->steps.push_back(std::move(sp));
       if (log) log->steps.push_back(std::move(L));
-    } STLTOPO_CATCH {
-      return detail::oom(kRepairArrays);
     }
+    STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   }
   RepairFigures after = before;
   if (plan && lastStep >= 0) {
@@ -442,23 +450,37 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
 void figuresJson(detail::Json& j, const RepairFigures& f) {
   const EditStats& s = f.stats;
   j.open('{');
-  j.key("triangles"); j.u(s.triangles);
-  j.key("vertices"); j.u(s.vertices);
-  j.key("degenerateTriangles"); j.u(s.degenerate);
-  j.key("zeroAreaTriangles"); j.u(f.zeroAreaTriangles);
-  j.key("duplicateTriangles"); j.u(f.duplicateTriangles);
+  j.key("triangles");
+  j.u(s.triangles);
+  j.key("vertices");
+  j.u(s.vertices);
+  j.key("degenerateTriangles");
+  j.u(s.degenerate);
+  j.key("zeroAreaTriangles");
+  j.u(f.zeroAreaTriangles);
+  j.key("duplicateTriangles");
+  j.u(f.duplicateTriangles);
 #define STLTOPO_COUNT_KEY(count, name, doc) \
   j.key(#name);                             \
   j.u(s.name);
   STLTOPO_COUNTS(STLTOPO_COUNT_KEY)
 #undef STLTOPO_COUNT_KEY
-  j.key("eulerCharacteristic"); j.i(s.eulerCharacteristic);
-  j.key("watertight"); j.b(s.watertight);
-  j.key("manifold"); j.b(s.manifold);
+  j.key("eulerCharacteristic");
+  j.i(s.eulerCharacteristic);
+  j.key("watertight");
+  j.b(s.watertight);
+  j.key("manifold");
+  j.b(s.manifold);
   j.key("selfIntersections");
-  if (f.selfIntersections == kInvalid) j.null(); else j.u(f.selfIntersections);
+  if (f.selfIntersections == kInvalid)
+    j.null();
+  else
+    j.u(f.selfIntersections);
   j.key("solid");
-  if (f.selfIntersections == kInvalid) j.null(); else j.b(f.solid);
+  if (f.selfIntersections == kInvalid)
+    j.null();
+  else
+    j.b(f.solid);
   j.close('}');
 }
 
@@ -475,9 +497,7 @@ void idList(detail::Json& j, const char* k, const C& ids) {
 
 }  // namespace
 
-const char* repairStepName(RepairStepKind k) {
-  return int(k) < kRepairStepCount ? kStepNames[int(k)] : "unknown";
-}
+const char* repairStepName(RepairStepKind k) { return int(k) < kRepairStepCount ? kStepNames[int(k)] : "unknown"; }
 
 bool repairStepFromName(const std::string& name, RepairStepKind& out) {
   for (int k = 0; k < kRepairStepCount; ++k)
@@ -509,11 +529,8 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   out = RepairPlan{};
   Status s = checkOptions(options);
   if (!s.ok()) return s;
-  STLTOPO_TRY {
-    out.options = options;
-  } STLTOPO_CATCH {
-    return detail::oom(kRepairArrays);
-  }
+  STLTOPO_TRY { out.options = options; }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   EditableMesh scratch;
   s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh);
   if (!s.ok()) return s;
@@ -563,7 +580,8 @@ Status undoRepairStep(EditableMesh& em, RepairLog& log) {
     log.steps.pop_back();
     return Status{};
   }
-  const uint64_t want = log.steps.size() >= 2 ? log.steps[log.steps.size() - 2].fingerprintAfter : log.fingerprintBefore;
+  const uint64_t want =
+      log.steps.size() >= 2 ? log.steps[log.steps.size() - 2].fingerprintAfter : log.fingerprintBefore;
   if (fingerprintOf(b) != want) return Status::error(Code::InvalidArgument, "the change log does not fit this mesh");
   s = em.init(b);
   if (!s.ok()) {
@@ -586,39 +604,55 @@ Status undoRepair(EditableMesh& em, RepairLog& log) {
 std::string repairPlanJson(const RepairPlan& plan) {
   detail::Json j;
   j.open('{');
-  j.key("fingerprint"); j.str(detail::format("%016llx", (unsigned long long)plan.fingerprint));
-  j.key("before"); figuresJson(j, plan.before);
+  j.key("fingerprint");
+  j.str(detail::format("%016llx", (unsigned long long)plan.fingerprint));
+  j.key("before");
+  figuresJson(j, plan.before);
   j.key("steps");
   j.open('[');
   for (const RepairStepPlan& sp : plan.steps) {
     j.sep();
     j.open('{');
-    j.key("step"); j.str(repairStepName(sp.kind));
-    j.key("note"); j.str(sp.note);
-    j.key("done"); j.u(sp.nDone());
-    j.key("skipped"); j.u(sp.nSkipped());
+    j.key("step");
+    j.str(repairStepName(sp.kind));
+    j.key("note");
+    j.str(sp.note);
+    j.key("done");
+    j.u(sp.nDone());
+    j.key("skipped");
+    j.u(sp.nSkipped());
     j.key("items");
     j.open('[');
     for (const RepairItem& it : sp.items) {
       j.sep();
       j.open('{');
-      j.key("action"); j.str(it.action);
-      j.key("skipped"); j.b(it.skipped);
-      if (it.skipped) { j.key("reason"); j.str(it.reason); }
+      j.key("action");
+      j.str(it.action);
+      j.key("skipped");
+      j.b(it.skipped);
+      if (it.skipped) {
+        j.key("reason");
+        j.str(it.reason);
+      }
       idList(j, "triangles", it.triangles);
       idList(j, "vertices", it.vertices);
       idList(j, "loops", it.loops);
-      j.key("bbox"); j.bbox(it.bbox, it.bbox + 3);
-      j.key("moved"); j.f64(it.moved);
+      j.key("bbox");
+      j.bbox(it.bbox, it.bbox + 3);
+      j.key("moved");
+      j.f64(it.moved);
       j.close('}');
     }
     j.close(']');
-    j.key("after"); figuresJson(j, sp.after);
+    j.key("after");
+    figuresJson(j, sp.after);
     j.close('}');
   }
   j.close(']');
-  j.key("after"); figuresJson(j, plan.steps.empty() ? plan.before : plan.steps.back().after);
-  j.key("remaining"); j.str(plan.remaining);
+  j.key("after");
+  figuresJson(j, plan.steps.empty() ? plan.before : plan.steps.back().after);
+  j.key("remaining");
+  j.str(plan.remaining);
   j.close('}');
   return j.s;
 }
@@ -626,32 +660,50 @@ std::string repairPlanJson(const RepairPlan& plan) {
 std::string repairLogJson(const RepairLog& log) {
   detail::Json j;
   j.open('{');
-  j.key("before"); figuresJson(j, log.before);
-  j.key("after"); figuresJson(j, log.after);
+  j.key("before");
+  figuresJson(j, log.before);
+  j.key("after");
+  figuresJson(j, log.after);
   j.key("steps");
   j.open('[');
   for (const RepairStepLog& L : log.steps) {
     j.sep();
     j.open('{');
-    j.key("step"); j.str(repairStepName(L.kind));
-    j.key("status"); j.str(L.status.ok() ? "ok" : codeName(L.status.code));
-    if (!L.status.ok()) { j.key("message"); j.str(L.status.message); }
-    j.key("done"); j.u(L.itemsDone);
-    j.key("skipped"); j.u(L.itemsSkipped);
+    j.key("step");
+    j.str(repairStepName(L.kind));
+    j.key("status");
+    j.str(L.status.ok() ? "ok" : codeName(L.status.code));
+    if (!L.status.ok()) {
+      j.key("message");
+      j.str(L.status.message);
+    }
+    j.key("done");
+    j.u(L.itemsDone);
+    j.key("skipped");
+    j.u(L.itemsSkipped);
     idList(j, "removedTriangles", L.removedTriangles);
     idList(j, "changedTriangles", L.changedTriangles);
-    j.key("addedTriangles"); j.u(L.addedTriangles);
+    j.key("addedTriangles");
+    j.u(L.addedTriangles);
     idList(j, "removedVertices", L.removedVertices);
     idList(j, "changedVertices", L.changedVertices);
-    j.key("addedVertices"); j.u(L.addedVertices);
-    j.key("maxMoved"); j.f64(L.maxMoved);
-    j.key("areaRemoved"); j.f64(L.areaRemoved);
-    j.key("areaAdded"); j.f64(L.areaAdded);
+    j.key("addedVertices");
+    j.u(L.addedVertices);
+    j.key("maxMoved");
+    j.f64(L.maxMoved);
+    j.key("areaRemoved");
+    j.f64(L.areaRemoved);
+    j.key("areaAdded");
+    j.f64(L.areaAdded);
     j.close('}');
   }
   j.close(']');
-  j.key("beforeReport"); j.s += log.beforeReport.empty() ? "null" : log.beforeReport; j.first = false;
-  j.key("afterReport"); j.s += log.afterReport.empty() ? "null" : log.afterReport; j.first = false;
+  j.key("beforeReport");
+  j.s += log.beforeReport.empty() ? "null" : log.beforeReport;
+  j.first = false;
+  j.key("afterReport");
+  j.s += log.afterReport.empty() ? "null" : log.afterReport;
+  j.first = false;
   j.close('}');
   return j.s;
 }

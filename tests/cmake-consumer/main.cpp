@@ -12,10 +12,16 @@ int main(int argc, char** argv) {
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   stltopo::Mesh mesh;
   stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
-  if (!s.ok()) { std::cerr << s.message << "\n"; return 1; }
+  if (!s.ok()) {
+    std::cerr << s.message << "\n";
+    return 1;
+  }
   stltopo::Topology topo;
   s = stltopo::buildTopology(mesh, topo);
-  if (!s.ok()) { std::cerr << s.message << "\n"; return 1; }
+  if (!s.ok()) {
+    std::cerr << s.message << "\n";
+    return 1;
+  }
   std::cout << "holes " << topo.nHoles << "\n";
   return 0;
 }

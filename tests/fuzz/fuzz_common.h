@@ -19,8 +19,8 @@ using namespace stltopo;
   std::fprintf(stderr, "fuzz check failed (line %d): %s\n", line, what);
   __builtin_trap();
 }
-#define FUZZ_CHECK(cond) \
-  do {                   \
+#define FUZZ_CHECK(cond)                        \
+  do {                                          \
     if (!(cond)) ::fuzz::fail(#cond, __LINE__); \
   } while (0)
 
@@ -172,7 +172,8 @@ inline std::string checkGeometry(const Mesh& m, const Topology& t, const Array<S
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
   FUZZ_CHECK(!infoText("f", m, &t, e).empty());
   // The checks the plain report makes itself are the same.
-  FUZZ_CHECK(infoJson("f", m, &t).find("\"zeroAreaTriangles\":" + std::to_string(c.zeroArea.size()) + ",") != std::string::npos);
+  FUZZ_CHECK(infoJson("f", m, &t).find("\"zeroAreaTriangles\":" + std::to_string(c.zeroArea.size()) + ",") !=
+             std::string::npos);
   return j;
 }
 
@@ -194,14 +195,21 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
   FUZZ_CHECK(shells.size() == full.nShells);
   uint64_t tris = 0, edges = 0, bnd = 0, nme = 0, inc = 0, holes = 0, seams = 0;
   for (const Shell& sh : shells) {
-    tris += sh.triangles; edges += sh.edges; bnd += sh.boundaryEdges; nme += sh.nonManifoldEdges;
-    inc += sh.inconsistentEdges; holes += sh.holes; seams += sh.seams;
+    tris += sh.triangles;
+    edges += sh.edges;
+    bnd += sh.boundaryEdges;
+    nme += sh.nonManifoldEdges;
+    inc += sh.inconsistentEdges;
+    holes += sh.holes;
+    seams += sh.seams;
   }
   FUZZ_CHECK(tris == full.nTriangles - full.nDegenerate && edges == full.nEdges && bnd == full.nBoundaryEdges);
-  FUZZ_CHECK(nme == full.nNonManifoldEdges && inc == full.nInconsistentEdges && holes == full.nHoles && seams == full.nSeams);
+  FUZZ_CHECK(nme == full.nNonManifoldEdges && inc == full.nInconsistentEdges && holes == full.nHoles &&
+             seams == full.nSeams);
   FUZZ_CHECK(d.nonManifoldEdgeVertices.size() == 2 * size_t(full.nNonManifoldEdges));
   FUZZ_CHECK(d.inconsistentEdgeVertices.size() == 2 * size_t(full.nInconsistentEdges));
-  FUZZ_CHECK(d.nonManifoldVertices.size() == full.nNonManifoldVertices && d.degenerateTriangles.size() == full.nDegenerate);
+  FUZZ_CHECK(d.nonManifoldVertices.size() == full.nNonManifoldVertices &&
+             d.degenerateTriangles.size() == full.nDegenerate);
   std::string j = infoJson("f", m, &t, ReportExtras{&shells, &d, 3});
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
   checkGeometry(m, t, shells, d);
@@ -215,7 +223,6 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
     FUZZ_CHECK(pt.nShells == 1 && pt.nEdges == shells[i].edges && pt.nUsedVertices == shells[i].vertices);
   }
 }
-
 
 inline bool sameStatus(const Status& a, const Status& b) {
   return a.code == b.code && a.message == b.message && a.offset == b.offset && a.line == b.line &&

@@ -1,18 +1,18 @@
 // Fuzz target 4: ASCII numbers, differential against the C library. The input is split
 // into up to 9 number tokens (runs of digits, letters and . + -, so hex floats, inf and nan
-// too; every other byte separates them; missing tokens are "0"). They become the vertex coordinates of the first facet of
-// an ASCII STL that has a second facet after it, so the first facet takes the reader's
-// whole-facet fast path when read whole and the token state machine when fed 1 byte at a
-// time. Both reads must agree with strtof_l in the "C" locale, bit for bit:
+// too; every other byte separates them; missing tokens are "0"). They become the vertex coordinates of the first facet
+// of an ASCII STL that has a second facet after it, so the first facet takes the reader's whole-facet fast path when
+// read whole and the token state machine when fed 1 byte at a time. Both reads must agree with strtof_l in the "C"
+// locale, bit for bit:
 //   - every token that strtof reads entirely, to a finite float: the file reads, and
 //     each corner's position is that float (the weld merges -0 and +0, so a corner that
 //     reuses an earlier vertex compares equal as a float; a new vertex keeps the bits);
 //   - a token strtof does not read entirely, or one longer than kMaxNumberChars:
 //     ascii-syntax at line 3 (the first malformed token's vertex line);
 //   - otherwise, when a token reads as NaN or +-Inf (1e999 too): non-finite for triangle 0.
+#include <locale.h>
 #include <clocale>
 #include <cmath>
-#include <locale.h>
 #include <string>
 #include <vector>
 
@@ -38,7 +38,10 @@ enum class Expect { Ok, Syntax, NonFinite };
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<std::string> tok;
   for (size_t i = 0; i < size && tok.size() < 9;) {
-    if (!numberByte(data[i])) { ++i; continue; }
+    if (!numberByte(data[i])) {
+      ++i;
+      continue;
+    }
     size_t j = i;
     while (j < size && numberByte(data[j])) ++j;
     tok.emplace_back(reinterpret_cast<const char*>(data + i), j - i);
@@ -84,8 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       FUZZ_CHECK(sw.code == Code::NonFinite);
       FUZZ_CHECK(sw.triangle == 0);
       return 0;
-    case Expect::Ok:
-      break;
+    case Expect::Ok: break;
   }
   if (!sw.ok()) std::fprintf(stderr, "%s\n", sw.message.c_str());
   FUZZ_CHECK(sw.ok());

@@ -57,8 +57,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       FUZZ_CHECK(r == v);
       continue;
     }
-    FUZZ_CHECK(r <= v);                    // the lowest-id representative
-    FUZZ_CHECK(t.vertexWeld[r] == r);      // representatives represent themselves
+    FUZZ_CHECK(r <= v);                // the lowest-id representative
+    FUZZ_CHECK(t.vertexWeld[r] == r);  // representatives represent themselves
     double dx = double(m.positions[3 * r]) - m.positions[3 * v];
     double dy = double(m.positions[3 * r + 1]) - m.positions[3 * v + 1];
     double dz = double(m.positions[3 * r + 2]) - m.positions[3 * v + 2];

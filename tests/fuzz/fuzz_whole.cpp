@@ -33,8 +33,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     ol.maxTriangles = m.nTriangles() - 1;
     Mesh ms;
     Status ss = readStl(data, size, ms, ol);
-    if (ss.ok()) fuzz::checkMesh(ms, ol);
-    else fuzz::checkError(ss);
+    if (ss.ok())
+      fuzz::checkMesh(ms, ol);
+    else
+      fuzz::checkError(ss);
   }
   return 0;
 }

@@ -170,12 +170,14 @@ stltopo::Status readFile(const char* path, stltopo::Mesh& mesh) {
 std::string jsonString(const std::string& s) {
   std::string o = "\"";
   for (unsigned char c : s) {
-    if (c == '"' || c == '\\') o += '\\', o += char(c);
+    if (c == '"' || c == '\\')
+      o += '\\', o += char(c);
     else if (c < 0x20) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\u%04x", c);
       o += buf;
-    } else o += char(c);
+    } else
+      o += char(c);
   }
   return o + "\"";
 }
@@ -186,11 +188,16 @@ int main(int argc, char** argv) {
   bool countOnly = false, brute = false;
   const char* file = nullptr;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--count-only")) countOnly = true;
-    else if (!std::strcmp(argv[i], "--brute")) brute = true;
-    else if (argv[i][0] == '-' && argv[i][1] != '\0') file = nullptr, argc = -1;
-    else if (!file) file = argv[i];
-    else argc = -1;
+    if (!std::strcmp(argv[i], "--count-only"))
+      countOnly = true;
+    else if (!std::strcmp(argv[i], "--brute"))
+      brute = true;
+    else if (argv[i][0] == '-' && argv[i][1] != '\0')
+      file = nullptr, argc = -1;
+    else if (!file)
+      file = argv[i];
+    else
+      argc = -1;
     if (argc < 0) break;
   }
   if (argc < 0 || !file) {
@@ -220,8 +227,10 @@ int main(int argc, char** argv) {
     for (uint32_t t = 0; t < nt; ++t) {
       const uint32_t* a = judge.tri(t);
       if (a[0] == a[1] || a[1] == a[2] || a[0] == a[2]) continue;  // degenerate
-      if (CGAL::collinear(judge.P(a[0]), judge.P(a[1]), judge.P(a[2]))) zeroArea.push_back(t);
-      else candidate[t] = 1;
+      if (CGAL::collinear(judge.P(a[0]), judge.P(a[1]), judge.P(a[2])))
+        zeroArea.push_back(t);
+      else
+        candidate[t] = 1;
       Key k{{a[0], a[1], a[2]}};
       std::sort(k.v, k.v + 3);
       auto [it, inserted] = first.try_emplace(k, t);
@@ -242,8 +251,8 @@ int main(int argc, char** argv) {
 
   // The pair search: CGAL's box_self_intersection_d over closed bounding boxes (as PMP's
   // self_intersections does), then the exact test.
-  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, uint32_t,
-                                                        CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
+  using Box =
+      CGAL::Box_intersection_d::Box_with_info_d<double, 3, uint32_t, CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   auto consider = [&](uint32_t i, uint32_t j) {
     if (i > j) std::swap(i, j);

@@ -61,8 +61,10 @@ int main(int argc, char** argv) {
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   for (auto [f, g] : out) {
     uint32_t i = uint32_t(f), j = uint32_t(g);  // faces are numbered in the order added
-    if (i == j) degenerate.push_back(i);
-    else pairs.emplace_back(std::min(i, j), std::max(i, j));
+    if (i == j)
+      degenerate.push_back(i);
+    else
+      pairs.emplace_back(std::min(i, j), std::max(i, j));
   }
   std::sort(degenerate.begin(), degenerate.end());
   std::sort(pairs.begin(), pairs.end());
