@@ -55,6 +55,11 @@ export const planRepair = loader.planRepair;
  * with loadOptions), log }. The input mesh is unchanged: it is the undo of the whole repair.
  */
 export const applyRepair = loader.applyRepair;
+/**
+ * An EditableMesh held in a worker, for repair with step-by-step undo off this thread:
+ * WorkerEditableMesh.from(mesh), then planRepair, applyRepair, undo, toStl, toMesh, dispose.
+ */
+export const WorkerEditableMesh = loader.WorkerEditableMesh;
 
 /** toStl() with the writing in a worker: a Blob (type model/stl). */
 export async function toStl(mesh, options) {
