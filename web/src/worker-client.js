@@ -238,11 +238,12 @@ export function createWorkerLoader(spawn) {
   // rejects with the failure, the later ones with `st.lost`.
   function editCall(st, op, fields = {}, transfer = []) {
     const p = st.queue.then(() => new Promise((resolve, reject) => {
+      const w = st.w;
+      if (!st.lost && w.exited()) st.lost = new Error('stltopo worker: the editable mesh was lost with its worker (it exited)');
       if (st.lost) {
         reject(st.lost);
         return;
       }
-      const w = st.w;
       const finish = (fn, value) => {
         w.listen(null, null);
         w.unref(); // an idle handle does not keep Node running
@@ -278,6 +279,10 @@ export function createWorkerLoader(spawn) {
     return st.freed;
   }
 
+  // The finalizer's release of a dropped handle, made outside the class so that it cannot
+  // hold the handle.
+  const releaserOf = (st) => () => freeEditable(st);
+
   class WorkerEditableMesh {
     #st;
 
@@ -286,7 +291,7 @@ export function createWorkerLoader(spawn) {
       /** As the source mesh's (EditableMesh's). */
       this.format = source.format || 'unknown';
       this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
-      trackRelease(this, () => freeEditable(st));
+      trackRelease(this, releaserOf(st));
     }
 
     /**

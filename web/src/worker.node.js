@@ -30,6 +30,7 @@ const loader = createWorkerLoader(() => {
       w.terminate();
     },
     alive: () => alive,
+    exited: () => !alive, // exited or terminated: a held mesh is gone with it
     ref: () => w.ref(),
     unref: () => w.unref(),
   };
