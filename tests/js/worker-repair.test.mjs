@@ -271,3 +271,26 @@ test('WorkerEditableMesh: a worker that dies takes the mesh with it, and the han
   assert.deepEqual(await fresh.toStl(), await bytes(mesh), 'a new handle gets a new worker');
   await fresh.dispose();
 });
+
+test('WorkerEditableMesh: keys the main thread ignores (callbacks, signals) are ignored, not sent', async () => {
+  const mesh = await damagedMesh(10, 6, 6);
+  const wem = await WorkerEditableMesh.from(mesh);
+  const em = await EditableMesh.from(mesh);
+  try {
+    const extra = { extra: () => 1, signal: new AbortController().signal };
+    const first = em.planRepair().steps.find((st) => st.items.length > 0);
+    const exclude = [{ step: first.step, item: 0, note: () => 0 }];
+    const plan = await wem.planRepair({ ...extra, exclude });
+    assert.deepEqual(plan.steps, em.planRepair({ ...extra, exclude }).steps);
+    const excluded = plan.steps.find((st) => st.step === first.step).items[0];
+    assert.ok(excluded.skipped && /left out by the user/.test(excluded.reason), JSON.stringify(excluded));
+    assert.deepEqual(await wem.toStl({ ...extra, format: 'ascii' }), new Uint8Array(em.toStl({ ...extra, format: 'ascii' })));
+    const m = await wem.toMesh({ ...extra, onProgress: () => {}, worker: true, shells: true });
+    assert.ok(m.shells.length > 0);
+    assert.deepEqual(await wem.applyRepair(plan), em.applyRepair(plan));
+    assert.equal(await wem.undo(), em.undo());
+  } finally {
+    em.dispose();
+    await wem.dispose();
+  }
+});

@@ -9,7 +9,7 @@ import {
   Msg, InputKind, EditOp, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage,
   repairMessage, editableMessage,
 } from './protocol.js';
-import { normalizeIndexedOptions, normalizeWriteOptions, normalizeRepairOptions } from './options.js';
+import { normalizeIndexedOptions, normalizeWriteOptions, normalizeRepairOptions, REPAIR_DEFAULTS } from './options.js';
 import { wasmSettings } from './wasm-load.js';
 
 // Where the worker's wasm comes from: the page's init() settings.
@@ -266,7 +266,11 @@ export function createWorkerLoader(spawn) {
         w.terminate();
         reject(e);
       });
-      w.post(editableMessage(op, st.id, fields), transfer);
+      try {
+        w.post(editableMessage(op, st.id, fields), transfer);
+      } catch (e) {
+        finish(reject, e); // not sent (a value that cannot be cloned): nothing happened there
+      }
     }));
     st.queue = p.catch(() => {});
     return p;
@@ -278,6 +282,18 @@ export function createWorkerLoader(spawn) {
     st.freed ??= editCall(st, EditOp.Dispose).then(() => release(st.w), () => {}); // a lost worker is gone already
     return st.freed;
   }
+
+  // The options a call sends: the keys its main-thread twin reads, so that anything else (a
+  // callback, a signal) is ignored as there, not refused by the message's clone.
+  const sendable = (options, keys) => {
+    const o = options || {};
+    const out = {};
+    for (const k of keys) if (o[k] !== undefined) out[k] = o[k];
+    return out;
+  };
+  const REPAIR_KEYS = [...Object.keys(REPAIR_DEFAULTS), 'exclude'];
+  const WRITE_KEYS = ['format', 'colors', 'normals', 'name', 'chunkBytes'];
+  const MESH_KEYS = ['topology', 'shells', 'intersections', 'maxPairs', 'validate', 'view'];
 
   // The finalizer's release of a dropped handle, made outside the class so that it cannot
   // hold the handle.
@@ -340,7 +356,9 @@ export function createWorkerLoader(spawn) {
     /** Plans a repair of this mesh (EditableMesh.planRepair): changes nothing. */
     async planRepair(options = {}) {
       normalizeRepairOptions(options); // checks here, so errors come from the call
-      return this.#call(EditOp.Plan, { options: { ...(options || {}) } });
+      const o = sendable(options, REPAIR_KEYS);
+      if (o.exclude) o.exclude = o.exclude.map(({ step, item }) => ({ step, item }));
+      return this.#call(EditOp.Plan, { options: o });
     }
     /** Carries out a plan made for this mesh; resolves to the change log (EditableMesh.applyRepair). */
     async applyRepair(plan) {
@@ -361,7 +379,7 @@ export function createWorkerLoader(spawn) {
     /** The STL file of the mesh as bytes (EditableMesh.toStl; the bytes are transferred). */
     async toStl(options = {}) {
       normalizeWriteOptions(options);
-      return this.#call(EditOp.ToStl, { options: { ...(options || {}) } });
+      return this.#call(EditOp.ToStl, { options: sendable(options, WRITE_KEYS) });
     }
     /**
      * The mesh as a Mesh with the editable mesh's ids (fromIndexed() of its positions,
@@ -373,9 +391,8 @@ export function createWorkerLoader(spawn) {
       for (const k of ['weld', 'attributes', 'colors', 'colorValid', 'solids']) {
         if (options[k] !== undefined) throw invalid(`toMesh() takes the editable mesh's own vertices and attributes: no ${k} option`);
       }
-      const { worker, signal, onProgress, ...plain } = options;
-      normalizeIndexedOptions({ ...plain, weld: 'none' }); // checks here, so errors come from the call
-      const raw = await this.#call(EditOp.ToMesh, { options: plain });
+      normalizeIndexedOptions({ ...options, weld: 'none' }); // checks here, so errors come from the call
+      const raw = await this.#call(EditOp.ToMesh, { options: sendable(options, MESH_KEYS) });
       const mesh = new Mesh(raw);
       workerHome.set(mesh, () => self);
       return mesh;
