@@ -293,7 +293,7 @@ export function createWorkerLoader(spawn) {
   };
   const REPAIR_KEYS = [...Object.keys(REPAIR_DEFAULTS), 'exclude'];
   const WRITE_KEYS = ['format', 'colors', 'normals', 'name', 'chunkBytes'];
-  const MESH_KEYS = ['topology', 'shells', 'intersections', 'maxPairs', 'validate', 'view'];
+  const MESH_KEYS = ['topology', 'shells', 'intersections', 'maxPairs', 'validate'];
 
   // The finalizer's release of a dropped handle, made outside the class so that it cannot
   // hold the handle.
@@ -384,7 +384,8 @@ export function createWorkerLoader(spawn) {
     /**
      * The mesh as a Mesh with the editable mesh's ids (fromIndexed() of its positions,
      * triangles and attribute words without a weld, built in the worker; the arrays are
-     * transferred). options: fromIndexed()'s, such as { shells, intersections }.
+     * transferred). options: fromIndexed()'s, such as { shells, intersections }. Colours are
+     * the attribute words read as VisCAM's (a Magics file's: loadStl() of toStl()'s bytes).
      */
     async toMesh(options = {}) {
       if (options === null || typeof options !== 'object') throw invalid('options must be an object');

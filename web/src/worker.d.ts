@@ -51,6 +51,7 @@ export declare class WorkerEditableMesh {
   /**
    * The mesh as a Mesh with the editable mesh's ids: fromIndexed() of its positions,
    * triangles and attribute words without a weld, in the worker (the arrays are transferred).
+   * Colours are the attribute words read as VisCAM's (a Magics file's: loadStl(await toStl())).
    */
   toMesh(options?: Omit<IndexedOptionsT, 'weld' | 'attributes' | 'colors' | 'colorValid' | 'solids'> & { topology?: true }): Promise<MeshT<true>>;
   toMesh(options: Omit<IndexedOptionsT, 'weld' | 'attributes' | 'colors' | 'colorValid' | 'solids'> & { topology: false }): Promise<MeshT<false>>;
