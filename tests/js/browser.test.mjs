@@ -246,8 +246,10 @@ test('browser: init() and wasm-load errors: HTML for the .wasm, a 404 worker, bo
       const htmlInWorker = await attempt(w.loadStl); // the worker gets the page's init()
       init({ wasmUrl: null, workerUrl: 'missing-worker.js' });
       const noWorker = await attempt(w.loadStl);
+      const mesh = await loadStl(bytes);
+      const noEditable = await attempt(() => w.WorkerEditableMesh.from(mesh)); // its worker is one of these too
       init({ workerUrl: null });
-      return { html, htmlInWorker, noWorker, main: (await loadStl(bytes)).nTriangles, worker: (await w.loadStl(bytes)).nTriangles };
+      return { html, htmlInWorker, noWorker, noEditable, main: (await loadStl(bytes)).nTriangles, worker: (await w.loadStl(bytes)).nTriangles };
     }, rel('unit_cube.STL'));
     const spa = `${base}/spa/stltopo-wasm.wasm`;
     for (const e of [r.html, r.htmlInWorker]) {
@@ -255,11 +257,62 @@ test('browser: init() and wasm-load errors: HTML for the .wasm, a 404 worker, bo
       assert.equal(e.code, 'wasm-load');
       assert.equal(e.message, `wasm-load: ${spa} is not the WebAssembly module: HTTP 200 (text/html), first bytes 3c 21 64 6f 63 74 79 70 "<!doctyp"`);
     }
-    assert.equal(r.noWorker.code, 'wasm-load');
-    assert.match(r.noWorker.message, new RegExp(`^wasm-load: the worker ${base}/missing-worker\\.js did not start: HTTP 404 \\(no content type\\), no bytes$`));
+    for (const e of [r.noWorker, r.noEditable]) {
+      assert.equal(e.code, 'wasm-load');
+      assert.match(e.message, new RegExp(`^wasm-load: the worker ${base}/missing-worker\\.js did not start: HTTP 404 \\(no content type\\), no bytes$`));
+    }
     assert.equal(r.main, 12);
     assert.equal(r.worker, 12);
   } finally {
     await fresh.close();
   }
+});
+
+test('browser: WorkerEditableMesh: apply and undo step by step in a Web Worker, as EditableMesh on the page', { skip }, async () => {
+  const r = await page.evaluate(async (cube) => {
+    const { loadStl, fromIndexed, toStl, EditableMesh, planRepair } = window.pkg.stltopo;
+    const { WorkerEditableMesh } = window.pkg.worker;
+    const same = (x, y) => x.length === y.length && x.every((e, i) => e === y[i]);
+    // The unit cube, damaged: triangle 0 removed, triangle 5 flipped, triangle 7 twice.
+    const c = await loadStl(await fetch(cube));
+    const tri = [];
+    for (let t = 1; t < c.nTriangles; ++t) {
+      const [a, b, d] = c.triangles.subarray(3 * t, 3 * t + 3);
+      tri.push(...(t === 5 ? [a, d, b] : [a, b, d]));
+      if (t === 7) tri.push(a, b, d);
+    }
+    const mesh = await fromIndexed(c.positions, new Uint32Array(tri));
+    const input = new Uint8Array(await (await toStl(mesh)).arrayBuffer());
+    const plan = await planRepair(mesh, { steps: ['duplicates', 'orient', 'fill-holes'] });
+    const em = await EditableMesh.from(mesh);
+    const wem = await WorkerEditableMesh.from(mesh);
+    const log = em.applyRepair(plan);
+    const wlog = await wem.applyRepair(plan);
+    const out = {
+      steps: plan.steps.map((s) => s.step), before: plan.before, after: wlog.after,
+      sameLog: JSON.stringify(wlog) === JSON.stringify(log), typed: wlog.steps[0].removedTriangles instanceof Uint32Array,
+      sameApplied: same(await wem.toStl(), em.toStl()), valid: await wem.validate(), undoable: wem.undoableSteps, undone: [],
+    };
+    for (let name; (name = await wem.undo()) !== null;) {
+      out.undone.push([name, em.undo(), same(await wem.toStl(), em.toStl())]);
+    }
+    out.backToInput = same(await wem.toStl(), input);
+    em.dispose();
+    await wem.dispose();
+    try {
+      await wem.undo();
+    } catch (e) {
+      out.refused = e.code + ' ' + e.message;
+    }
+    return out;
+  }, rel('unit_cube.STL'));
+  assert.deepEqual(r.steps, ['duplicates', 'orient', 'fill-holes']);
+  assert.ok(r.before.duplicateTriangles > 0 && r.before.inconsistentEdges > 0 && r.before.holes > 0, JSON.stringify(r.before));
+  assert.ok(r.after.watertight && r.after.duplicateTriangles === 0 && r.after.inconsistentEdges === 0, JSON.stringify(r.after));
+  assert.ok(r.sameLog && r.typed && r.sameApplied);
+  assert.deepEqual(r.valid, { ok: true });
+  assert.equal(r.undoable, 3);
+  assert.deepEqual(r.undone, [['fill-holes', 'fill-holes', true], ['orient', 'orient', true], ['duplicates', 'duplicates', true]]);
+  assert.ok(r.backToInput);
+  assert.equal(r.refused, 'invalid-argument invalid-argument: the editable mesh was disposed');
 });

@@ -46,16 +46,25 @@ export function setIntersectionFinder(f) {
   if (!intersectionFinder) intersectionFinder = f;
 }
 
-// The one finalizer of wasm sessions (a { view: true } Mesh, an EditableMesh): an owner
-// dropped without dispose() still frees its wasm memory, eventually.
+// The one finalizer of the package (a { view: true } Mesh and an EditableMesh: their wasm
+// sessions; a WorkerEditableMesh: its mesh in a worker): an owner dropped without dispose()
+// still frees what it holds, eventually.
 const registry = typeof FinalizationRegistry === 'function'
-  ? new FinalizationRegistry(({ entry, session }) => {
-    if (!entry.dead && !session.isDeleted()) session.delete();
+  ? new FinalizationRegistry((held) => {
+    if (held.release) held.release();
+    else if (!held.entry.dead && !held.session.isDeleted()) held.session.delete();
   })
   : null;
 /** Frees `session` when `owner` is garbage-collected, unless untrackSession(owner) ran first. */
 export function trackSession(owner, entry, session) {
   if (registry) registry.register(owner, { entry, session }, owner);
+}
+/**
+ * Calls release() when `owner` is garbage-collected, unless untrackSession(owner) ran first.
+ * release must not hold `owner` (the registry would keep it alive).
+ */
+export function trackRelease(owner, release) {
+  if (registry) registry.register(owner, { release }, owner);
 }
 export function untrackSession(owner) {
   if (registry) registry.unregister(owner);

@@ -16,6 +16,13 @@
 //     repair  { mode, mesh, options, plan, loadOptions, wasm }  planRepair() ('plan': options)
 //                                  or applyRepair() ('apply': plan, loadOptions) on an
 //                                  EditableMesh made there from writeInput(mesh) data (copied)
+//     editable { op, id, ... }     a WorkerEditableMesh's call on the EditableMesh the worker
+//                                  holds under id (worker-client.js numbers them) between
+//                                  messages: 'open' { mesh, options, wasm } makes it (mesh: an
+//                                  EditableMesh.from() source, copied), then 'plan' { options },
+//                                  'apply' { plan } (fingerprint and options), 'undo', 'stats',
+//                                  'validate', 'toStl' { options }, 'toMesh' { options } and
+//                                  'dispose' (frees it); answered by one edited or error message
 //   worker -> main
 //     ready   {}                   once, when the thread runs (before it, an error is a failed
 //                                  start); the platform wrappers (worker.js, worker.node.js)
@@ -26,12 +33,22 @@
 //     written { chunk }            the next chunk of a write (transferred), null at the end
 //     repaired { plan } | { raw, log }  the plan, or the repaired mesh's raw data (loaded there
 //                                  with loadOptions) and the change log; id lists transferred
-//     error   { error }            errorToMessage() of the failure
+//     edited  { value, undoableSteps }  an editable call's result (a plan's or log's id lists,
+//                                  toStl's bytes and toMesh's raw arrays transferred) and how
+//                                  many repair steps the mesh can undo after it
+//     error   { error, undoableSteps? }  errorToMessage() of the failure (undoableSteps: after
+//                                  a failed editable call, which may have applied some steps)
 import { StlError } from './errors.js';
 
 export const Msg = Object.freeze({
   Load: 'load', Chunks: 'chunks', Ready: 'ready', Pull: 'pull', Progress: 'progress', Result: 'result', Error: 'error',
   Indexed: 'indexed', Write: 'write', WritePull: 'writePull', Written: 'written', Repair: 'repair', Repaired: 'repaired',
+  Editable: 'editable', Edited: 'edited',
+});
+/** The calls of a WorkerEditableMesh (the op of an editable message). */
+export const EditOp = Object.freeze({
+  Open: 'open', Plan: 'plan', Apply: 'apply', Undo: 'undo', Stats: 'stats', Validate: 'validate', ToStl: 'toStl',
+  ToMesh: 'toMesh', Dispose: 'dispose',
 });
 export const InputKind = Object.freeze({ Bytes: 'bytes', Blob: 'blob', Stream: 'stream', Path: 'path' });
 
@@ -47,6 +64,8 @@ export const writePullMessage = () => ({ type: Msg.WritePull });
 export const writtenMessage = (chunk) => ({ type: Msg.Written, chunk });
 export const repairMessage = (mode, mesh, options, plan, loadOptions, wasm) => ({ type: Msg.Repair, mode, mesh, options, plan, loadOptions, wasm });
 export const repairedMessage = (fields) => ({ type: Msg.Repaired, ...fields });
+export const editableMessage = (op, id, fields) => ({ type: Msg.Editable, op, id, ...fields });
+export const editedMessage = (value, undoableSteps) => ({ type: Msg.Edited, value, undoableSteps });
 export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) });
 
 /** The ArrayBuffers of a raw result, for a postMessage transfer list. */

@@ -1,14 +1,15 @@
 // Main-thread side of stltopo/worker: runs loadStl in a worker (one per load
 // in flight, idle ones reused), reports progress, cancels by terminating the
 // worker, and receives the result arrays as transferred ArrayBuffers.
-import { abortError, checkAbort, stlError } from './errors.js';
+import { abortError, checkAbort, stlError, invalid } from './errors.js';
 import { normalizeOptions, plainOptions } from './options.js';
 import { toSource } from './sources.js';
-import { Mesh, workerHome, writeInput } from './mesh.js';
+import { Mesh, workerHome, writeInput, trackRelease, untrackSession } from './mesh.js';
 import {
-  Msg, InputKind, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage, repairMessage,
+  Msg, InputKind, EditOp, loadMessage, chunksMessage, errorFromMessage, indexedMessage, writeMessage, writePullMessage,
+  repairMessage, editableMessage,
 } from './protocol.js';
-import { normalizeIndexedOptions, normalizeWriteOptions, normalizeRepairOptions } from './options.js';
+import { normalizeIndexedOptions, normalizeWriteOptions, normalizeRepairOptions, REPAIR_DEFAULTS } from './options.js';
 import { wasmSettings } from './wasm-load.js';
 
 // Where the worker's wasm comes from: the page's init() settings.
@@ -197,24 +198,217 @@ export function createWorkerLoader(spawn) {
   // The mesh as an EditableMesh source: writeInput()'s arrays (copies) and its format.
   const repairInput = (mesh) => ({ ...writeInput(mesh), format: mesh.format });
 
-  // planRepair() in a worker: the plan comes back with its id lists transferred.
+  // planRepair() in a worker: the plan comes back with its id lists transferred. A
+  // WorkerEditableMesh is planned where it is held (as planRepair(em) on the main thread).
   async function planRepair(mesh, options) {
+    if (mesh instanceof WorkerEditableMesh) return mesh.planRepair(options);
     normalizeRepairOptions(options); // checks here, so errors come from the call
     return run(repairMessage('plan', repairInput(mesh), { ...(options || {}) }, null, null, wasmOf()), [], {}, null);
   }
 
-  // applyRepair() in a worker: the repaired mesh (loaded with loadOptions) and the log.
-  async function applyRepair(mesh, plan, loadOptions) {
+  const checkPlan = (plan) => {
     if (!plan || typeof plan !== 'object' || !plan.options || typeof plan.fingerprint !== 'string') {
       throw stlError('invalid-argument', 'applyRepair() needs a plan from planRepair()');
     }
+  };
+
+  // applyRepair() in a worker: the repaired mesh (loaded with loadOptions) and the log.
+  async function applyRepair(mesh, plan, loadOptions) {
+    if (mesh instanceof WorkerEditableMesh) {
+      throw invalid('applyRepair(mesh, plan) repairs a copy of a Mesh; a WorkerEditableMesh repairs itself: em.applyRepair(plan)');
+    }
+    checkPlan(plan);
     const o = normalizeOptions(loadOptions);
     const { steps, before, after, remaining, fingerprint, options } = plan;
     const lean = { fingerprint, options, before, after, remaining, steps: steps.map((s) => ({ step: s.step })) };
     return run(repairMessage('apply', repairInput(mesh), null, lean, plainOptions(o), wasmOf()), [], o, null);
   }
 
-  const self = { loadStl, loadStlFile, fromIndexed, writeStl, planRepair, applyRepair };
+  // ---------------------------------------------------------------------------------------
+  // WorkerEditableMesh: an EditableMesh held in a worker between calls (worker-handler.js
+  // keeps it under an id), for repair with undo off the main thread. Each one has a worker
+  // of its own (taken from the idle ones) until dispose(), which frees the mesh there and
+  // gives the worker back; its calls run one at a time, in the order they were made. The
+  // state below is all a call needs; it never refers to the handle, so that the finalizer
+  // (mesh.js, trackRelease) can free the worker's mesh once the handle is dropped.
+  let lastId = 0;
+
+  // One call on the worker's mesh after those queued before it: resolves to the edited
+  // message's value. A worker that fails (exits, crashes) takes the mesh with it: that call
+  // rejects with the failure, the later ones with `st.lost`.
+  function editCall(st, op, fields = {}, transfer = []) {
+    const p = st.queue.then(() => new Promise((resolve, reject) => {
+      const w = st.w;
+      if (!st.lost && w.exited()) st.lost = new Error('stltopo worker: the editable mesh was lost with its worker (it exited)');
+      if (st.lost) {
+        reject(st.lost);
+        return;
+      }
+      const finish = (fn, value) => {
+        w.listen(null, null);
+        w.unref(); // an idle handle does not keep Node running
+        fn(value);
+      };
+      w.ref();
+      w.listen((msg) => {
+        if (msg.type === Msg.Edited) {
+          st.undoableSteps = msg.undoableSteps;
+          finish(resolve, msg.value);
+        } else if (msg.type === Msg.Error) {
+          if (msg.undoableSteps !== undefined) st.undoableSteps = msg.undoableSteps;
+          finish(reject, errorFromMessage(msg.error)); // refused: the mesh is still there
+        }
+      }, (err) => {
+        const e = err instanceof Error ? err : new Error(String(err));
+        st.lost = new Error(`stltopo worker: the editable mesh was lost with its worker (${e.message})`);
+        st.undoableSteps = 0;
+        w.listen(null, null);
+        w.terminate();
+        reject(e);
+      });
+      try {
+        w.post(editableMessage(op, st.id, fields), transfer);
+      } catch (e) {
+        finish(reject, e); // not sent (a value that cannot be cloned): nothing happened there
+      }
+    }));
+    st.queue = p.catch(() => {});
+    return p;
+  }
+
+  // Frees the worker's mesh (after the calls queued before) and gives the worker back.
+  function freeEditable(st) {
+    st.disposed = true;
+    st.freed ??= editCall(st, EditOp.Dispose).then(() => release(st.w), () => {}); // a lost worker is gone already
+    return st.freed;
+  }
+
+  // The options a call sends: the keys its main-thread twin reads, so that anything else (a
+  // callback, a signal) is ignored as there, not refused by the message's clone.
+  const sendable = (options, keys) => {
+    const o = options || {};
+    const out = {};
+    for (const k of keys) if (o[k] !== undefined) out[k] = o[k];
+    return out;
+  };
+  const REPAIR_KEYS = [...Object.keys(REPAIR_DEFAULTS), 'exclude'];
+  const WRITE_KEYS = ['format', 'colors', 'normals', 'name', 'chunkBytes'];
+  const MESH_KEYS = ['topology', 'shells', 'intersections', 'maxPairs', 'validate'];
+
+  // The finalizer's release of a dropped handle, made outside the class so that it cannot
+  // hold the handle.
+  const releaserOf = (st) => () => freeEditable(st);
+
+  class WorkerEditableMesh {
+    #st;
+
+    constructor(st, source) {
+      this.#st = st;
+      /** As the source mesh's (EditableMesh's). */
+      this.format = source.format || 'unknown';
+      this.colorConvention = source.colors && source.colorValid ? source.colorConvention || 'none' : 'none';
+      trackRelease(this, releaserOf(st));
+    }
+
+    /**
+     * An EditableMesh in a worker, of a copy of a Mesh or of an indexed mesh { positions,
+     * triangles, attributes?, colors?, colorValid?, colorConvention?, normals?, solids?,
+     * format? } (EditableMesh.from()'s sources and options). Resolves when it is built there.
+     */
+    static async from(source, options = {}) {
+      if (!source || !source.positions || !source.triangles) {
+        throw invalid('WorkerEditableMesh.from() needs a Mesh or { positions, triangles }');
+      }
+      if (options === null || typeof options !== 'object') throw invalid('options must be an object');
+      let data;
+      if (source instanceof Mesh) {
+        data = repairInput(source);
+      } else {
+        const keys = ['positions', 'triangles', 'attributes', 'colors', 'colorValid', 'colorConvention', 'normals', 'format'];
+        data = Object.fromEntries(keys.filter((k) => source[k] != null).map((k) => [k, source[k]]));
+        if (source.solids) data.solids = source.solids.map((so) => ({ ...so }));
+      }
+      // Copies of the typed arrays are transferred: the caller keeps its own, and a view into
+      // wasm memory sends its elements only (a clone would send the whole buffer).
+      const transfer = [];
+      for (const [k, v] of Object.entries(data)) {
+        if (!ArrayBuffer.isView(v)) continue;
+        data[k] = v.slice();
+        transfer.push(data[k].buffer);
+      }
+      const st = { id: ++lastId, w: acquire(), queue: Promise.resolve(), undoableSteps: 0, lost: null, disposed: false, freed: null };
+      const { tolerance } = options;
+      try {
+        await editCall(st, EditOp.Open, { mesh: data, options: tolerance === undefined ? {} : { tolerance }, wasm: wasmOf() }, transfer);
+      } catch (e) {
+        if (!st.lost) release(st.w); // refused there (bad input): the worker is fine
+        throw e;
+      }
+      return new WorkerEditableMesh(st, source);
+    }
+
+    // A call on a mesh that is still there: refused at once after dispose().
+    #call(op, fields, transfer) {
+      if (this.#st.disposed) return Promise.reject(invalid('the editable mesh was disposed'));
+      return editCall(this.#st, op, fields, transfer);
+    }
+
+    /** Plans a repair of this mesh (EditableMesh.planRepair): changes nothing. */
+    async planRepair(options = {}) {
+      normalizeRepairOptions(options); // checks here, so errors come from the call
+      const o = sendable(options, REPAIR_KEYS);
+      if (o.exclude) o.exclude = o.exclude.map(({ step, item }) => ({ step, item }));
+      return this.#call(EditOp.Plan, { options: o });
+    }
+    /** Carries out a plan made for this mesh; resolves to the change log (EditableMesh.applyRepair). */
+    async applyRepair(plan) {
+      checkPlan(plan);
+      return this.#call(EditOp.Apply, { plan: { fingerprint: plan.fingerprint, options: plan.options } });
+    }
+    /** Undoes the last repair step still applied: its name, or null when there is none. */
+    async undo() { return this.#call(EditOp.Undo); }
+    /** How many repair steps undo() can still take back, as of the last call that settled. */
+    get undoableSteps() {
+      if (this.#st.disposed) throw invalid('the editable mesh was disposed');
+      return this.#st.undoableSteps;
+    }
+    /** The figures of `info --json` for the mesh (EditableMesh.stats). */
+    async stats() { return this.#call(EditOp.Stats); }
+    /** { ok: true } or { ok: false, code, message, element } (EditableMesh.validate). */
+    async validate() { return this.#call(EditOp.Validate); }
+    /** The STL file of the mesh as bytes (EditableMesh.toStl; the bytes are transferred). */
+    async toStl(options = {}) {
+      normalizeWriteOptions(options);
+      return this.#call(EditOp.ToStl, { options: sendable(options, WRITE_KEYS) });
+    }
+    /**
+     * The mesh as a Mesh with the editable mesh's ids (fromIndexed() of its positions,
+     * triangles and attribute words without a weld, built in the worker; the arrays are
+     * transferred). options: fromIndexed()'s, such as { shells, intersections }. Colours are
+     * the attribute words read as VisCAM's (a Magics file's: loadStl() of toStl()'s bytes).
+     */
+    async toMesh(options = {}) {
+      if (options === null || typeof options !== 'object') throw invalid('options must be an object');
+      for (const k of ['weld', 'attributes', 'colors', 'colorValid', 'solids']) {
+        if (options[k] !== undefined) throw invalid(`toMesh() takes the editable mesh's own vertices and attributes: no ${k} option`);
+      }
+      normalizeIndexedOptions({ ...options, weld: 'none' }); // checks here, so errors come from the call
+      const raw = await this.#call(EditOp.ToMesh, { options: sendable(options, MESH_KEYS) });
+      const mesh = new Mesh(raw);
+      workerHome.set(mesh, () => self);
+      return mesh;
+    }
+    /**
+     * Frees the mesh in the worker, after the calls already made; the object refuses every
+     * call from now on. Resolves when the worker has freed it.
+     */
+    dispose() {
+      untrackSession(this);
+      return freeEditable(this.#st);
+    }
+  }
+
+  const self = { loadStl, loadStlFile, fromIndexed, writeStl, planRepair, applyRepair, WorkerEditableMesh };
   return self;
 }
 

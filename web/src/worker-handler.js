@@ -3,9 +3,10 @@ import { bufferSource, streamSource } from './sources.js';
 import { normalizeOptions } from './options.js';
 import { createEditableMesh } from './edit.js';
 import { init } from './wasm-load.js';
+import { invalid } from './errors.js';
 import {
-  Msg, InputKind, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList, errorFromMessage,
-  writtenMessage, repairedMessage, repairTransferList,
+  Msg, InputKind, EditOp, readyMessage, pullMessage, progressMessage, resultMessage, errorMessage, transferList,
+  errorFromMessage, writtenMessage, repairedMessage, repairTransferList, editedMessage,
 } from './protocol.js';
 
 // Chunks pulled from the main thread one batch at a time (flow control).
@@ -40,10 +41,66 @@ export function serve(port, internal, { fileSource = null } = {}) {
   let EditableMesh = null;
   let pulled = null;
   let writing = null; // the iterator of the write in progress
+  const editables = new Map(); // id -> the EditableMesh of a WorkerEditableMesh, until its dispose
+
+  // One call of a WorkerEditableMesh: [the edited message, its transfer list].
+  async function editableCall(msg) {
+    if (msg.op === EditOp.Open) {
+      if (editables.has(msg.id)) throw invalid(`the editable mesh ${msg.id} exists already`);
+      const em = await EditableMesh.from(msg.mesh, msg.options);
+      editables.set(msg.id, em);
+      return [editedMessage(null, em.undoableSteps), []];
+    }
+    const em = editables.get(msg.id);
+    if (!em) throw invalid('the editable mesh was disposed');
+    const answer = (value, transfer = []) => [editedMessage(value, em.undoableSteps), transfer];
+    switch (msg.op) {
+      case EditOp.Plan: {
+        const plan = em.planRepair(msg.options);
+        return answer(plan, repairTransferList(plan));
+      }
+      case EditOp.Apply: {
+        const log = em.applyRepair(msg.plan);
+        return answer(log, repairTransferList(log));
+      }
+      case EditOp.Undo: return answer(em.undo());
+      case EditOp.Stats: return answer(em.stats);
+      case EditOp.Validate: return answer(em.validate());
+      case EditOp.ToStl: {
+        const bytes = em.toStl(msg.options); // a copy out of wasm memory: its buffer can go
+        return answer(bytes, [bytes.buffer]);
+      }
+      case EditOp.ToMesh: {
+        // The mesh as it is, ids kept (repair leaves it compact): its vertices unwelded.
+        const o = internal.normalizeIndexedOptions({ ...msg.options, weld: 'none', attributes: em.attributes });
+        const raw = await internal.indexedRaw(em.positions, em.triangles, o, { validate: true });
+        return answer(raw, transferList(raw));
+      }
+      case EditOp.Dispose:
+        em.dispose();
+        editables.delete(msg.id);
+        return [editedMessage(null, 0), []];
+      default:
+        throw invalid(`unknown editable call ${String(msg.op)}`);
+    }
+  }
+
   port.onMessage(async (msg) => {
     if (msg.wasm) init(msg.wasm); // the page's init(), before this thread's instance starts
     if (msg.type === Msg.Chunks) {
       if (pulled) pulled.deliver(msg);
+      return;
+    }
+    if (msg.type === Msg.Editable) {
+      try {
+        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule);
+        const [reply, transfer] = await editableCall(msg);
+        port.post(reply, transfer);
+      } catch (e) {
+        // A failed call may still have applied some steps (applyRepair stops at a failed step).
+        const em = editables.get(msg.id);
+        port.post({ ...errorMessage(e), undoableSteps: em ? em.undoableSteps : 0 });
+      }
       return;
     }
     if (msg.type === Msg.Write || msg.type === Msg.WritePull) {

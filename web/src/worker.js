@@ -24,6 +24,7 @@ const loader = createWorkerLoader(() => {
   const w = workerUrl ? new Worker(workerUrl, { type: 'module' })
     : new Worker(new URL('./worker-thread.js', import.meta.url), { type: 'module' });
   let started = false;
+  let terminated = false;
   return {
     post: (msg, transfer) => w.postMessage(msg, transfer || []),
     listen(onMessage, onError) {
@@ -38,8 +39,12 @@ const loader = createWorkerLoader(() => {
       } : null;
       w.onmessageerror = onError ? () => onError(new Error('stltopo worker: message could not be deserialized')) : null;
     },
-    terminate: () => w.terminate(),
+    terminate: () => {
+      terminated = true;
+      w.terminate();
+    },
     alive: () => wasmSettings().workerUrl === workerUrl, // init() gave another script: start anew
+    exited: () => terminated, // a Web Worker ends only when terminated (errors reach onerror)
     ref() {},
     unref() {},
   };
@@ -55,6 +60,11 @@ export const planRepair = loader.planRepair;
  * with loadOptions), log }. The input mesh is unchanged: it is the undo of the whole repair.
  */
 export const applyRepair = loader.applyRepair;
+/**
+ * An EditableMesh held in a worker, for repair with step-by-step undo off this thread:
+ * WorkerEditableMesh.from(mesh), then planRepair, applyRepair, undo, toStl, toMesh, dispose.
+ */
+export const WorkerEditableMesh = loader.WorkerEditableMesh;
 
 /** toStl() with the writing in a worker: a Blob (type model/stl). */
 export async function toStl(mesh, options) {

@@ -30,6 +30,7 @@ const loader = createWorkerLoader(() => {
       w.terminate();
     },
     alive: () => alive,
+    exited: () => !alive, // exited or terminated: a held mesh is gone with it
     ref: () => w.ref(),
     unref: () => w.unref(),
   };
@@ -45,6 +46,11 @@ export const planRepair = loader.planRepair;
  * with loadOptions), log }. The input mesh is unchanged: it is the undo of the whole repair.
  */
 export const applyRepair = loader.applyRepair;
+/**
+ * An EditableMesh held in a worker, for repair with step-by-step undo off this thread:
+ * WorkerEditableMesh.from(mesh), then planRepair, applyRepair, undo, toStl, toMesh, dispose.
+ */
+export const WorkerEditableMesh = loader.WorkerEditableMesh;
 
 /** toStl() with the writing in a worker: one Uint8Array. */
 export async function toStl(mesh, options) {

@@ -188,6 +188,27 @@ export async function repairingInAWorker(mesh: Mesh): Promise<number> {
   const { mesh: repaired, log } = await worker.applyRepair(mesh, plan, { shells: true });
   return repaired.stats.triangles + log.steps.length;
 }
+// Step-by-step undo in a worker: the same calls, each a Promise.
+export async function undoingInAWorker(mesh: Mesh): Promise<number> {
+  const em: worker.WorkerEditableMesh = await worker.WorkerEditableMesh.from(mesh, { tolerance: 0 });
+  const plan: RepairPlan = await em.planRepair({ steps: ['orient', 'fill-holes'] });
+  const again: RepairPlan = await worker.planRepair(em, { exclude: [{ step: 'orient', item: 0 }] });
+  const log: RepairLog = await em.applyRepair(plan);
+  const undone: RepairStep | null = await em.undo();
+  const n: number = em.undoableSteps;
+  const bytes: Uint8Array = await em.toStl({ format: 'ascii' });
+  const result: Mesh<true> = await em.toMesh({ shells: true });
+  const bare: Mesh<false> = await em.toMesh({ topology: false });
+  const watertight: boolean = (await em.stats()).watertight;
+  const ok: boolean = (await em.validate()).ok;
+  // @ts-expect-error: toMesh() keeps the editable mesh's vertices (no weld option)
+  await em.toMesh({ weld: 'exact' });
+  await em.dispose();
+  const fromIndexedInput = await worker.WorkerEditableMesh.from({ positions: new Float32Array(9), triangles: new Uint32Array([0, 1, 2]) });
+  await fromIndexedInput.dispose();
+  return log.steps.length + again.steps.length + (undone ? 1 : 0) + n + bytes.length + result.nTriangles + bare.nTriangles
+    + (watertight ? 1 : 0) + (ok ? 1 : 0);
+}
 export async function joining(mesh: Mesh): Promise<number> {
   const em = await EditableMesh.from(mesh);
   em.mergeVertices([1, 2], new Uint32Array([4, 5]), { nonManifold: false });
