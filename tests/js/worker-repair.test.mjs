@@ -17,9 +17,11 @@ const ALL = ['duplicates', 'zero-area', 'stitch', 'orient', 'split-nonmanifold',
 // Every message the main thread posts to a worker thread (the loader's workers are
 // node:worker_threads Workers), so that a test can see what the handle asked for.
 const posted = [];
+const transfers = []; // transfers[i]: the transfer list of posted[i]
 const postMessage = Worker.prototype.postMessage;
 Worker.prototype.postMessage = function (msg, transfer) {
   posted.push(msg);
+  transfers.push(transfer || []);
   return postMessage.call(this, msg, transfer);
 };
 
@@ -293,4 +295,35 @@ test('WorkerEditableMesh: keys the main thread ignores (callbacks, signals) are 
     em.dispose();
     await wem.dispose();
   }
+});
+
+// A { view: true } mesh's arrays are views into wasm memory. A structured clone of a view sends
+// its whole buffer (all of wasm memory), so each call sends copies of the elements, and
+// transfers them.
+test('worker calls on a { view: true } mesh send copies of its arrays, not wasm memory', async () => {
+  const { loadStl } = await import('stltopo');
+  const source = await bytes(await damagedMesh(16, 12, 5));
+  const view = await loadStl(source, { view: true });
+  const copy = await loadStl(source);
+  const from = posted.length;
+  const plan = await worker.planRepair(view, { steps: ['orient', 'fill-holes'] });
+  assert.deepEqual(plan.steps.map((s) => s.done), (await planRepair(copy, { steps: ['orient', 'fill-holes'] })).steps.map((s) => s.done));
+  const { mesh } = await worker.applyRepair(view, plan);
+  assert.equal(mesh.stats.holes, 0);
+  assert.deepEqual(await worker.toStl(view), await bytes(copy));
+  const em = await WorkerEditableMesh.from(view);
+  await em.dispose();
+  let arrays = 0;
+  const visit = (v, i) => {
+    if (ArrayBuffer.isView(v)) {
+      ++arrays;
+      assert.equal(v.buffer.byteLength, v.byteLength, `message ${i} sends a ${v.constructor.name} with a ${v.buffer.byteLength} B buffer`);
+      assert.ok(transfers[i].includes(v.buffer), `message ${i}: its ${v.constructor.name} is transferred`);
+    } else if (v && typeof v === 'object') {
+      for (const x of Object.values(v)) visit(x, i);
+    }
+  };
+  for (let i = from; i < posted.length; ++i) visit(posted[i], i);
+  assert.ok(arrays >= 8, `the four calls sent ${arrays} arrays`);
+  view.dispose();
 });

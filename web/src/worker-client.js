@@ -18,6 +18,19 @@ function wasmOf() {
   return { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary };
 }
 
+// Replaces the typed arrays of `data` by copies and returns the copies' buffers, to be
+// transferred: the caller keeps its own arrays, and a view into wasm memory sends its
+// elements only (a structured clone of a view sends its whole buffer: all of wasm memory).
+function ownCopies(data) {
+  const transfer = [];
+  for (const [k, v] of Object.entries(data)) {
+    if (!ArrayBuffer.isView(v)) continue;
+    data[k] = v.slice();
+    transfer.push(data[k].buffer);
+  }
+  return transfer;
+}
+
 const PUMP_BYTES = 1 << 20; // stream chunks posted per pull (as separate chunks, never joined)
 const MAX_IDLE = 2;
 
@@ -175,12 +188,13 @@ export function createWorkerLoader(spawn) {
       pending = null;
       if (p) p.reject(err instanceof Error ? err : new Error(String(err)));
     });
-    const ask = (msg) => new Promise((resolve, reject) => {
+    const ask = (msg, transfer) => new Promise((resolve, reject) => {
       pending = { resolve, reject };
-      w.post(msg);
+      w.post(msg, transfer);
     });
     try {
-      let msg = await ask(writeMessage(writeInput(mesh), plain, wasmOf()));
+      const input = writeInput(mesh);
+      let msg = await ask(writeMessage(input, plain, wasmOf()), ownCopies(input));
       for (;;) {
         if (msg.type === Msg.Error) throw errorFromMessage(msg.error);
         if (msg.chunk === null) break;
@@ -195,7 +209,7 @@ export function createWorkerLoader(spawn) {
     }
   }
 
-  // The mesh as an EditableMesh source: writeInput()'s arrays (copies) and its format.
+  // The mesh as an EditableMesh source: writeInput()'s arrays and its format.
   const repairInput = (mesh) => ({ ...writeInput(mesh), format: mesh.format });
 
   // planRepair() in a worker: the plan comes back with its id lists transferred. A
@@ -203,7 +217,9 @@ export function createWorkerLoader(spawn) {
   async function planRepair(mesh, options) {
     if (mesh instanceof WorkerEditableMesh) return mesh.planRepair(options);
     normalizeRepairOptions(options); // checks here, so errors come from the call
-    return run(repairMessage('plan', repairInput(mesh), { ...(options || {}) }, null, null, wasmOf()), [], {}, null);
+    const input = repairInput(mesh);
+    const transfer = ownCopies(input);
+    return run(repairMessage('plan', input, { ...(options || {}) }, null, null, wasmOf()), transfer, {}, null);
   }
 
   const checkPlan = (plan) => {
@@ -221,7 +237,9 @@ export function createWorkerLoader(spawn) {
     const o = normalizeOptions(loadOptions);
     const { steps, before, after, remaining, fingerprint, options } = plan;
     const lean = { fingerprint, options, before, after, remaining, steps: steps.map((s) => ({ step: s.step })) };
-    return run(repairMessage('apply', repairInput(mesh), null, lean, plainOptions(o), wasmOf()), [], o, null);
+    const input = repairInput(mesh);
+    const transfer = ownCopies(input);
+    return run(repairMessage('apply', input, null, lean, plainOptions(o), wasmOf()), transfer, o, null);
   }
 
   // ---------------------------------------------------------------------------------------
@@ -328,14 +346,7 @@ export function createWorkerLoader(spawn) {
         data = Object.fromEntries(keys.filter((k) => source[k] != null).map((k) => [k, source[k]]));
         if (source.solids) data.solids = source.solids.map((so) => ({ ...so }));
       }
-      // Copies of the typed arrays are transferred: the caller keeps its own, and a view into
-      // wasm memory sends its elements only (a clone would send the whole buffer).
-      const transfer = [];
-      for (const [k, v] of Object.entries(data)) {
-        if (!ArrayBuffer.isView(v)) continue;
-        data[k] = v.slice();
-        transfer.push(data[k].buffer);
-      }
+      const transfer = ownCopies(data);
       const st = { id: ++lastId, w: acquire(), queue: Promise.resolve(), undoableSteps: 0, lost: null, disposed: false, freed: null };
       const { tolerance } = options;
       try {
