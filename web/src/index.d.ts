@@ -262,6 +262,32 @@ export type ValidateResult = { ok: true } | { ok: false; code: string; message: 
  */
 export type IfTopology<T extends boolean, X> = [T] extends [true] ? X : [T] extends [false] ? null : X | null;
 
+/**
+ * Half-edge navigation (libstl's names; docs/JS-API.md), the same on a Mesh with topology
+ * and on an EditableMesh. Half-edges are ids: twin(e) = e ^ 1.
+ */
+export interface HalfedgeNavigation {
+  sym(e: number): number;
+  twin(e: number): number;
+  org(e: number): number;
+  dst(e: number): number;
+  lFace(e: number): number;
+  rFace(e: number): number;
+  lNext(e: number): number;
+  lPrev(e: number): number;
+  vnext(e: number): number;
+  oNext(e: number): number;
+  oPrev(e: number): number;
+  dNext(e: number): number;
+  dPrev(e: number): number;
+  rNext(e: number): number;
+  rPrev(e: number): number;
+  /** The half-edges of the face left of e (triangle or boundary loop), in next order. */
+  faceHalfedges(e: number): IterableIterator<number>;
+  /** The outgoing half-edges of org(e), following vnext. */
+  outgoingHalfedges(e: number): IterableIterator<number>;
+}
+
 export declare class Mesh<T extends boolean = boolean> {
   private constructor();
   /** true for { view: true } meshes (borrowed wasm views; dispose() them). */
@@ -394,30 +420,13 @@ export declare class Mesh<T extends boolean = boolean> {
   // END arrays
   stats: Stats<T>;
 
-  sym(e: number): number;
-  twin(e: number): number;
-  org(e: number): number;
-  dst(e: number): number;
-  lFace(e: number): number;
-  rFace(e: number): number;
-  lNext(e: number): number;
-  lPrev(e: number): number;
-  vnext(e: number): number;
-  oNext(e: number): number;
-  oPrev(e: number): number;
-  dNext(e: number): number;
-  dPrev(e: number): number;
-  rNext(e: number): number;
-  rPrev(e: number): number;
-  /** The half-edges of the face left of e (triangle or boundary loop), in next order. */
-  faceHalfedges(e: number): IterableIterator<number>;
-  /** The outgoing half-edges of org(e), following vnext. */
-  outgoingHalfedges(e: number): IterableIterator<number>;
   /** Checks every topology invariant. */
   validate(): ValidateResult;
   /** Frees the wasm memory of a { view: true } mesh; a no-op otherwise. */
   dispose(): void;
 }
+/** The half-edge navigation of a Mesh: HalfedgeNavigation. */
+export interface Mesh<T extends boolean = boolean> extends HalfedgeNavigation {}
 
 /** LoadOptions that build the topology (the default): the mesh's topology fields are set. */
 export type WithTopology = LoadOptions & { topology?: true };
@@ -746,21 +755,6 @@ export declare class EditableMesh {
   /** How many repair steps undo() can still take back. */
   readonly undoableSteps: number;
   dispose(): void;
-  sym(e: number): number;
-  twin(e: number): number;
-  org(e: number): number;
-  dst(e: number): number;
-  lFace(e: number): number;
-  rFace(e: number): number;
-  lNext(e: number): number;
-  lPrev(e: number): number;
-  vnext(e: number): number;
-  oPrev(e: number): number;
-  oNext(e: number): number;
-  rPrev(e: number): number;
-  rNext(e: number): number;
-  dNext(e: number): number;
-  dPrev(e: number): number;
-  faceHalfedges(e0: number): Generator<number>;
-  outgoingHalfedges(e0: number): Generator<number>;
 }
+/** The half-edge navigation of an EditableMesh: HalfedgeNavigation. */
+export interface EditableMesh extends HalfedgeNavigation {}

@@ -4,7 +4,7 @@
 import {
   loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh, planRepair, REPAIR_STEPS,
   type IndexedOptions, type WriteOptions, type RepairPlan, type RepairLog, type RepairStep, type RepairOptions,
-  type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type ValidateResult, type ErrorCode, type Warning, type Solid,
+  type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type HalfedgeNavigation, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
 import * as worker from 'stltopo/worker';
 import { toBufferGeometry, holesToLineSegments, problemEdgesToLineSegments, srgbByteTable, fromBufferGeometry } from 'stltopo/three';
@@ -148,9 +148,12 @@ export async function editing(mesh: Mesh): Promise<number> {
   const loop: BoundaryLoop = em.holes[0];
   const loopFace: number = loop.face + em.loops.offsets[0] + em.problems.pairKind[0] + em.stats.holes;
   const ok = em.validate().ok ? 1 : 0;
+  // A Mesh and an EditableMesh navigate the same way (HalfedgeNavigation).
+  const walk = (n: HalfedgeNavigation, e: number): number => n.lNext(n.sym(e)) + n.oPrev(e) + [...n.faceHalfedges(e)].length;
+  const walked: number = walk(em, 0) + walk(mesh, 0);
   em.dispose();
   indexed.dispose();
-  return filled.length + v + maps.triangles.length + face + loopFace + ok + em.stats.triangles;
+  return filled.length + v + maps.triangles.length + face + loopFace + ok + walked + em.stats.triangles;
 }
 
 // Stats are typed by what the mesh holds: a default load (topology) has every topology
