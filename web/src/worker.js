@@ -50,21 +50,9 @@ const loader = createWorkerLoader(() => {
   };
 });
 
-export const loadStl = loader.loadStl;
-export const fromIndexed = loader.fromIndexed;
-export const writeStl = loader.writeStl;
-/** A repair plan for a Mesh, made in a worker (docs/REPAIR.md). */
-export const planRepair = loader.planRepair;
-/**
- * Carries a plan out in a worker on a copy of the mesh: { mesh (the repaired Mesh, loaded
- * with loadOptions), log }. The input mesh is unchanged: it is the undo of the whole repair.
- */
-export const applyRepair = loader.applyRepair;
-/**
- * An EditableMesh held in a worker, for repair with step-by-step undo off this thread:
- * WorkerEditableMesh.from(mesh), then planRepair, applyRepair, undo, toStl, toMesh, dispose.
- */
-export const WorkerEditableMesh = loader.WorkerEditableMesh;
+// The worker API (documented in worker.d.ts): loads, writes and repairs made in a worker, and
+// WorkerEditableMesh (an EditableMesh held in a worker, for repair with step-by-step undo).
+export const { loadStl, fromIndexed, writeStl, planRepair, applyRepair, WorkerEditableMesh } = loader;
 
 /** toStl() with the writing in a worker: a Blob (type model/stl). */
 export async function toStl(mesh, options) {
