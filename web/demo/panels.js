@@ -290,13 +290,7 @@ function renderLoops(list, loops, kind, colorOf) {
     li.addEventListener('click', () => {
       if (kind === 'hole') selectHole(loop.id);
       const wasActive = li.classList.contains('active');
-      document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
-      delete document.body.dataset.focusedDefect;
-      if (selectedShell !== null) {
-        selectedShell = null;
-        renderShellStats(null);
-        viewer.isolateShell(null);
-      }
+      clearSelection();
       if (wasActive) {
         viewer.frameAll();
         return;
@@ -412,15 +406,22 @@ export function clearPanels() {
   for (const el of document.querySelectorAll('[data-count]')) el.textContent = '';
 }
 
-/** The frame button: drops the active entry; un-isolates the selected shell, else frames all. */
-export function resetView() {
+/**
+ * Drops the active list entry and the focused defect, and un-isolates the selected shell:
+ * true when a shell was selected.
+ */
+function clearSelection() {
   document.querySelectorAll('.loop-list li.active, .defect-kind li.active').forEach((e) => e.classList.remove('active'));
   delete document.body.dataset.focusedDefect;
-  if (selectedShell !== null) {
-    selectedShell = null;
-    renderShellStats(null);
-    viewer.isolateShell(null);
-    return;
-  }
+  if (selectedShell === null) return false;
+  selectedShell = null;
+  renderShellStats(null);
+  viewer.isolateShell(null);
+  return true;
+}
+
+/** The frame button: drops the active entry; un-isolates the selected shell, else frames all. */
+export function resetView() {
+  if (clearSelection()) return;
   viewer.frameAll();
 }
