@@ -36,6 +36,16 @@ inline Status badArgument(const std::string& why) { return Status::error(Code::I
 // What out-of-memory says could not be allocated (detail::oom).
 inline constexpr const char* kEditArrays = "the editable mesh's arrays";
 
+// `a` emptied, keeping its memory: init() and toMesh() rebuild into the arrays they had, so a
+// caller that rebuilds again and again (the repair runner, after every step) writes pages it
+// already has instead of fresh ones, which the kernel must zero first.
+template <class T>
+Array<T> emptied(Array<T>& a) {
+  Array<T> r = std::move(a);
+  r.clear();
+  return r;
+}
+
 // Capacity for n elements, growing geometrically (so that appends are amortized O(1)).
 template <class T>
 inline bool growTo(Array<T>& a, size_t n) {

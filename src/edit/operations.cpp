@@ -33,7 +33,30 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const TopologyOptions& options
 }
 
 Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
-  *this = Impl{};
+  {
+    // Impl{}, but the arrays that are rebuilt below keep their memory (emptied()).
+    Impl fresh;
+    fresh.positions_ = emptied(positions_);
+    fresh.triangles_ = emptied(triangles_);
+    fresh.vertexDead_ = emptied(vertexDead_);
+    fresh.degenerate_ = emptied(degenerate_);
+    fresh.cornerNext_ = emptied(cornerNext_);
+    fresh.cornerPrev_ = emptied(cornerPrev_);
+    fresh.vertexCorner_ = emptied(vertexCorner_);
+    fresh.vertexCornerCount_ = emptied(vertexCornerCount_);
+    fresh.sideHalfedge_ = emptied(sideHalfedge_);
+    fresh.next_ = emptied(next_);
+    fresh.prev_ = emptied(prev_);
+    fresh.vert_ = emptied(vert_);
+    fresh.face_ = emptied(face_);
+    fresh.pairKind_ = emptied(pairKind_);
+    fresh.triangleHalfedge_ = emptied(triangleHalfedge_);
+    fresh.vertexHalfedge_ = emptied(vertexHalfedge_);
+    fresh.vertexNonManifold_ = emptied(vertexNonManifold_);
+    fresh.stamp_ = emptied(stamp_);
+    fresh.triStamp_ = emptied(triStamp_);
+    *this = std::move(fresh);
+  }
   const uint32_t nt = mesh.nTriangles(), nv = mesh.nVertices(), nh = topo.nHalfedges();
   if (topo.nTriangles != nt || topo.nVertices != nv || topo.vertexWeld.size() != nv ||
       topo.triangleDegenerate.size() != nt)

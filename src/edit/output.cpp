@@ -69,10 +69,23 @@ std::string EditableMesh::Impl::infoJson(const std::string& file) {
 // ============================================================================ output
 
 Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const {
-  out = Mesh{};
+  // out and the maps start as Mesh{} and CompactMaps{}, but their arrays keep their memory
+  // (emptied()).
+  {
+    Mesh fresh;
+    fresh.positions = emptied(out.positions);
+    fresh.triangles = emptied(out.triangles);
+    fresh.attributes = emptied(out.attributes);
+    fresh.normals = emptied(out.normals);
+    fresh.colors = emptied(out.colors);
+    fresh.colorValid = emptied(out.colorValid);
+    out = std::move(fresh);
+  }
   CompactMaps local;
   CompactMaps& mp = maps ? *maps : local;
-  mp = CompactMaps{};
+  mp.vertices.clear();
+  mp.triangles.clear();
+  mp.halfedges.clear();
   const uint32_t nvSlots = nVertices(), ntSlots = nTriangles(), nhSlots = nHalfedges();
   if (!mp.vertices.assign(nvSlots, kInvalid) || !mp.triangles.assign(ntSlots, kInvalid) ||
       ((topo || maps) && !mp.halfedges.assign(nhSlots, kInvalid)))

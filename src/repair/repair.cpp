@@ -343,6 +343,12 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // failed step restores and what undo rebuilds.
   s = em.init(cur, topo);
   if (!s.ok()) return s;
+  // The fingerprint of cur, for the log (a plan needs only the first).
+  uint64_t curFingerprint = fingerprint;
+  // Each changing step rebuilds into these (toMesh keeps their memory), then swaps them with cur.
+  Mesh next;
+  Topology nextTopo;
+  CompactMaps maps;
   RepairFigures before;
   if (known) {
     before = *known;  // the same mesh (same fingerprint): the same figures
@@ -376,7 +382,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     L.kind = sp.kind;
     L.trianglesBefore = L.trianglesAfter = cur.nTriangles();
     L.verticesBefore = L.verticesAfter = cur.nVertices();
-    L.fingerprintAfter = fingerprintOf(cur);
+    L.fingerprintAfter = curFingerprint;
     if (s.ok()) {
       L.itemsDone = sp.nDone();
       L.itemsSkipped = sp.nSkipped();
@@ -385,16 +391,15 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
     if (s.ok() && L.itemsDone > 0) {
-      Mesh next;
-      Topology nextTopo;
-      CompactMaps maps;
       s = em.toMesh(next, &nextTopo, &maps);
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
       if (s.ok()) s = em.init(next, nextTopo);
       if (s.ok()) {
-        cur = std::move(next);
-        topo = std::move(nextTopo);
-        L.fingerprintAfter = fingerprintOf(cur);
+        // The state before the step becomes the memory of the next step's rebuild.
+        std::swap(cur, next);
+        std::swap(topo, nextTopo);
+        if (log) curFingerprint = fingerprintOf(cur);
+        L.fingerprintAfter = curFingerprint;
         changed = true;
         // The figures after each step are the plan's; the log needs only the last ones.
         if (plan) s = figuresOf(em, cur, topo, o, k == lastStep, figures);
@@ -441,7 +446,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   }
   if (log) {
     log->after = after;
-    log->fingerprintAfter = fingerprintOf(cur);
+    log->fingerprintAfter = curFingerprint;
     log->afterReport = changed ? infoJson("", cur, &topo) : log->beforeReport;
   }
   return Status{};
