@@ -49,6 +49,15 @@ for f in dist/* dist/.[!.]*; do
   case " ${keep[*]} " in *" $b "*) ;; *) rm -rf "$f" ;; esac
 done
 
+# Only the full module may hold SIMD instructions (the intersection pass, src/CMakeLists.txt):
+# the core must instantiate on every engine with wasm, SIMD or not. binaryen's wasm-dis comes
+# with Emscripten.
+if command -v wasm-dis >/dev/null 2>&1 &&
+   wasm-dis dist/stltopo-wasm.wasm | grep -qE '\b(v128|[if](8x16|16x8|32x4|64x2))\.'; then
+  echo "build-wasm: stltopo-wasm.wasm holds SIMD instructions; only stltopo-full may" >&2
+  exit 1
+fi
+
 # Size report: what a browser downloads (gzip -9), .wasm + glue of each module. The first is
 # what every load fetches; the budget (70 kB) is checked by tests/js/modules.test.mjs.
 gz() { gzip -9c "$1" | wc -c; }

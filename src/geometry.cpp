@@ -8,6 +8,8 @@
 #include <cstring>
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#elif defined(__wasm_simd128__)
+#include <wasm_simd128.h>  // the wasm build compiles this file with -msimd128 (src/CMakeLists.txt)
 #endif
 
 #include "geometry_detail.h"
@@ -322,6 +324,13 @@ inline void sharedCorners(const uint32_t* ca, const uint32_t* cb, unsigned& ma, 
   const unsigned e2 = unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_set1_epi32(int(ca[2])), vb)))) & 7;
   mb = e0 | e1 | e2;
   ma = unsigned(e0 != 0) | unsigned(e1 != 0) << 1 | unsigned(e2 != 0) << 2;
+#elif defined(__wasm_simd128__)
+  const v128_t vb = wasm_v128_load(cb);  // the 4th lane is not b's
+  const unsigned e0 = unsigned(wasm_i32x4_bitmask(wasm_i32x4_eq(wasm_i32x4_splat(int(ca[0])), vb))) & 7;
+  const unsigned e1 = unsigned(wasm_i32x4_bitmask(wasm_i32x4_eq(wasm_i32x4_splat(int(ca[1])), vb))) & 7;
+  const unsigned e2 = unsigned(wasm_i32x4_bitmask(wasm_i32x4_eq(wasm_i32x4_splat(int(ca[2])), vb))) & 7;
+  mb = e0 | e1 | e2;
+  ma = unsigned(e0 != 0) | unsigned(e1 != 0) << 1 | unsigned(e2 != 0) << 2;
 #else
   ma = mb = 0;
   for (int i = 0; i < 3; ++i)
@@ -474,6 +483,20 @@ inline uint32_t overlapMask(const BoxColumns& c, uint32_t first, const Box& b) {
     ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_loadu_ps(c.col(2) + q), _mm_set1_ps(b.hi[2])));
     ok = _mm_and_ps(ok, _mm_cmpge_ps(_mm_loadu_ps(c.col(5) + q), _mm_set1_ps(b.lo[2])));
     m |= uint32_t(_mm_movemask_ps(ok)) << (4 * half);
+  }
+  return m;
+#elif defined(__wasm_simd128__)
+  // The same comparisons in wasm's 128-bit SIMD (a NaN compares false, as in SSE).
+  uint32_t m = 0;
+  for (int half = 0; half < 2; ++half) {
+    const size_t q = first + 4 * size_t(half);
+    v128_t ok = wasm_v128_and(wasm_f32x4_le(wasm_v128_load(c.col(0) + q), wasm_f32x4_splat(b.hi[0])),
+                              wasm_f32x4_ge(wasm_v128_load(c.col(3) + q), wasm_f32x4_splat(b.lo[0])));
+    ok = wasm_v128_and(ok, wasm_f32x4_le(wasm_v128_load(c.col(1) + q), wasm_f32x4_splat(b.hi[1])));
+    ok = wasm_v128_and(ok, wasm_f32x4_ge(wasm_v128_load(c.col(4) + q), wasm_f32x4_splat(b.lo[1])));
+    ok = wasm_v128_and(ok, wasm_f32x4_le(wasm_v128_load(c.col(2) + q), wasm_f32x4_splat(b.hi[2])));
+    ok = wasm_v128_and(ok, wasm_f32x4_ge(wasm_v128_load(c.col(5) + q), wasm_f32x4_splat(b.lo[2])));
+    m |= uint32_t(wasm_i32x4_bitmask(ok)) << (4 * half);
   }
   return m;
 #else
