@@ -147,7 +147,7 @@ export async function reportOne(input, a) {
   const file = input.path;
   const opts = { file, json: a.json, topology: a.topology, tolerance: a.tolerance, maxTriangles: a.maxTriangles,
     maxBytes: a.maxBytes, shells: a.shells, defects: a.defects, maxDefects: a.maxDefects,
-    intersections: a.intersections, maxPairs: a.maxPairs };
+    intersections: a.intersections, maxPairs: a.maxPairs, threads: a.threads };
   if (input.err) return failed(file, a.json, `invalid-argument: cannot open ${file}: ${strerror({ code: input.err })}`);
   if (file === '-') return wasm.report(stdinSource(), opts);
   let source;

@@ -53,10 +53,10 @@ export function cliCalls(internal) {
   // the first defects of each kind, as the native one does).
   async function report(source, { file, json, topology = DEFAULTS.topology, tolerance = DEFAULTS.tolerance,
     maxTriangles = DEFAULTS.maxTriangles, maxBytes = DEFAULTS.maxBytes, shells = false, defects = false,
-    maxDefects = -1, intersections = false, maxPairs = DEFAULTS.maxPairs }) {
+    maxDefects = -1, intersections = false, maxPairs = DEFAULTS.maxPairs, threads = 1 }) {
     const withDefects = defects || !json;
     const o = { ...normalizeOptions({ topology, maxTriangles, maxBytes, shells: shells || withDefects, intersections,
-      maxPairs }), tolerance, keepMessageBytes: !json };
+      maxPairs, threads: Math.min(threads, 1024) }), tolerance, keepMessageBytes: !json };
     const entry = await moduleFor('load', o);
     const max = maxDefects >= 0 ? maxDefects : json ? 1000 : 5;
     return withSession(entry, readerOf(source, o), async (session) => {

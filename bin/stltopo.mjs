@@ -32,7 +32,7 @@ const USAGE =
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
   "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n" +
   "  --threads N uses N threads per file (default 1; 0: the machine's cores); the output\n" +
-  "  is the same for every N (the npm CLI runs on one).\n" +
+  "  is the same for every N (the npm CLI: the threaded wasm module when N > 1).\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +
@@ -76,7 +76,7 @@ async function main(argv) {
   const a = {
     json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
     maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, intersections: false,
-    maxPairs: DEFAULTS.maxPairs, jobs: 1, inputs: [],
+    maxPairs: DEFAULTS.maxPairs, jobs: 1, threads: 1, inputs: [],
   };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
@@ -137,11 +137,12 @@ async function main(argv) {
       if (v === null) return;
       a.inputs.push({ path: v, list: true });
     } else if (!endOfOptions && s === '--threads') {
-      // Checked as the native CLI checks it; the wasm build runs on one thread for now.
+      // Checked as the native CLI checks it; N > 1 loads through the threaded wasm module.
       const v = value('--threads');
       if (v === null) return;
       const n = parseCUnsigned(v);
       if (v === '' || v[0] === '-' || n === null || n > 1024n) return usageError(`stltopo: bad --threads '${v}'\n`);
+      a.threads = Number(n);
     } else if (!endOfOptions && s.length > 1 && s[0] === '-') {
       return usageError(`stltopo: unknown option '${s}'\n${USAGE}`);
     } else {

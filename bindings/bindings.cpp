@@ -26,6 +26,14 @@ EMSCRIPTEN_BINDINGS(stltopo) {
       .function("setMeta", &Session::setMeta)
       .function("validate", &Session::validate);
   stltopo::js::registerModuleSession(session);
+  function("_setThreads", &stltopo::js::setThreads);
+  function("_threads", &stltopo::js::threads);
+#if defined(__EMSCRIPTEN_PTHREADS__)
+  // Test-only (tests/js/threads.test.mjs): the stages' split grain and the split count
+  // (stltopo::setParallelGrainForTesting), so that the small fixtures take the threaded paths.
+  function("_setParallelGrainForTesting", +[](double g) { stltopo::setParallelGrainForTesting(g > 0 ? size_t(g) : 0); });
+  function("_parallelSplitsForTesting", +[]() { return double(stltopo::parallelSplitsForTesting()); });
+#endif
   function("_arrayLayout", &stltopo::js::arrayLayout);
   function("_errorJson", &stltopo::js::errorJson);
   function("_codeName", &stltopo::js::codeNameAt);

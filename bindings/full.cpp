@@ -123,8 +123,9 @@ class FullSession : public Session {
   val intersect(double maxPairs) {
     if (!hasShells_) return remember(Status::error(Code::InvalidArgument, "intersections need a load with shells"));
     IntersectionOptions o;
+    o.threads = threads();
     if (maxPairs >= 1 && maxPairs <= 1099511627776.0) o.maxPairs = uint64_t(maxPairs);
-    Status s = checkTriangles(mesh_, &topo_, checks_);
+    Status s = checkTriangles(mesh_, &topo_, checks_, o.threads);
     if (s.ok()) s = findIntersections(mesh_, topo_, checks_, intersections_, o);
     if (s.ok()) s = findShellNesting(mesh_, topo_, shells_, intersections_, nesting_);
     if (!s.ok()) return remember(s);

@@ -12,7 +12,28 @@ using emscripten::val;
 
 namespace stltopo::js {
 
+namespace {
+unsigned gThreads = 1;
+
+val utf8Decoder() {
+  static val* decoder = new val(val::global("TextDecoder").new_(val("utf-8")));
+  return *decoder;
+}
+}  // namespace
+
+void setThreads(double n) {
+#if defined(__EMSCRIPTEN_PTHREADS__)
+  gThreads = n >= 1 && n <= 64 ? unsigned(n) : 1;
+#else
+  (void)n;
+  gThreads = 1;
+#endif
+}
+
+unsigned threads() { return gThreads; }
+
 Session::Session(double maxTriangles, double maxBytes, double sizeHint, bool keepNormals) {
+  options_.threads = gThreads;
   options_.maxTriangles =
       maxTriangles >= 0 && maxTriangles <= 4294967295.0 ? uint32_t(maxTriangles) : options_.maxTriangles;
   options_.maxBytes = !(maxBytes > 0) ? 0 : maxBytes >= 18446744073709551615.0 ? ~uint64_t(0) : uint64_t(maxBytes);
@@ -71,7 +92,10 @@ val Session::meta() const {
   val solids = val::array();
   for (const Solid& s : mesh_.solids) {
     val so = val::object();
-    so.set("name", val(s.name));
+    // Decoded by TextDecoder (invalid UTF-8 becomes U+FFFD): Embind's std::string decoder
+    // reads past the end of a short name that ends inside a multi-byte sequence, so such a
+    // name came out as whatever bytes followed it in memory.
+    so.set("name", utf8Decoder().call<val>("decode", bytesToJs(s.name)));
     so.set("firstTriangle", val(s.firstTriangle));
     so.set("triangleCount", val(s.triangleCount));
     solids.call<void>("push", so);
@@ -158,6 +182,7 @@ Status Session::findShells() {
 val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells) {
   if (!topology) return val::null();
   TopologyOptions to;
+  to.threads = gThreads;
   to.tolerance = tolerance > 0 ? tolerance : 0;
   to.prevAndFace = prevAndFace;
   to.triangleShell = shells;

@@ -106,6 +106,12 @@ class Session {
   Status last_;
 };
 
+// The threads of the loads that follow (`_setThreads(n)`): the `threads` of the read, the
+// topology and the exact geometry. 1 in the single-threaded modules, whatever was set (the
+// core compiles its threaded paths out there); in the threaded ones at most the worker pool
+// plus the calling thread (web/src/instance*.js set it before each load).
+void setThreads(double n);
+unsigned threads();
 // The module's session (a Session, or full.cpp's FullSession), which `new _Session()` makes.
 Session* newSession(double maxTriangles, double maxBytes, double sizeHint, bool keepNormals);
 // The module's own methods of _Session (bindings.cpp registers the shared ones first).

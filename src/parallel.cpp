@@ -10,6 +10,9 @@
 #include <condition_variable>
 #include <mutex>
 #include <thread>
+#if defined(__EMSCRIPTEN__)
+#include <pthread.h>
+#endif
 #endif
 
 namespace stltopo::detail {
@@ -45,6 +48,39 @@ uint64_t parallelSplitsForTesting() { return gSplits.load(std::memory_order_rela
 #if STLTOPO_THREADS
 namespace {
 
+// Starts fn(arg) on a detached thread; false when none could be started (resources,
+// memory; in the threaded wasm build also an exhausted worker pool: Emscripten's
+// PTHREAD_POOL_SIZE_STRICT=2 makes that EAGAIN, and the library has no exceptions there).
+template <class Fn>
+bool startDetached(Fn* fn) {
+#if defined(__EMSCRIPTEN__)
+  pthread_t t;
+  auto entry = [](void* p) -> void* {
+    auto* f = static_cast<Fn*>(p);
+    (*f)();
+    delete f;
+    return nullptr;
+  };
+  if (pthread_create(&t, nullptr, entry, fn) != 0) {
+    delete fn;
+    return false;
+  }
+  pthread_detach(t);
+  return true;
+#else
+  try {
+    std::thread([fn] {
+      (*fn)();
+      delete fn;
+    }).detach();
+  } catch (...) {
+    delete fn;
+    return false;
+  }
+  return true;
+#endif
+}
+
 // The threads of the process's parts: started on first use, kept for the next split (a
 // thread start and its stack's unmapping cost more than many a part), never ended (the
 // pool is never destroyed, so no thread is joined at exit). One split at a time uses it;
@@ -79,11 +115,11 @@ struct Pool {
     std::unique_lock<std::mutex> job(busy, std::try_to_lock);
     if (!job.owns_lock()) return false;
     while (nWorkers + 1 < n && nWorkers + 1 < kMaxThreads) {
-      try {
-        std::thread(&Pool::work, this, nWorkers + 1).detach();
-      } catch (...) {  // no thread (resources, memory): the caller runs the parts without one
-        break;
-      }
+      unsigned id = nWorkers + 1;
+      Pool* self = this;
+      auto* start = new (std::nothrow) auto([self, id] { self->work(id); });
+      // no thread (resources, memory): the caller runs the parts without one
+      if (!start || !startDetached(start)) break;
       ++nWorkers;
     }
     const unsigned withWorker = n - 1 < nWorkers ? n - 1 : nWorkers;
@@ -112,6 +148,11 @@ void runPartsImpl(unsigned n, PartFn fn, void* ctx) {
 #if STLTOPO_THREADS
   static Pool* pool = new (std::nothrow) Pool;
   if (pool && pool->run(n, fn, ctx)) return;
+#if defined(__EMSCRIPTEN__)
+  // The pool is busy (a split inside a part): a wasm thread needs a worker of Emscripten's
+  // preallocated pool, which the pool's threads hold, so the parts run here, in order.
+  for (unsigned i = 0; i < n; ++i) fn(ctx, i);
+#else
   std::thread threads[kMaxThreads];
   bool started[kMaxThreads] = {};
   for (unsigned i = 1; i < n && i < kMaxThreads; ++i) {
@@ -128,6 +169,7 @@ void runPartsImpl(unsigned n, PartFn fn, void* ctx) {
     else
       fn(ctx, i);
   }
+#endif
 #else
   for (unsigned i = 0; i < n; ++i) fn(ctx, i);
 #endif

@@ -2,8 +2,10 @@
 // deterministic merge (issue 24): every caller's result is the same for every thread count.
 // Private (not installed).
 //
-// The wasm build has no threads (Emscripten without pthreads): there STLTOPO_THREADS is 0,
-// threadCount() is always 1 and runParts() runs the parts one after another on the caller.
+// The single-threaded wasm modules have no threads (Emscripten without pthreads): there
+// STLTOPO_THREADS is 0, threadCount() is always 1 and runParts() runs the parts one after
+// another on the caller. The threaded ones (-pthread, bindings/CMakeLists.txt) have them; the
+// bindings cap `threads` at Emscripten's preallocated worker pool (bindings/session.cpp).
 #pragma once
 
 #include <cstddef>

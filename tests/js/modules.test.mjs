@@ -26,6 +26,15 @@ test('the core module, .wasm + glue, is at most 70 kB gzipped (gzip -9)', () => 
   assert.ok(full > core, 'the full module holds more than the core');
 });
 
+// The threaded core (stltopo-wasm-mt: pthreads, shared memory; issue 24), fetched only by
+// pages that are cross-origin isolated, has a budget of its own: .wasm + glue + its pool
+// workers' script, measured at 89,580 B when it was added (the pthread runtime: about 20 kB).
+test('the threaded core module, .wasm + glue + worker script, is at most 92 kB gzipped', () => {
+  const gz = (f) => gzipSync(readFileSync(path.join(root, 'dist', f)), { level: 9 }).length;
+  const mt = gz('stltopo-wasm-mt.wasm') + gz('stltopo-wasm-mt.js') + gz('stltopo-wasm-mt.worker.js');
+  assert.ok(mt <= 92_000, `stltopo-wasm-mt .wasm + .js + .worker.js are ${mt} B gzipped, over 92000`);
+});
+
 test('plain loads use the core only; shells, fromIndexed, writing instantiate the full module', async () => {
   const file = bytes('bunny.stl');
   const copy = await loadStl(file);

@@ -4,17 +4,24 @@
 // loops, shells, defects, progress and errors), edit-panel.js (the edit mode, edit.js) and
 // repair-panel.js (the Repair panel: plan, preview, apply, undo; its test hooks are listed there).
 //
-// Test hooks (kept stable): document.body.dataset.state is "loading" | "ready" | "error";
+// Test hooks (kept stable): [data-metric="threads"] is the threads of the last load;
+// document.body.dataset.state is "loading" | "ready" | "error";
 // every statistic is an element [data-stat="<stltopo info --json key>"] whose text is the value;
 // each hole list entry carries data-hole="<hole id>"; each shell entry data-shell="<shell id>"
 // (the selected one has class "active" and its figures are [data-shell-stat="<shellList key>"]);
 // each defect entry data-defect-kind="<kind>" data-defect-index="<i>" (the framed one is active,
 // and body[data-focused-defect] says "<kind>:<i>"); the error code is in [data-error-code].
+import { init } from 'stltopo/worker';
 import { samples, defaultSampleId } from './samples.js';
 import { $, viewer } from './page.js';
 import { current, load, loadSample, loadUrl } from './load.js';
 import { formatBytes, hideError, resetView } from './panels.js';
 import './repair-panel.js'; // wires the Repair panel's controls (load.js hands it each model)
+
+// The threaded modules, served next to the page (vite.config.js, stltopo-threads): loads use
+// them when the page is cross-origin isolated, on navigator.hardwareConcurrency threads; the
+// Model panel shows the count ([data-metric="threads"]).
+init({ threadsUrl: new URL('./stltopo-mt/', location.href) });
 
 // ---------------------------------------------------------------------------------------------
 // Wiring

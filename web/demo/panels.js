@@ -374,6 +374,10 @@ export function showMesh(mesh, { name, credit, parseMs, sceneMs, totalMs }) {
   $('#load-time').title = `read + parse + topology in the worker: ${ms(parseMs)}; building the 3D view: ${ms(sceneMs)}`;
   $('#memory').textContent = formatBytes(arraysBytes(mesh));
   $('#memory').title = 'Size of the mesh and topology arrays handed over by the worker';
+  $('#threads').textContent = String(mesh.threads);
+  $('#threads').title = mesh.threads > 1
+    ? `read, topology and geometry ran on ${mesh.threads} threads (the threaded WebAssembly module: the page is cross-origin isolated)`
+    : crossOriginIsolated ? 'one thread' : 'one thread: the page is not cross-origin isolated (its server sends no COOP/COEP headers), so there is no SharedArrayBuffer for the threaded module';
   $('#credit').textContent = credit;
 }
 

@@ -50,6 +50,39 @@ function stltopoPackage() {
   };
 }
 
+// Threads (README, *Threads in JS*): the threaded modules need SharedArrayBuffer, which the
+// browser gives only to a cross-origin isolated page. The dev and preview servers send the two
+// headers; a static host of the built site must send them too (else the page loads on one
+// thread). The build copies the threaded modules' files to stltopo-mt/ (a bundle does not
+// hold them: their glue is imported and their workers started from URLs at run time) and
+// the page points init({ threadsUrl }) there (main.js).
+const ISOLATION = { 'Cross-Origin-Opener-Policy': 'same-origin', 'Cross-Origin-Embedder-Policy': 'require-corp' };
+const THREADED_FILES = ['wasm', 'full'].flatMap((m) => ['js', 'wasm', 'worker.js'].map((x) => `stltopo-${m}-mt.${x}`));
+
+function stltopoThreads() {
+  return {
+    name: 'stltopo-threads',
+    configureServer(server) {
+      server.middlewares.use((req, res, next) => {
+        const match = /\/stltopo-mt\/([^/?#]+)$/.exec((req.url ?? '').split('?')[0]);
+        if (match && THREADED_FILES.includes(match[1])) {
+          const data = readFileSync(path.join(packageDir, 'dist', match[1]));
+          res.setHeader('Content-Type', match[1].endsWith('.wasm') ? 'application/wasm' : 'text/javascript');
+          res.setHeader('Content-Length', data.length);
+          res.end(data);
+          return;
+        }
+        next();
+      });
+    },
+    generateBundle() {
+      for (const name of THREADED_FILES) {
+        this.emitFile({ type: 'asset', fileName: `stltopo-mt/${name}`, source: readFileSync(path.join(packageDir, 'dist', name)) });
+      }
+    },
+  };
+}
+
 function stltopoSamples() {
   const files = new Map(samples.filter((s) => s.path).map((s) => [s.file, path.join(fixturesDir, s.path)]));
   return {
@@ -76,9 +109,10 @@ function stltopoSamples() {
 export default defineConfig({
   root: demoDir,
   base: './', // relative URLs: the built site works from any folder of any static host
-  plugins: [stltopoPackage(), stltopoSamples()],
+  plugins: [stltopoPackage(), stltopoSamples(), stltopoThreads()],
   server: {
     fs: { allow: [repoRoot, packageDir] },
+    headers: ISOLATION,
   },
   worker: { format: 'es' },
   build: {
@@ -91,5 +125,5 @@ export default defineConfig({
     entries: ['index.html'],
     exclude: ['stltopo'],
   },
-  preview: { host: '127.0.0.1' },
+  preview: { host: '127.0.0.1', headers: ISOLATION },
 });

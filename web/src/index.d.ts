@@ -63,6 +63,13 @@ export interface LoadOptions {
   intersections?: boolean;
   /** The intersection pass's work limit (--max-pairs), default 4000000. */
   maxPairs?: number;
+  /**
+   * Threads of the read, the topology and the exact geometry (README, "Threads in JS"): 1 is
+   * the single-threaded module; more need SharedArrayBuffer (a cross-origin isolated page, or
+   * Node) and use the threaded module, with the same results. 0: the machine's cores. Default:
+   * in browsers navigator.hardwareConcurrency when the page is isolated, else 1; in Node 1.
+   */
+  threads?: number;
 }
 
 /** How a shell is wound: inconsistent edges, else boundary edges, else the sign of its volume. */
@@ -301,6 +308,8 @@ export declare class Mesh<T extends boolean = boolean> {
   colorConvention: 'none' | 'viscam' | 'magics';
   solids: Solid[];
   warnings: Warning[];
+  /** The threads the load ran on (1 in the single-threaded module; see LoadOptions.threads). */
+  threads: number;
   /** Boundary loops made only of boundary-edge sides. */
   holes: BoundaryLoop[];
   /** Boundary loops that contain cut (inconsistent or non-manifold) sides. */
@@ -520,6 +529,11 @@ export interface InitOptions {
   fullWasmUrl?: string | URL | null;
   /** The bytes of stltopo-full.wasm; wins over fullWasmUrl. */
   fullWasmBinary?: ArrayBuffer | Uint8Array | null;
+  /**
+   * URL of the directory that serves the threaded modules (stltopo-wasm-mt.{js,wasm,worker.js}
+   * and stltopo-full-mt.*), default next to the package's files. Bundles need it for threads.
+   */
+  threadsUrl?: string | URL | null;
 }
 /**
  * Where the wasm and the worker script come from, when the bundler or server does not serve

@@ -8,8 +8,27 @@
 // from next to this file (new URL('./….wasm', import.meta.url), which bundlers understand).
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo } from './wasm.js';
-import { instantiateModule, browserSource } from './wasm-load.js';
+import { instantiateModule, browserSource, wasmSettings } from './wasm-load.js';
 import { stlError } from './errors.js';
+import { browserDefaultThreads, threadedFiles, threadedModuleOptions } from './threads.js';
+
+// The threaded module of kind ('wasm', 'full') with a pool of `pool` workers, from
+// init()'s threadsUrl, else next to this file. Its glue is imported at run time from that
+// URL (bundlers leave it alone: a bundle that does not serve the files falls back to the
+// single-threaded module, see wasm.js); each pool worker imports the same glue.
+async function instantiateThreaded(kind, pool, extra) {
+  const files = threadedFiles(kind);
+  const base = wasmSettings().threadsUrl || new URL('./', import.meta.url).href;
+  const glue = new URL(files.glue, base).href;
+  let create;
+  try {
+    ({ default: create } = await import(/* webpackIgnore: true */ /* @vite-ignore */ glue));
+  } catch (e) {
+    throw stlError('wasm-load', `cannot import ${glue}, the glue of the threaded module: ${e && e.message}`);
+  }
+  const options = { ...extra, ...threadedModuleOptions(pool, new URL(files.worker, base).href, glue) };
+  return instantiateModule(create, { url: new URL(files.wasm, base).href }, options, { threaded: true });
+}
 
 /**
  * A wasm instance pair for this thread. importFull() resolves to the full module's glue
@@ -33,5 +52,7 @@ export function createInstance({ importFull, loadWorker = null }) {
       return instantiateModule(create, source, extra);
     },
     loadWorker,
+    instantiateThreaded,
+    defaultThreads: browserDefaultThreads,
   });
 }

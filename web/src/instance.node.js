@@ -5,10 +5,15 @@
 // from next to this file, or init()'s wasmBinary; the same for stltopo-full.wasm (fullWasmUrl,
 // fullWasmBinary). The two modules are used as in browsers (web/src/wasm.js).
 import { readFile } from 'node:fs/promises';
+import { availableParallelism } from 'node:os';
+import { pathToFileURL } from 'node:url';
+import { Worker as NodeWorker } from 'node:worker_threads';
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo } from './wasm.js';
 import createStltopoFullModule from './stltopo-full.js';
-import { instantiateModule, moduleSettings } from './wasm-load.js';
+import { instantiateModule, moduleSettings, wasmSettings } from './wasm-load.js';
+import { threadedFiles, threadedModuleOptions } from './threads.js';
+import { stlError } from './errors.js';
 
 export { fileSource } from './file-source.js';
 
@@ -23,8 +28,76 @@ function wasmSource(module) {
   return { url: defaults[module].href, read: async () => (defaultBytes[module] ??= await readFile(defaults[module])) };
 }
 
+// A Web Worker as the threaded glue uses one (new Worker(url), onmessage, onerror,
+// postMessage, terminate), on worker_threads: pthread-node.js runs the glue's worker script.
+// Unref'd once loaded, so that an idle pool never keeps Node running (a load blocks the main
+// thread while the pool works, so nothing is cut short).
+class PoolWorker {
+  constructor(url) {
+    this.onmessage = null;
+    this.onerror = null;
+    this.worker = new NodeWorker(new URL('./pthread-node.js', import.meta.url), {
+      workerData: { script: String(url) },
+      execArgv: [], // not the process's (--input-type, --eval and the like fail in a worker)
+    });
+    this.worker.on('message', (data) => {
+      if (data && data.cmd === 'loaded') this.worker.unref();
+      if (this.onmessage) this.onmessage({ data });
+    });
+    this.worker.on('error', (e) => {
+      try {
+        if (this.onerror) this.onerror(e); // the glue's handler reports it (printErr), then rethrows
+      } catch {
+        // reported: the instantiation fails with wasm-load (wasm-load.js)
+      }
+    });
+  }
+  postMessage(msg, transfer) { this.worker.postMessage(msg, transfer); }
+  terminate() { this.worker.terminate(); }
+}
+
+// The directory of the threaded modules: init()'s threadsUrl (a file: URL or a path), else
+// next to this file.
+function threadsBase() {
+  const { threadsUrl } = wasmSettings();
+  if (!threadsUrl) return new URL('./', import.meta.url);
+  const dir = threadsUrl.endsWith('/') ? threadsUrl : `${threadsUrl}/`;
+  return /^[a-z][a-z0-9+.-]*:/i.test(dir) && !/^[a-z]:/i.test(dir) ? new URL(dir) : pathToFileURL(dir);
+}
+
+// The threaded module of kind ('wasm', 'full') with a pool of `pool` workers. The glue reads
+// the global Worker while the factory runs (the pool is made then); Node has none, so
+// PoolWorker is it for that call only.
+async function instantiateThreaded(kind, pool, extra) {
+  const files = threadedFiles(kind);
+  const base = threadsBase();
+  const glue = new URL(files.glue, base);
+  let create;
+  try {
+    ({ default: create } = await import(glue.href));
+  } catch (e) {
+    throw stlError('wasm-load', `cannot import ${glue.href}, the glue of the threaded module: ${e && e.message}`);
+  }
+  const wasm = new URL(files.wasm, base);
+  const source = { url: wasm.href, read: () => readFile(wasm) };
+  const options = { ...extra, ...threadedModuleOptions(pool, new URL(files.worker, base).href, glue.href) };
+  const had = Object.getOwnPropertyDescriptor(globalThis, 'Worker');
+  globalThis.Worker = PoolWorker;
+  try {
+    return instantiateModule(create, source, options, { threaded: true });
+  } finally {
+    if (had) Object.defineProperty(globalThis, 'Worker', had);
+    else delete globalThis.Worker;
+  }
+}
+
 export const api = createStltopo({
   instantiate: (extra) => instantiateModule(createStltopoModule, wasmSource('wasm'), extra),
   instantiateFull: (extra) => instantiateModule(createStltopoFullModule, wasmSource('full'), extra),
   loadWorker: () => import('./worker.node.js'),
+  instantiateThreaded,
+  // Node: one thread unless asked (the pool's start, ~50-100 ms per worker, is paid by
+  // the first threaded load; a CLI run of one file gains less than that).
+  defaultThreads: () => 1,
+  cores: () => availableParallelism(),
 });

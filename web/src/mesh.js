@@ -176,6 +176,8 @@ export class Mesh {
     this.colorConvention = raw.colorConvention;
     this.solids = raw.solids;
     this.warnings = raw.warnings;
+    /** The threads the load ran on (1: the single-threaded module; see the `threads` option). */
+    this.threads = raw.threads || 1;
     const arrays = raw.arrays;
     this.nHalfedges = raw.hasTopology ? arrays.next.length : 0;
     const cache = live ? { ...arrays } : arrays;

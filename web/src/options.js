@@ -33,7 +33,13 @@ export function normalizeOptions(options) {
     shells: !!options.shells || !!options.intersections,
     intersections: !!options.intersections,
     maxPairs: DEFAULTS.maxPairs,
+    threads: null, // the environment's default (web/src/threads.js)
   };
+  if (options.threads !== undefined && options.threads !== null) {
+    const n = options.threads;
+    if (!Number.isInteger(n) || n < 0 || n > 1024) throw invalid('threads must be an integer in [0, 1024] (0: the machine\'s cores)');
+    o.threads = n;
+  }
   if (options.maxPairs !== undefined) {
     const n = options.maxPairs;
     if (!Number.isInteger(n) || n < 1 || n > 2 ** 40) throw invalid('maxPairs must be an integer in [1, 2^40]');
@@ -73,6 +79,7 @@ export function plainOptions(o) {
     shells: o.shells,
     intersections: o.intersections,
     maxPairs: o.maxPairs,
+    threads: o.threads,
   };
 }
 

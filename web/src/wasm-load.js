@@ -4,7 +4,7 @@
 // came back: the HTTP status, the content type and the first bytes.
 import { stlError } from './errors.js';
 
-const settings = { wasmUrl: null, wasmBinary: null, workerUrl: null, fullWasmUrl: null, fullWasmBinary: null };
+const settings = { wasmUrl: null, wasmBinary: null, workerUrl: null, fullWasmUrl: null, fullWasmBinary: null, threadsUrl: null };
 
 const isUrl = (v) => typeof v === 'string' || v instanceof URL;
 
@@ -30,6 +30,8 @@ function absolute(v) {
  *   workerUrl   URL of the worker script (stltopo's dist/worker-thread.js, served)
  *   fullWasmUrl, fullWasmBinary  the same for stltopo-full.wasm, the module of shells and
  *               defects, fromIndexed(), writing and EditableMesh (fetched on their first use)
+ *   threadsUrl  URL of the directory that serves the threaded modules (stltopo-wasm-mt.js,
+ *               .wasm, .worker.js and the same of stltopo-full-mt), for loads with threads
  * An option left out keeps its value; null restores the default.
  */
 export function init(options = {}) {
@@ -37,7 +39,7 @@ export function init(options = {}) {
   for (const key of Object.keys(options)) {
     if (!(key in settings)) throw stlError('invalid-argument', `init(): unknown option ${key}`);
   }
-  const urls = ['wasmUrl', 'workerUrl', 'fullWasmUrl'].filter((k) => options[k] !== undefined);
+  const urls = ['wasmUrl', 'workerUrl', 'fullWasmUrl', 'threadsUrl'].filter((k) => options[k] !== undefined);
   const binaries = ['wasmBinary', 'fullWasmBinary'].filter((k) => options[k] !== undefined);
   for (const k of urls) {
     if (options[k] !== null && !isUrl(options[k])) throw stlError('invalid-argument', `init(): ${k} must be a string or a URL`);
@@ -173,12 +175,19 @@ async function compile(bytes, imports, where) {
  * { url } (fetched) or { read } (an async function that returns the bytes, Node's fs).
  * Resolves to the module, or rejects with StlError 'wasm-load'.
  */
-export function instantiateModule(createModule, source, extra) {
+export function instantiateModule(createModule, source, extra, { threaded = false } = {}) {
   let fail;
   const failed = new Promise((resolve, reject) => { fail = reject; });
   const where = source.binary ? 'wasmBinary' : String(source.url);
+  // A threaded module waits for its pool's workers; one that fails to start (its script not
+  // served, or no worker support) says so only through printErr.
+  const printErr = threaded ? (text) => {
+    if (/^worker sent an error/.test(String(text))) fail(stlError('wasm-load', `a worker of the threaded module ${where} failed: ${text}`));
+    if (extra && extra.printErr) extra.printErr(text);
+  } : extra && extra.printErr;
   const ready = createModule({
     ...extra,
+    ...(printErr ? { printErr } : {}),
     instantiateWasm(imports, receive) {
       const bytes = source.binary ? Promise.resolve(source.binary)
         : source.read ? source.read().catch((e) => { throw stlError('wasm-load', `cannot read the WebAssembly module ${where}: ${e && e.message}`); })

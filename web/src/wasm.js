@@ -4,6 +4,7 @@ import { StlError, stlError, abortError, checkAbort, fromStatus, MESSAGE_BYTES, 
 import { normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from './options.js';
 import { toSource } from './sources.js';
 import { lazyModule } from './wasm-load.js';
+import { threadsFor } from './threads.js';
 import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput,
   setIntersectionFinder } from './mesh.js';
 
@@ -40,7 +41,19 @@ export const MODULE_OF = Object.freeze({
   heap: 'core',
 });
 
-export function createStltopo({ instantiate, instantiateFull, loadWorker = null }) {
+// The calls whose work splits over threads (the read, the topology, the exact geometry);
+// every other call runs in a single-threaded module.
+const THREADED_CALLS = new Set(['load', 'fromIndexed']);
+
+/**
+ * instantiate(extra), instantiateFull(extra): the single-threaded modules. With
+ * instantiateThreaded(kind, pool, extra) ('wasm' or 'full', pool: the workers to preallocate)
+ * loads with threads > 1 (threadsFor(o, defaultThreads, cores)) use the threaded modules; when one
+ * cannot be loaded (StlError wasm-load: not served, a bundle without it) they fall back to
+ * the single-threaded one, for good (internal.threadsError() says why).
+ */
+export function createStltopo({ instantiate, instantiateFull, loadWorker = null, instantiateThreaded = null,
+  defaultThreads = () => 1, cores = undefined }) {
   const setup = (entry, m) => {
     entry.heapMax = m._heapMax();
     entry.layout = Object.freeze(m._arrayLayout().map((d) => Object.freeze(d)));
@@ -50,10 +63,43 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
   const getModule = lazyModule(instantiate, setup);
   const getFull = lazyModule(instantiateFull, setup);
   const getters = { core: getModule, full: getFull };
+  // The threaded modules' getters, made on the first threaded load of each (its pool size).
+  const threaded = { core: null, full: null };
+  const threadedError = { core: null, full: null };
+  const allGetters = () => [getModule, getFull, threaded.core, threaded.full].filter(Boolean);
+
+  // The threaded entry of kind for t threads, or null when that module cannot be loaded.
+  async function threadedEntry(kind, t) {
+    if (!threaded[kind]) {
+      const pool = t - 1;
+      threaded[kind] = lazyModule((extra) => instantiateThreaded(kind === 'core' ? 'wasm' : 'full', pool, extra),
+        (entry, m) => {
+          setup(entry, m);
+          entry.pool = pool;
+        });
+    }
+    let entry;
+    try {
+      entry = await threaded[kind]();
+    } catch (e) {
+      if (!(e instanceof StlError) || e.code !== 'wasm-load') throw e;
+      threadedError[kind] = e;
+      return null;
+    }
+    entry.module._setThreads(Math.min(t, entry.pool + 1));
+    return entry;
+  }
+
   /** The entry (instantiated module) that `call` (a row of MODULE_OF) needs with options o. */
-  const moduleFor = (call, o) => {
+  const moduleFor = async (call, o) => {
     const row = MODULE_OF[call];
-    return getters[typeof row === 'function' ? row(o) : row]();
+    const kind = typeof row === 'function' ? row(o) : row;
+    const t = instantiateThreaded && THREADED_CALLS.has(call) ? threadsFor(o, defaultThreads, cores) : 1;
+    if (t > 1 && !threadedError[kind]) {
+      const entry = await threadedEntry(kind, t);
+      if (entry) return entry;
+    }
+    return getters[kind]();
   };
 
   // The exact geometry (self-intersections, nesting, solid) of a session loaded with shells,
@@ -73,9 +119,11 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     const wasmDied = entry.dead || (typeof WebAssembly !== 'undefined' && e instanceof WebAssembly.RuntimeError);
     if (wasmDied) {
       entry.dead = true;
-      getModule.drop(entry);
-      getFull.drop(entry);
-      const heap = entry.module && entry.module.HEAPU8 ? entry.module.HEAPU8.length : 0;
+      for (const g of allGetters()) g.drop(entry);
+      // The threaded modules' memory can grow on another thread: its byteLength is current,
+      // HEAPU8 only after the glue's next heap access on this one.
+      const M = entry.module;
+      const heap = M && M.wasmMemory ? M.wasmMemory.buffer.byteLength : M && M.HEAPU8 ? M.HEAPU8.length : 0;
       if (heap + (64 << 20) >= entry.heapMax || /memory|OOM|alloc/i.test(entry.lastError)) {
         return stlError('out-of-memory', `the WebAssembly heap is exhausted (${e.message})`);
       }
@@ -192,6 +240,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
       warnings: meta.warnings,
       counts: meta.counts,
       statsJson: session.infoJson('', false, false, 0),
+      threads: entry.module._threads(),
       validation: validate && meta.hasTopology ? toValidation(session.validate()) : null,
       layout: entry.layout,
       arrays: {},
@@ -373,6 +422,10 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null 
     getModule,
     getFull,
     moduleFor,
+    /** Why the threaded module of kind ('core', 'full') could not be loaded; null if it could. */
+    threadsError: (kind = 'core') => threadedError[kind],
+    /** The threads a load with options o would ask for here (before the pool's cap). */
+    threadsFor: (o) => (instantiateThreaded ? threadsFor(o, defaultThreads, cores) : 1),
     /** The module EditableMesh needs (its row of MODULE_OF). */
     editModule: () => moduleFor('edit'),
     /** The error JSON line of the native CLI for err, written by `entry` when it is alive. */

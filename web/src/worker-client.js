@@ -14,8 +14,8 @@ import { wasmSettings } from './wasm-load.js';
 
 // Where the worker's wasm comes from: the page's init() settings.
 function wasmOf() {
-  const { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary } = wasmSettings();
-  return { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary };
+  const { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary, threadsUrl } = wasmSettings();
+  return { wasmUrl, wasmBinary, fullWasmUrl, fullWasmBinary, threadsUrl };
 }
 
 // Replaces the typed arrays of `data` by copies and returns the copies' buffers, to be
