@@ -78,10 +78,11 @@ async function openPage(kind) {
 const FILES = fixtures().filter((f) => /\.stl$/i.test(f)).map((f) => `/${path.relative(root, f).split(path.sep).join('/')}`);
 
 // In the page: each file loaded with the default threads and with threads: 1, on the page
-// (entry `which`: 'stltopo' or 'worker') with shells and the exact geometry; returns per file
+// (entry `which`: 'stltopo' or 'worker') with `options` (default: shells and the exact
+// geometry, the full module; {} is the core's); returns per file
 // the threads used and whether every array and the report matched.
-async function compareInPage(page, kind, which) {
-  return page.evaluate(async ({ files, prefix, which }) => {
+async function compareInPage(page, kind, which, options = { intersections: true }, files = FILES) {
+  return page.evaluate(async ({ files, prefix, which, options }) => {
     const { loadStl } = window.pkg[which];
     const digest = (m) => {
       const parts = [JSON.stringify(m.stats), JSON.stringify(m.shells), JSON.stringify(m.holes), JSON.stringify(m.solids)];
@@ -97,7 +98,7 @@ async function compareInPage(page, kind, which) {
       const bytes = new Uint8Array(await (await fetch(prefix + f)).arrayBuffer());
       const run = async (threads) => {
         try {
-          const m = await loadStl(bytes.slice(), { intersections: true, ...(threads ? { threads } : {}) });
+          const m = await loadStl(bytes.slice(), { ...options, ...(threads ? { threads } : {}) });
           return { threads: m.threads, d: digest(m) };
         } catch (e) {
           return { threads: 0, d: `${e.code}: ${e.message}` };
@@ -108,13 +109,15 @@ async function compareInPage(page, kind, which) {
       out.push({ f, threads: dflt.threads, one: one.threads, same: dflt.d === one.d, error: dflt.threads === 0 });
     }
     return { isolated: crossOriginIsolated, cores: navigator.hardwareConcurrency, out };
-  }, { files: FILES, prefix: `/${kind}`, which });
+  }, { files, prefix: `/${kind}`, which, options });
 }
 
 test('threads in Chromium: a cross-origin isolated page loads through the threaded module, same results', { skip }, async () => {
   const { page, errors } = await openPage('isolated');
   try {
-    const r = await compareInPage(page, 'isolated', 'stltopo');
+    const plain = await compareInPage(page, 'isolated', 'stltopo', {}); // the core module
+    const r = await compareInPage(page, 'isolated', 'stltopo'); // shells and geometry: the full one
+    r.out.push(...plain.out);
     assert.equal(r.isolated, true, 'crossOriginIsolated');
     assert.ok(r.cores > 1, `navigator.hardwareConcurrency ${r.cores}`);
     const loaded = r.out.filter((x) => !x.error);
@@ -127,7 +130,7 @@ test('threads in Chromium: a cross-origin isolated page loads through the thread
       }
     }
     for (const f of ['stltopo-wasm-mt.js', 'stltopo-wasm-mt.wasm', 'stltopo-wasm-mt.worker.js', 'stltopo-full-mt.wasm']) {
-      assert.ok(served.includes(`/isolated/dist/${f}`), `${f} was fetched`);
+      assert.ok(served.includes(`/isolated/dist/${f}`), `${f} was fetched (${served.filter((p) => /-mt/.test(p))})`);
     }
     assert.deepEqual(errors, []);
   } finally {
@@ -138,7 +141,7 @@ test('threads in Chromium: a cross-origin isolated page loads through the thread
 test('threads in Chromium: stltopo/worker uses the threaded module in its worker, same results', { skip }, async () => {
   const { page, errors } = await openPage('isolated');
   try {
-    const r = await compareInPage(page, 'isolated', 'worker');
+    const r = await compareInPage(page, 'isolated', 'worker', { intersections: true }, FILES.slice(0, 20));
     for (const x of r.out) {
       assert.ok(x.same, `${x.f}: differs`);
       if (!x.error) assert.equal(x.threads, r.cores, `${x.f}: threads used in the worker`);
@@ -164,7 +167,7 @@ test('threads in Chromium: stltopo/worker uses the threaded module in its worker
       const b = await window.pkg.worker.loadStl(bytes.slice(), { threads: 1 });
       const same = a.halfedges.next.every((v, i) => v === b.halfedges.next[i]) && JSON.stringify(a.stats) === JSON.stringify(b.stats)
         && a.triangles.every((v, i) => v === b.triangles[i]);
-      const r = { threads: a.threads, same, valid: a.validate().valid };
+      const r = { threads: a.threads, same, valid: a.validate().ok };
       a.dispose();
       return r;
     });
@@ -181,7 +184,7 @@ test('threads in Chromium: without COOP/COEP the page falls back to the single-t
   const before = served.length;
   const { page, errors } = await openPage('plain');
   try {
-    const r = await compareInPage(page, 'plain', 'stltopo');
+    const r = await compareInPage(page, 'plain', 'stltopo', { intersections: true }, FILES.slice(0, 20));
     assert.equal(r.isolated, false);
     for (const x of r.out) {
       assert.ok(x.same, `${x.f}: differs`);
