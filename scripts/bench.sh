@@ -41,6 +41,10 @@ else
   node bench/weld.mjs
   node bench/geometry.mjs
 fi
+# Threads (issue 24): wasm against native on 1 and 2 threads, the 1M tori (bench/threads.mjs).
+if [ "$quick" != 1 ]; then
+  node bench/threads.mjs
+fi
 # The repair (issue 23): the default repair of a torus with 8 holes and 1% flipped faces.
 if [ "$quick" = 1 ]; then
   node bench/repair.mjs --sizes 100k --reps 1 --out "$(mktemp -d)/repair.json"

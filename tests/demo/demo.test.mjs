@@ -450,8 +450,16 @@ test('a 1M-triangle file loads in the worker without freezing the page', async (
     loadTime: document.querySelector('#load-time').textContent,
     detail: document.querySelector('#load-time').title,
     memory: document.querySelector('#memory').textContent,
+    threads: document.querySelector('[data-metric="threads"]').textContent,
+    cores: navigator.hardwareConcurrency,
+    isolated: crossOriginIsolated,
   }));
-  console.log(`# 1M triangles: load time ${r.loadTime} (${r.detail}; wall ${wall} ms incl. generating the file in a worker), ` +
+  // vite preview sends COOP/COEP (web/demo/vite.config.js): the page is cross-origin isolated,
+  // so the worker's load ran in the threaded module on every core, and the Model panel says so.
+  assert.equal(r.isolated, true, 'the demo page is cross-origin isolated');
+  assert.ok(r.cores > 1, `navigator.hardwareConcurrency ${r.cores}`);
+  assert.equal(r.threads, String(r.cores), 'the Model panel shows the threads of the load');
+  console.log(`# 1M triangles: load time ${r.loadTime} on ${r.threads} threads (${r.detail}; wall ${wall} ms incl. generating the file in a worker), ` +
     `arrays ${r.memory}; longest main-thread task while loading ${Math.round(r.beforeReady)} ms, ` +
     `first draw ${Math.round(r.afterReady)} ms (software GL in headless Chromium)`);
   // Generating the file and parsing it run in workers; the main thread only builds the view.

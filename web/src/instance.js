@@ -18,7 +18,8 @@ import { browserDefaultThreads, threadedFiles, threadedModuleOptions } from './t
 // single-threaded module, see wasm.js); each pool worker imports the same glue.
 async function instantiateThreaded(kind, pool, extra) {
   const files = threadedFiles(kind);
-  const base = wasmSettings().threadsUrl || new URL('./', import.meta.url).href;
+  // (No new URL('./…', import.meta.url) literal here: bundlers would take it for an asset.)
+  const base = wasmSettings().threadsUrl || import.meta.url;
   const glue = new URL(files.glue, base).href;
   let create;
   try {
