@@ -36,13 +36,16 @@ before(async () => {
   server = http.createServer((req, res) => {
     const url = new URL(req.url, 'http://x');
     served.push(url.pathname);
-    const isolated = url.pathname.startsWith('/isolated/');
-    const rest = url.pathname.replace(/^\/(isolated|plain)\//, '/');
-    const headers = isolated ? { ...ISOLATION } : {};
+    // /broken/: an isolated page whose server sends the pool workers' script without COEP,
+    // which the browser then blocks.
+    const kind = /^\/(isolated|plain|broken)\//.exec(url.pathname)?.[1] ?? 'plain';
+    const isolated = kind !== 'plain';
+    const rest = url.pathname.replace(/^\/(isolated|plain|broken)\//, '/');
+    const headers = isolated && !(kind === 'broken' && rest.endsWith('.worker.js')) ? { ...ISOLATION } : {};
     if (rest === '/') {
       const csp = "script-src 'self' 'unsafe-inline' 'wasm-unsafe-eval'; worker-src 'self'";
       res.writeHead(200, { ...headers, 'content-type': 'text/html', 'content-security-policy': csp });
-      res.end(PAGE.replaceAll('"/dist/', `"/${isolated ? 'isolated' : 'plain'}/dist/`));
+      res.end(PAGE.replaceAll('"/dist/', `"/${kind}/dist/`));
       return;
     }
     const p = path.join(root, decodeURIComponent(rest));
@@ -194,6 +197,26 @@ test('threads in Chromium: without COOP/COEP the page falls back to the single-t
     const t = await page.evaluate(async () => (await window.pkg.stltopo.loadStl(new Uint8Array(84), { threads: 4 })).threads);
     assert.equal(t, 1);
     assert.ok(!served.slice(before).some((p) => /-mt\./.test(p)), 'no threaded file was fetched');
+    assert.deepEqual(errors, []);
+  } finally {
+    await page.close();
+  }
+});
+
+test('threads in Chromium: a pool worker the browser blocks gives a one-thread load, not a hang', { skip }, async () => {
+  const { page, errors } = await openPage('broken');
+  try {
+    const r = await page.evaluate(async (file) => {
+      const { loadStl } = window.pkg.stltopo;
+      const bytes = new Uint8Array(await (await fetch(file)).arrayBuffer());
+      const m = await loadStl(bytes);
+      const again = await loadStl(bytes, { threads: 2 });
+      return { isolated: crossOriginIsolated, threads: m.threads, again: again.threads, triangles: m.nTriangles };
+    }, `/broken${FILES[0]}`);
+    assert.equal(r.isolated, true);
+    assert.equal(r.threads, 1, 'fell back to the single-threaded module');
+    assert.equal(r.again, 1, 'and stays there');
+    assert.ok(r.triangles > 0);
     assert.deepEqual(errors, []);
   } finally {
     await page.close();

@@ -67,6 +67,8 @@ function stltopoThreads() {
         const match = /\/stltopo-mt\/([^/?#]+)$/.exec((req.url ?? '').split('?')[0]);
         if (match && THREADED_FILES.includes(match[1])) {
           const data = readFileSync(path.join(packageDir, 'dist', match[1]));
+          // A worker script of an isolated page needs COEP itself, or the browser blocks it.
+          for (const [k, v] of Object.entries(ISOLATION)) res.setHeader(k, v);
           res.setHeader('Content-Type', match[1].endsWith('.wasm') ? 'application/wasm' : 'text/javascript');
           res.setHeader('Content-Length', data.length);
           res.end(data);

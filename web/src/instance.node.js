@@ -36,6 +36,7 @@ class PoolWorker {
   constructor(url) {
     this.onmessage = null;
     this.onerror = null;
+    this.errorListeners = [];
     this.worker = new NodeWorker(new URL('./pthread-node.js', import.meta.url), {
       workerData: { script: String(url) },
       execArgv: [], // not the process's (--input-type, --eval and the like fail in a worker)
@@ -45,12 +46,16 @@ class PoolWorker {
       if (this.onmessage) this.onmessage({ data });
     });
     this.worker.on('error', (e) => {
+      for (const fn of this.errorListeners) fn(e);
       try {
         if (this.onerror) this.onerror(e); // the glue's handler reports it (printErr), then rethrows
       } catch {
         // reported: the instantiation fails with wasm-load (wasm-load.js)
       }
     });
+  }
+  addEventListener(type, fn) {
+    if (type === 'error') this.errorListeners.push(fn);
   }
   postMessage(msg, transfer) { this.worker.postMessage(msg, transfer); }
   terminate() { this.worker.terminate(); }
@@ -67,7 +72,7 @@ function threadsBase() {
 
 // The threaded module of kind ('wasm', 'full') with a pool of `pool` workers. The glue reads
 // the global Worker while the factory runs (the pool is made then); Node has none, so
-// PoolWorker is it for that call only.
+// PoolWorker is it for that call only (instantiateModule).
 async function instantiateThreaded(kind, pool, extra) {
   const files = threadedFiles(kind);
   const base = threadsBase();
@@ -81,14 +86,7 @@ async function instantiateThreaded(kind, pool, extra) {
   const wasm = new URL(files.wasm, base);
   const source = { url: wasm.href, read: () => readFile(wasm) };
   const options = { ...extra, ...threadedModuleOptions(pool, new URL(files.worker, base).href, glue.href) };
-  const had = Object.getOwnPropertyDescriptor(globalThis, 'Worker');
-  globalThis.Worker = PoolWorker;
-  try {
-    return instantiateModule(create, source, options, { threaded: true });
-  } finally {
-    if (had) Object.defineProperty(globalThis, 'Worker', had);
-    else delete globalThis.Worker;
-  }
+  return instantiateModule(create, source, options, { threaded: true, Worker: PoolWorker });
 }
 
 export const api = createStltopo({

@@ -175,27 +175,50 @@ async function compile(bytes, imports, where) {
  * { url } (fetched) or { read } (an async function that returns the bytes, Node's fs).
  * Resolves to the module, or rejects with StlError 'wasm-load'.
  */
-export function instantiateModule(createModule, source, extra, { threaded = false } = {}) {
+export function instantiateModule(createModule, source, extra, { threaded = false, Worker: WorkerClass = null } = {}) {
   let fail;
   const failed = new Promise((resolve, reject) => { fail = reject; });
   const where = source.binary ? 'wasmBinary' : String(source.url);
-  // A threaded module waits for its pool's workers; one that fails to start (its script not
-  // served, or no worker support) says so only through printErr.
+  // A threaded module waits for its pool's workers, forever when one fails to start (its
+  // script not served, or blocked: a worker script of an isolated page needs COEP itself).
+  // The glue sees such an error only once the wasm is compiled, and reports it by printErr;
+  // an error before that would be lost, so every pool worker gets a listener of its own.
+  const workerFailed = (what) => fail(stlError('wasm-load', `a worker of the threaded module ${where} failed to start: ${what}`));
   const printErr = threaded ? (text) => {
-    if (/^worker sent an error/.test(String(text))) fail(stlError('wasm-load', `a worker of the threaded module ${where} failed: ${text}`));
+    if (/^worker sent an error/.test(String(text))) workerFailed(text);
     if (extra && extra.printErr) extra.printErr(text);
   } : extra && extra.printErr;
-  const ready = createModule({
-    ...extra,
-    ...(printErr ? { printErr } : {}),
-    instantiateWasm(imports, receive) {
-      const bytes = source.binary ? Promise.resolve(source.binary)
-        : source.read ? source.read().catch((e) => { throw stlError('wasm-load', `cannot read the WebAssembly module ${where}: ${e && e.message}`); })
-          : fetchWasm(source.url);
-      bytes.then((b) => compile(b, imports, where)).then((r) => receive(r.instance, r.module), fail);
-      return {};
-    },
-  });
+  const Base = threaded ? WorkerClass || globalThis.Worker : null;
+  const had = threaded ? Object.getOwnPropertyDescriptor(globalThis, 'Worker') : null;
+  if (threaded) {
+    if (typeof Base !== 'function') return Promise.reject(stlError('wasm-load', 'no Worker here: the threaded module needs one'));
+    // The glue makes its pool while the factory runs (PTHREAD_POOL_SIZE), with the global Worker.
+    globalThis.Worker = class PoolWorker extends Base {
+      constructor(...args) {
+        super(...args);
+        this.addEventListener('error', (e) => workerFailed(e && e.message ? e.message : `the script ${args[0]} did not load`));
+      }
+    };
+  }
+  let ready;
+  try {
+    ready = createModule({
+      ...extra,
+      ...(printErr ? { printErr } : {}),
+      instantiateWasm(imports, receive) {
+        const bytes = source.binary ? Promise.resolve(source.binary)
+          : source.read ? source.read().catch((e) => { throw stlError('wasm-load', `cannot read the WebAssembly module ${where}: ${e && e.message}`); })
+            : fetchWasm(source.url);
+        bytes.then((b) => compile(b, imports, where)).then((r) => receive(r.instance, r.module), fail);
+        return {};
+      },
+    });
+  } finally {
+    if (threaded) {
+      if (had) Object.defineProperty(globalThis, 'Worker', had);
+      else delete globalThis.Worker;
+    }
+  }
   // The factory's own promise never settles when instantiateWasm fails: race it.
   return Promise.race([ready, failed]);
 }
