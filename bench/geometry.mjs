@@ -7,6 +7,7 @@
 // Needs build-bench (scripts/bench.sh builds it: procstat, genmesh, stltopo_cli and, with
 // CGAL, stltopo_cgal_pmp) and dist/ (the npm CLI).
 import fs from 'node:fs';
+import os from 'node:os';
 import path from 'node:path';
 import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
@@ -54,10 +55,17 @@ for (const size of opt.sizes) {
 }
 const haveCgal = fs.existsSync(BIN.cgal);
 const node = process.execPath;
+const CORES = os.availableParallelism ? os.availableParallelism() : os.cpus().length;
 const npmCli = path.join(root, 'bin/stltopo.mjs');
 const contenders = {
   info: (f) => [BIN.cli, 'info', '--json', f],
   intersections: (f) => [BIN.cli, 'info', '--json', '--intersections', f],
+  // The same on the machine's cores (--threads 0): the read, the topology, the report's
+  // checks and the intersection pass split (README, Threads).
+  ...(CORES > 1 ? {
+    'info threads': (f) => [BIN.cli, 'info', '--json', '--threads', '0', f],
+    'intersections threads': (f) => [BIN.cli, 'info', '--json', '--intersections', '--threads', '0', f],
+  } : {}),
   'npm info': (f) => [node, npmCli, 'info', '--json', f],
   'npm intersections': (f) => [node, npmCli, 'info', '--json', '--intersections', f],
   ...(haveCgal ? { cgal: (f) => [BIN.cgal, f] } : {}),
@@ -82,6 +90,8 @@ for (const c of cases) {
   const m = (k, f = 'wallMs') => median(runs[k]?.map((r) => r[f]) ?? []);
   const passNative = m('intersections') - m('info');
   const passWasm = m('npm intersections') - m('npm info');
+  const threaded = CORES > 1;
+  const passThreads = threaded ? m('intersections threads') - m('info threads') : null;
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
@@ -91,6 +101,14 @@ for (const c of cases) {
     cgalSearchMs: haveCgal ? m('cgal', 'searchMs') : null, cgalWallMs: haveCgal ? m('cgal') : null,
     cgalPairs: haveCgal ? runs.cgal[0].pairs : null,
     cgalToStltopoPass: haveCgal ? m('cgal', 'searchMs') / passNative : null,
+    threads: threaded ? CORES : null,
+    infoThreadsMs: threaded ? m('info threads') : null,
+    intersectionsThreadsMs: threaded ? m('intersections threads') : null,
+    // info --intersections on the cores against plain info on one thread and on the cores.
+    ratioThreadsToInfo: threaded ? m('intersections threads') / m('info') : null,
+    ratioThreadsToInfoThreads: threaded ? m('intersections threads') / m('info threads') : null,
+    passThreadsMs: passThreads,
+    cgalToStltopoPassThreads: haveCgal && threaded ? m('cgal', 'searchMs') / passThreads : null,
   };
   results.push(r);
   console.error(JSON.stringify(r));
@@ -101,7 +119,17 @@ const f1 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(1));
 const f2 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(2));
 console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass |');
 console.log('|---|---|---|---|---|---|---|---|---|---|');
+const table2 = [];
 for (const r of results) {
   console.log(`| ${r.case} | ${f1(r.infoMs)} | ${f1(r.intersectionsMs)} | ${f2(r.ratioToInfo)} | ${f1(r.passNativeMs)} | ${f1(r.passWasmMs)} | ` +
     `${f2(r.wasmToNative)} | ${f1(r.extraBytesPerTriangle)} | ${f1(r.cgalSearchMs)} | ${f2(r.cgalToStltopoPass)} |`);
+  if (r.threads) {
+    table2.push(`| ${r.case} | ${r.threads} | ${f1(r.infoThreadsMs)} | ${f1(r.intersectionsThreadsMs)} | ${f2(r.ratioThreadsToInfo)} | ` +
+      `${f2(r.ratioThreadsToInfoThreads)} | ${f1(r.passThreadsMs)} | ${f2(r.cgalToStltopoPassThreads)} |`);
+  }
+}
+if (table2.length) {
+  console.log('\n| case | threads | info ms | info --intersections ms | / info (1 thread) | / info (same threads) | pass ms | CGAL/stltopo pass |');
+  console.log('|---|---|---|---|---|---|---|---|');
+  for (const row of table2) console.log(row);
 }

@@ -16,6 +16,9 @@
 //   stltopo_stages FILE --weld D [REPS]
 // instead times the tolerance weld (tolerance D) against the exact weld, interleaved (see
 // weldSpeed), and prints JSON with the median ratio: what bench/weld.mjs reports.
+//   stltopo_stages FILE --intersections THREADS [REPS]
+// instead times the intersection pass on one thread against THREADS threads, alternated in
+// one process (see intersectionSpeed), and prints JSON with the median speed-up.
 //   stltopo_stages FILE --write [REPS]
 // instead reads FILE once and writes the mesh as binary and as ASCII STL through writeStl
 // REPS times (default 5) into a sink that only counts the bytes, and prints the median
@@ -218,12 +221,67 @@ static int weldSpeed(const char* path, double tol, int reps) {
   return 0;
 }
 
+// The intersection pass (findIntersections) on 1 thread against `threads` threads,
+// alternated in one process after one warm-up call of each; prints JSON with the medians,
+// the median of the per-repetition ratios and the pass against the read + topology it
+// follows (info's own work, one thread).
+static int intersectionSpeed(const char* path, unsigned threads, int reps) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", path);
+    return 1;
+  }
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  std::vector<double> load, one, many, ratio;
+  uint64_t pairs = 0;
+  uint32_t nt = 0;
+  for (int r = 0; r < reps + 1; ++r) {  // repetition 0 warms up, not counted
+    auto t0 = Clock::now();
+    stltopo::Mesh mesh;
+    stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
+    stltopo::Topology topo;
+    if (s.ok()) s = stltopo::buildTopology(mesh, topo);
+    stltopo::TriangleChecks checks;
+    if (s.ok()) s = stltopo::checkTriangles(mesh, &topo, checks, 1);
+    auto t1 = Clock::now();
+    double t[2] = {0, 0};
+    for (int k = 0; k < 2 && s.ok(); ++k) {
+      const bool first = (r + k) % 2 == 0;  // alternate which goes first
+      stltopo::IntersectionOptions io;
+      io.threads = first ? 1 : threads;
+      stltopo::Intersections found;
+      auto a = Clock::now();
+      s = stltopo::findIntersections(mesh, topo, checks, found, io);
+      t[first ? 0 : 1] = ms(a, Clock::now());
+      pairs = found.nPairs();
+    }
+    if (!s.ok()) {
+      std::fprintf(stderr, "%s\n", s.message.c_str());
+      return 1;
+    }
+    nt = mesh.nTriangles();
+    if (r == 0) continue;
+    load.push_back(ms(t0, t1));
+    one.push_back(t[0]);
+    many.push_back(t[1]);
+    ratio.push_back(t[0] / t[1]);
+  }
+  std::printf(
+      "{\"file\":\"%s\",\"triangles\":%u,\"pairs\":%llu,\"threads\":%u,\"reps\":%d,\"loadMs\":%.2f,"
+      "\"passOneThreadMs\":%.2f,\"passThreadsMs\":%.2f,\"speedup\":%.3f}\n",
+      path, nt, (unsigned long long)pairs, threads, reps, median(load), median(one), median(many), median(ratio));
+  return 0;
+}
+
 int main(int argc, char** argv) {
   // With the C library's default allocation (each large array mapped and unmapped on its
   // own), the peak is that of the live arrays.
   if (argc > 2 && !std::strcmp(argv[2], "--streamed-peak")) return streamedPeak(argv[1]);
   if (argc > 2 && !std::strcmp(argv[2], "--write"))
     return writeSpeed(argv[1], argc > 3 ? std::max(1, std::atoi(argv[3])) : 5);
+  if (argc > 3 && !std::strcmp(argv[2], "--intersections"))
+    return intersectionSpeed(argv[1], unsigned(std::atoi(argv[3])), argc > 4 ? std::max(1, std::atoi(argv[4])) : 7);
   if (argc > 3 && !std::strcmp(argv[2], "--weld"))
     return weldSpeed(argv[1], std::atof(argv[3]), argc > 4 ? std::max(1, std::atoi(argv[4])) : 7);
 #if defined(__GLIBC__)

@@ -4,6 +4,7 @@
 // Every decision goes through the exact predicates of predicates.h. Constructed points
 // (an intersection's "point") are the only floating-point results, and decide nothing.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #if defined(__SSE2__)
@@ -13,6 +14,7 @@
 #endif
 
 #include "geometry_detail.h"
+#include "parallel.h"
 #include "predicates.h"
 #include "stltopo/geometry.h"
 
@@ -654,6 +656,213 @@ struct Found {
   uint8_t kind;
 };
 
+// What the pair tests read: the hierarchy, the welded corners of each sorted position (one
+// more entry: sharedCorners reads four) and the positions.
+struct JoinInput {
+  const Welded& w;
+  const Bvh& bvh;
+  const Array<uint32_t>& corner;
+  const BoxColumns& boxes() const { return bvh.columns; }
+  Tri triAt(uint32_t q) const {
+    Tri x;
+    for (int c = 0; c < 3; ++c) {
+      x.v[c] = corner[3 * size_t(q) + c];
+      x.p[c] = w.p(x.v[c]);
+    }
+    return x;
+  }
+  Box boxAt(uint32_t q) const {
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo[k] = boxes().col(k)[q], b.hi[k] = boxes().col(k + 3)[q];
+    return b;
+  }
+};
+
+// One run of the self-join from a (node, node) pair: its pairs found, its work (pair tests
+// of overlapping boxes) and why it stopped. The serial pass is one run from the root; the
+// threaded one runs tasks (pairs below the root) and adds up their counts.
+struct JoinRun {
+  Array<Found> found;
+  uint64_t work = 0;
+  uint64_t sinceProgress = 0;  // positions joined since the last progress report
+  uint64_t maxWork = ~uint64_t(0), maxFound = ~uint64_t(0);  // stop past these (the serial limits)
+  bool stop = false, outOfMemory = false;
+};
+
+// Tests sorted positions p < q whose boxes overlap.
+inline void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t q) {
+  if (++r.work > r.maxWork) {
+    r.stop = true;
+    return;
+  }
+  unsigned ma, mb;
+  sharedCorners(&in.corner[3 * size_t(p)], &in.corner[3 * size_t(q)], ma, mb);
+  if (ma == 7) return;  // one duplicate group (testPair: -1)
+  const Tri a = in.triAt(p), b = in.triAt(q);
+  if (ma && neighboursApart(a, b, ma, mb)) return;
+  Found f;
+  const int kind = testPair(a, b, f.point);
+  if (kind < 0) return;
+  const uint32_t ti = in.bvh.tri[p], tj = in.bvh.tri[q];
+  f.key = ti < tj ? uint64_t(ti) << 32 | tj : uint64_t(tj) << 32 | ti;
+  f.kind = uint8_t(kind);
+  if (!r.found.push_back(f)) {
+    r.outOfMemory = r.stop = true;
+    return;
+  }
+  if (r.found.size() >= r.maxFound) r.stop = true;
+}
+
+// Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
+// p's), in increasing order, until the run stops.
+inline void testMask(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t first, uint32_t mask) {
+  for (; mask && !r.stop; mask &= mask - 1) testPositions(in, r, p, first + uint32_t(lowestBit(mask)));
+}
+
+// The positions a (node, node) pair covers: the size of its part of the join.
+inline uint32_t pairSize(const Bvh& bvh, uint64_t pair) {
+  const Node &A = bvh.nodes[uint32_t(pair >> 32)], &B = bvh.nodes[uint32_t(pair)];
+  return uint32_t(pair >> 32) == uint32_t(pair) ? A.end - A.first : (A.end - A.first) + (B.end - B.first);
+}
+
+// A self-join of the hierarchy from `start`: (node, node) pairs on an explicit stack; a
+// pair of the same node stands for the pairs inside it. Each pair of positions is tested
+// once. A pop pushes at most 3 pairs one level deeper (the depth of a pair: the sum of its
+// nodes' depths, at most 2 * 30 for 2^32 triangles) and the next pop takes one of them, so
+// at most 2 wait per level: the stack never holds more than 121 entries.
+// With `tasks`, pairs of at most `taskSize` positions are not joined but appended to it, in
+// the order the join would have reached them: joining the tasks one after another then makes
+// the same tests in the same order. `tick` is called after each leaf's tests (progress).
+template <class Tick>
+void joinFrom(const JoinInput& in, JoinRun& r, uint64_t start, Array<uint64_t>* tasks, uint32_t taskSize,
+              Tick&& tick) {
+  const Bvh& bvh = in.bvh;
+  const BoxColumns& boxes = in.boxes();
+  uint64_t todo[256];
+  int sp = 0;
+  todo[sp++] = start;
+  while (sp > 0 && !r.stop) {
+    const uint64_t top = todo[--sp];
+    if (tasks && pairSize(bvh, top) <= taskSize) {
+      if (!tasks->push_back(top)) r.outOfMemory = r.stop = true;
+      continue;
+    }
+    const uint32_t ia = uint32_t(top >> 32), ib = uint32_t(top);
+    const Node& A = bvh.nodes[ia];
+    const Node& B = bvh.nodes[ib];
+    if (ia == ib) {
+      if (A.right) {
+        const uint32_t l = ia + 1, rt = A.right;
+        todo[sp++] = uint64_t(l) << 32 | rt;
+        todo[sp++] = uint64_t(rt) << 32 | rt;
+        todo[sp++] = uint64_t(l) << 32 | l;
+      } else {
+        // The pairs p < q inside the leaf, p-major, as two nested loops over positions.
+        const uint32_t all = (1u << (A.end - A.first)) - 1;
+        for (uint32_t p = A.first; p < A.end && !r.stop; ++p) {
+          const uint32_t later = all & ~((2u << (p - A.first)) - 1);
+          if (later) testMask(in, r, p, A.first, overlapMask(boxes, A.first, in.boxAt(p)) & later);
+        }
+        r.sinceProgress += A.end - A.first;
+        tick(ia);
+      }
+      continue;
+    }
+    if (!overlaps(A.box, B.box)) continue;
+    if (!A.right && !B.right) {
+      // Only the members of each leaf whose box meets the other leaf's box can pair; p-major,
+      // q increasing, as two nested loops over positions.
+      const uint32_t qs = overlapMask(boxes, B.first, A.box) & ((1u << (B.end - B.first)) - 1);
+      if (qs) {
+        uint32_t ps = overlapMask(boxes, A.first, B.box) & ((1u << (A.end - A.first)) - 1);
+        for (; ps && !r.stop; ps &= ps - 1) {
+          const uint32_t p = A.first + uint32_t(lowestBit(ps));
+          testMask(in, r, p, B.first, overlapMask(boxes, B.first, in.boxAt(p)) & qs);
+        }
+      }
+      r.sinceProgress += A.end - A.first;
+      tick(ia);
+    } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
+      todo[sp++] = uint64_t(A.right) << 32 | ib;
+      todo[sp++] = uint64_t(ia + 1) << 32 | ib;
+    } else {
+      todo[sp++] = uint64_t(ia) << 32 | B.right;
+      todo[sp++] = uint64_t(ia) << 32 | (ib + 1);
+    }
+  }
+}
+
+// The join on `parts` threads: the pairs of up to `taskSize` positions below the root
+// become tasks, which the threads take in turn. Every task is joined whole, so the pairs
+// found are the serial join's (in another order: the caller sorts them), and the work the
+// sum of the tasks'. The serial limits apply to those sums: when they are reached (or nearly:
+// the threads stop early once the totals they have published pass them), `limited` is set
+// and the caller runs the serial join, whose truncated list depends on its order.
+// Progress is reported (and cancelled) on the calling thread only: part 0.
+struct ParallelJoin {
+  ParallelJoin(const JoinInput& i, uint64_t mw, uint64_t mf, const IntersectionOptions& o)
+      : in(i), maxWork(mw), maxFound(mf), options(o) {}
+  const JoinInput& in;
+  uint64_t maxWork, maxFound;
+  const IntersectionOptions& options;
+  Array<uint64_t> tasks;
+  JoinRun runs[detail::kMaxThreads];  // one per part
+  std::atomic<uint32_t> next{0}, done{0};
+  std::atomic<uint64_t> workPublished{0}, foundPublished{0};
+  std::atomic<bool> halt{false};
+  unsigned nRuns = 0;
+  bool limited = false, cancelled = false, outOfMemory = false;
+
+  void part(unsigned id) {
+    JoinRun& r = runs[id];
+    uint64_t workSeen = 0, foundSeen = 0;
+    auto publish = [&] {
+      const uint64_t wk = workPublished.fetch_add(r.work - workSeen, std::memory_order_relaxed) + (r.work - workSeen);
+      const uint64_t fd =
+          foundPublished.fetch_add(r.found.size() - foundSeen, std::memory_order_relaxed) + (r.found.size() - foundSeen);
+      workSeen = r.work, foundSeen = r.found.size();
+      if (wk > maxWork || fd >= maxFound) halt.store(true, std::memory_order_relaxed);
+    };
+    auto tick = [&](uint32_t) {
+      if (r.work - workSeen >= 4096) {
+        publish();
+        if (halt.load(std::memory_order_relaxed)) r.stop = true;
+      }
+    };
+    for (;;) {
+      if (halt.load(std::memory_order_relaxed)) break;
+      const uint32_t t = next.fetch_add(1, std::memory_order_relaxed);
+      if (t >= tasks.size()) break;
+      joinFrom(in, r, tasks[t], nullptr, 0, tick);
+      publish();
+      if (r.outOfMemory) halt.store(true, std::memory_order_relaxed);
+      if (r.stop) break;
+      const uint32_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
+      if (id == 0 && options.progress && !options.progress(options.user, double(finished) / double(tasks.size()))) {
+        cancelled = true;
+        halt.store(true, std::memory_order_relaxed);
+        break;
+      }
+    }
+  }
+
+  // Runs the tasks; false when the serial join must decide (a limit, or nothing to gain).
+  Status run(unsigned parts, uint32_t taskSize) {
+    JoinRun split;
+    joinFrom(in, split, 0, &tasks, taskSize, [](uint32_t) {});
+    if (split.outOfMemory) return oom("the intersection tasks");
+    nRuns = parts;
+    detail::runParts(parts, [this](unsigned id) { part(id); });
+    for (unsigned i = 0; i < nRuns; ++i) outOfMemory = outOfMemory || runs[i].outOfMemory;
+    if (outOfMemory) return oom("the intersection list");
+    if (cancelled) return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");
+    uint64_t work = 0, found = 0;
+    for (unsigned i = 0; i < nRuns; ++i) work += runs[i].work, found += runs[i].found.size();
+    limited = halt.load() || work > maxWork || found >= maxFound;
+    return {};
+  }
+};
+
 }  // namespace
 
 Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks, Intersections& out,
@@ -676,120 +885,55 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   if (Status s = buildBvh(w, valid, bvh, true); !s.ok()) return s;
   valid.release();
   const uint32_t n = uint32_t(bvh.tri.size());
-  // The corners of each sorted position, welded (one more entry: sharedCorners reads four),
-  // and the boxes as columns: the pair tests read only these and the positions.
   Array<uint32_t> corner;
   if (!corner.resize(3 * size_t(n) + 1)) return oom("the intersection hierarchy");
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
   corner[3 * size_t(n)] = 0;
-  const BoxColumns& boxes = bvh.columns;
-  auto triAt = [&](uint32_t q) {
-    Tri x;
-    for (int c = 0; c < 3; ++c) {
-      x.v[c] = corner[3 * size_t(q) + c];
-      x.p[c] = w.p(x.v[c]);
-    }
-    return x;
-  };
-  auto boxAt = [&](uint32_t q) {
-    Box b;
-    for (int k = 0; k < 3; ++k) b.lo[k] = boxes.col(k)[q], b.hi[k] = boxes.col(k + 3)[q];
-    return b;
-  };
+  const JoinInput in{w, bvh, corner};
   const uint64_t maxFound = options.maxPairs;
-  const uint64_t maxWork = 8 * options.maxPairs + 64 * uint64_t(nt);
-  uint64_t work = 0, sinceProgress = 0;
+  // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
+  const uint64_t minWork = 64 * uint64_t(nt);
+  const uint64_t maxWork =
+      options.maxPairs > (~uint64_t(0) - minWork) / 8 ? ~uint64_t(0) : 8 * options.maxPairs + minWork;
+
+  // Threads: a part per thread, each taking tasks of about 1/64 of a part's positions.
+  const unsigned parts = detail::partsFor(detail::threadCount(options.threads), n, detail::parallelGrain(32768));
   Array<Found> found;
-  bool stop = false, cancelled = false, outOfMemory = false;
-  // Tests sorted positions p < q whose boxes overlap.
-  auto testPositions = [&](uint32_t p, uint32_t q) {
-    if (++work > maxWork) {
-      stop = true;
-      return;
-    }
-    unsigned ma, mb;
-    sharedCorners(&corner[3 * size_t(p)], &corner[3 * size_t(q)], ma, mb);
-    if (ma == 7) return;  // one duplicate group (testPair: -1)
-    const Tri a = triAt(p), b = triAt(q);
-    if (ma && neighboursApart(a, b, ma, mb)) return;
-    Found f;
-    const int kind = testPair(a, b, f.point);
-    if (kind < 0) return;
-    const uint32_t ti = bvh.tri[p], tj = bvh.tri[q];
-    f.key = ti < tj ? uint64_t(ti) << 32 | tj : uint64_t(tj) << 32 | ti;
-    f.kind = uint8_t(kind);
-    if (!found.push_back(f)) {
-      outOfMemory = stop = true;
-      return;
-    }
-    if (found.size() >= maxFound) stop = true;
-  };
-  // Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
-  // p's), in increasing order, until the pass stops.
-  auto testMask = [&](uint32_t p, uint32_t first, uint32_t mask) {
-    for (; mask && !stop; mask &= mask - 1) testPositions(p, first + uint32_t(lowestBit(mask)));
-  };
-  // A self-join of the hierarchy: (node, node) pairs on an explicit stack; a pair of the
-  // same node stands for the pairs inside it. Each pair of positions is tested once. A pop
-  // pushes at most 3 pairs one level deeper (the depth of a pair: the sum of its nodes'
-  // depths, at most 2 * 30 for 2^32 triangles) and the next pop takes one of them, so at
-  // most 2 wait per level: the stack never holds more than 121 entries.
-  uint64_t todo[256];
-  int sp = 0;
-  if (n > 0) todo[sp++] = 0;
-  const uint64_t progressEvery = 1u << 18;
-  while (sp > 0 && !stop) {
-    const uint64_t top = todo[--sp];
-    const uint32_t ia = uint32_t(top >> 32), ib = uint32_t(top);
-    const Node& A = bvh.nodes[ia];
-    const Node& B = bvh.nodes[ib];
-    if (ia == ib) {
-      if (A.right) {
-        const uint32_t l = ia + 1, r = A.right;
-        todo[sp++] = uint64_t(l) << 32 | r;
-        todo[sp++] = uint64_t(r) << 32 | r;
-        todo[sp++] = uint64_t(l) << 32 | l;
-      } else {
-        // The pairs p < q inside the leaf, p-major, as two nested loops over positions.
-        const uint32_t all = (1u << (A.end - A.first)) - 1;
-        for (uint32_t p = A.first; p < A.end && !stop; ++p) {
-          const uint32_t later = all & ~((2u << (p - A.first)) - 1);
-          if (later) testMask(p, A.first, overlapMask(boxes, A.first, boxAt(p)) & later);
-        }
-        sinceProgress += A.end - A.first;
-      }
-      continue;
-    }
-    if (!overlaps(A.box, B.box)) continue;
-    if (!A.right && !B.right) {
-      // Only the members of each leaf whose box meets the other leaf's box can pair; p-major,
-      // q increasing, as two nested loops over positions.
-      const uint32_t qs = overlapMask(boxes, B.first, A.box) & ((1u << (B.end - B.first)) - 1);
-      if (qs) {
-        uint32_t ps = overlapMask(boxes, A.first, B.box) & ((1u << (A.end - A.first)) - 1);
-        for (; ps && !stop; ps &= ps - 1) {
-          const uint32_t p = A.first + uint32_t(lowestBit(ps));
-          testMask(p, B.first, overlapMask(boxes, B.first, boxAt(p)) & qs);
-        }
-      }
-      sinceProgress += A.end - A.first;
-    } else if (A.right && (!B.right || A.end - A.first >= B.end - B.first)) {
-      todo[sp++] = uint64_t(A.right) << 32 | ib;
-      todo[sp++] = uint64_t(ia + 1) << 32 | ib;
+  bool complete = true, cancelled = false;
+  bool serial = parts <= 1 || n == 0;
+  if (!serial) {
+    ParallelJoin pj(in, maxWork, maxFound, options);
+    const uint32_t taskSize = std::max<uint32_t>(4 * kLeaf, n / (64 * parts));
+    if (Status s = pj.run(parts, taskSize); !s.ok()) return s;
+    if (pj.limited) {
+      serial = true;  // the truncated list is the serial join's
     } else {
-      todo[sp++] = uint64_t(ia) << 32 | B.right;
-      todo[sp++] = uint64_t(ia) << 32 | (ib + 1);
-    }
-    if (sinceProgress >= progressEvery && options.progress) {
-      sinceProgress = 0;
-      // The fraction: the positions below the next pending pair's are done, roughly.
-      if (!options.progress(options.user, double(bvh.nodes[ia].first) / n)) cancelled = stop = true;
+      size_t total = 0;
+      for (unsigned i = 0; i < pj.nRuns; ++i) total += pj.runs[i].found.size();
+      if (!found.reserve(total)) return oom("the intersection list");
+      for (unsigned i = 0; i < pj.nRuns; ++i)
+        for (const Found& f : pj.runs[i].found) (void)found.push_back(f);  // reserved
     }
   }
-  if (outOfMemory) return oom("the intersection list");
+  if (serial && n > 0) {
+    JoinRun r;
+    r.maxWork = maxWork;
+    r.maxFound = maxFound;
+    const uint64_t progressEvery = 1u << 18;
+    joinFrom(in, r, 0, nullptr, 0, [&](uint32_t ia) {
+      if (r.sinceProgress >= progressEvery && options.progress) {
+        r.sinceProgress = 0;
+        // The fraction: the positions below the current leaf's are done, roughly.
+        if (!options.progress(options.user, double(bvh.nodes[ia].first) / n)) cancelled = r.stop = true;
+      }
+    });
+    if (r.outOfMemory) return oom("the intersection list");
+    complete = !r.stop;
+    found = std::move(r.found);
+  }
   if (cancelled) return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");
-  if (stop) out.complete = false;
+  out.complete = complete;
   std::sort(found.begin(), found.end(), [](const Found& x, const Found& y) { return x.key < y.key; });
   const size_t np = found.size();
   if (!out.pairs.resize(2 * np) || !out.kinds.resize(np) || !out.points.resize(3 * np))

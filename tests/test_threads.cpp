@@ -304,3 +304,84 @@ TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
 #endif
 
 }  // namespace
+
+// The threaded intersection pass against one thread where its limits decide: a soup with
+// many intersecting pairs cut at maxPairs below, at and above their number, a stack of
+// parallel slanted triangles whose boxes all overlap (the work limit stops it, no pair is
+// found), and a caller that cancels. Truncated lists must be the serial join's.
+TEST(Threads, IntersectionLimitsAreTheSameForEveryThreadCount) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(0, 40);
+  gen::Soup soup;
+  for (int t = 0; t < 600; ++t) {
+    for (int c = 0; c < 3; ++c)
+      soup.v.push_back({float(coord(rng)), float(coord(rng)), float(coord(rng))});
+    const uint32_t b = uint32_t(soup.v.size()) - 3;
+    soup.f.push_back({b, b + 1, b + 2});
+  }
+  gen::Soup stack;
+  for (int t = 0; t < 1500; ++t) {
+    const float z = 0.001f * float(t);
+    stack.v.push_back({0, 0, z});
+    stack.v.push_back({10, 0, z + 5});
+    stack.v.push_back({0, 10, z});
+    const uint32_t b = uint32_t(stack.v.size()) - 3;
+    stack.f.push_back({b, b + 1, b + 2});
+  }
+  struct Result {
+    stltopo::Status status;
+    stltopo::Intersections found;
+  };
+  auto pass = [](const stltopo::Mesh& m, const stltopo::Topology& t, unsigned threads, uint64_t maxPairs,
+                 bool cancel) {
+    stltopo::TriangleChecks checks;
+    Result r;
+    r.status = stltopo::checkTriangles(m, &t, checks, 1);
+    stltopo::IntersectionOptions io;
+    io.threads = threads;
+    io.maxPairs = maxPairs;
+    if (cancel) io.progress = [](void*, double) { return false; };
+    if (r.status.ok()) r.status = stltopo::findIntersections(m, t, checks, r.found, io);
+    return r;
+  };
+  auto same = [](const Result& a, const Result& b) {
+    return a.status.code == b.status.code && gen::sameArray(a.found.pairs, b.found.pairs) &&
+           gen::sameArray(a.found.kinds, b.found.kinds) && gen::sameArray(a.found.points, b.found.points) &&
+           gen::sameArray(a.found.triangleIntersects, b.found.triangleIntersects) &&
+           a.found.complete == b.found.complete && a.found.nCrossing == b.found.nCrossing &&
+           a.found.nTouching == b.found.nTouching && a.found.nCoplanar == b.found.nCoplanar;
+  };
+  for (size_t g : {size_t(1), size_t(0)}) {
+    SmallGrain grain(g);
+    for (const gen::Soup* s : {&soup, &stack}) {
+      stltopo::Mesh m;
+      ASSERT_TRUE(gen::read(gen::binary(*s), m).ok());
+      stltopo::Topology t;
+      ASSERT_TRUE(stltopo::buildTopology(m, t).ok());
+      const Result all = pass(m, t, 1, 1u << 30, false);
+      ASSERT_TRUE(all.status.ok());
+      const uint64_t p = all.found.nPairs();
+      if (s == &soup) {
+        EXPECT_GT(p, 1000u);
+        EXPECT_TRUE(all.found.complete);
+      } else {
+        EXPECT_EQ(p, 0u);
+      }
+      // ~0: the work limit (8 * maxPairs + ...) saturates instead of wrapping.
+      for (uint64_t maxPairs : {uint64_t(1), p / 3 + 1, p - 1, p, p + 1, uint64_t(1) << 30, ~uint64_t(0)}) {
+        if (maxPairs == 0) continue;
+        const Result one = pass(m, t, 1, maxPairs, false);
+        // The serial limits: cut at maxPairs pairs; the stack's work limit (8 + 64 * 1500 tests
+        // of ~10^6 overlapping boxes) stops it with none found.
+        if (s == &soup) EXPECT_EQ(one.found.complete, maxPairs > p) << maxPairs;
+        if (s == &stack) EXPECT_EQ(one.found.complete, maxPairs > (uint64_t(1) << 20)) << maxPairs;
+        for (unsigned threads : {2u, 3u, 8u})
+          EXPECT_TRUE(same(pass(m, t, threads, maxPairs, false), one))
+              << (s == &soup ? "soup" : "stack") << " maxPairs " << maxPairs << ", " << threads << " threads, grain "
+              << g;
+      }
+      const Result cancelled = pass(m, t, 3, 1u << 30, true);
+      EXPECT_EQ(cancelled.status.code, stltopo::Code::Aborted);
+    }
+  }
+}

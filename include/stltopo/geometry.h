@@ -101,8 +101,12 @@ struct Intersections {
 // triangles' boxes overlap a bounded number of others; the work limit bounds the rest. The
 // pairs that share corners (nearly all of a mesh's) take a few exact signs each. Memory:
 // about 50 bytes per triangle while it runs (ids 4, boxes 24, corners 12, nodes about 9,
-// flags 1), plus 33 bytes per pair found. The pass runs on one thread (analyzeGeometry
-// passes `threads` to checkTriangles).
+// flags 1), plus 33 bytes per pair found. With options.threads other than 1, the join is
+// split into tasks (pairs of subtrees, in the serial join's order) that the threads take in
+// turn, and the pairs found are sorted as always: the result is the same. Should the work
+// or pair limit be reached, the pass runs again on one thread, whose truncated list depends
+// on the order of the tests (the threaded attempt stops once the limit is seen, so this at
+// most doubles the bounded work). Progress is reported from the calling thread only.
 Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks, Intersections& out,
                          const IntersectionOptions& options = {});
 
