@@ -198,6 +198,21 @@ export function instantiateModule(createModule, source, extra, { threaded = fals
         super(...args);
         this.addEventListener('error', (e) => workerFailed(e && e.message ? e.message : `the script ${args[0]} did not load`));
       }
+
+      // The glue's error handler reports the error, then rethrows it: an uncaught exception
+      // of the page. Reported is enough (the instantiation fails with wasm-load).
+      get onerror() { return this.stltopoOnError ?? null; }
+
+      set onerror(fn) {
+        this.stltopoOnError = fn;
+        super.onerror = typeof fn === 'function' ? (e) => {
+          try {
+            fn.call(this, e);
+          } catch {
+            // reported through printErr
+          }
+        } : fn;
+      }
     };
   }
   let ready;
