@@ -328,16 +328,17 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 }
 
 // Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`). For apply,
-// `expect` is the plan's fingerprint (checked before anything changes) and `known` the
-// plan's figures of that same mesh.
-Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, uint64_t expect = 0,
-           const RepairFigures* known = nullptr) {
+// `made` is the plan: its fingerprint is checked before anything changes, and the figures
+// it knows are those of the same meshes (the input, and the result when the result has
+// its predicted fingerprint).
+Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log,
+           const RepairPlan* made = nullptr) {
   Mesh cur;
   Topology topo;
   Status s = em.toMesh(cur, &topo, nullptr);
   if (!s.ok()) return s;
   const uint64_t fingerprint = fingerprintOf(cur);
-  if (log && fingerprint != expect)
+  if (log && (!made || fingerprint != made->fingerprint))
     return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
@@ -350,8 +351,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   Topology nextTopo;
   CompactMaps maps;
   RepairFigures before;
-  if (known) {
-    before = *known;  // the same mesh (same fingerprint): the same figures
+  if (made && made->beforeKnown) {
+    before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
     s = figuresOf(em, cur, topo, o, true, before);
     if (!s.ok()) return s;
@@ -433,10 +434,21 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (plan && lastStep >= 0) {
     after = plan->steps.back().after;
   } else if (log && changed) {
-    s = figuresOf(em, cur, topo, o, true, after);  // a fresh build of the result
+    // A fresh build of the result. The intersection pass's figures are the plan's when the
+    // result is the mesh the plan predicted (same fingerprint, same pass options).
+    const bool predicted = made && made->afterKnown && curFingerprint == made->fingerprintAfter &&
+                           made->after.selfIntersections != kInvalid;
+    s = figuresOf(em, cur, topo, o, !predicted, after);
     if (!s.ok()) return s;
+    if (predicted && o.intersections) {
+      after.selfIntersections = made->after.selfIntersections;
+      after.solid = made->after.solid;
+    }
   }
   if (plan) {
+    plan->afterKnown = true;
+    plan->fingerprintAfter = changed ? fingerprintOf(cur) : fingerprint;
+    plan->after = after;
     plan->afterReport = infoJson("", cur, &topo);
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
       plan->remaining = detail::format(
@@ -562,7 +574,7 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   if (!s.ok()) return s;
   s = checkAttributes(em);
   if (!s.ok()) return s;
-  return run(em, plan.options, nullptr, &log, plan.fingerprint, plan.beforeKnown ? &plan.before : nullptr);
+  return run(em, plan.options, nullptr, &log, &plan);
 }
 
 Status undoRepairStep(EditableMesh& em, RepairLog& log) {
