@@ -68,7 +68,7 @@ std::string EditableMesh::Impl::infoJson(const std::string& file) {
 
 // ============================================================================ output
 
-Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const {
+Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell) const {
   // out and the maps start as Mesh{} and CompactMaps{}, but their arrays keep their memory
   // (emptied()).
   {
@@ -259,6 +259,10 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
   T.nInconsistentEdges = nInconsistentEdges_;
   T.nNonManifoldVertices = nNonManifoldVertices_;
   T.nDegenerate = nDegenerate_;
+  if (triangleShell) {
+    if (!Impl::labelShells(*this, mp.triangles, T.triangleShell, T.nShells)) return detail::oom(kEditArrays);
+    return Status{};
+  }
   uint32_t shells = Impl::countShells(*this);
   if (shells == kInvalid) return detail::oom(kEditArrays);
   T.nShells = shells;

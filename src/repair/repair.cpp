@@ -376,7 +376,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     if (!(o.steps & (1u << k))) continue;
     RepairStepPlan sp;
     sp.kind = RepairStepKind(k);
-    repair_detail::StepContext ctx{em, o, sp, &cur, &topo};
+    repair_detail::StepContext ctx{em, o, sp, &cur, &topo, &next, &nextTopo, &maps};
     if (o.onStep) o.onStep(o.user, sp.kind, false);
     s = runStep(sp.kind, ctx);
     RepairStepLog L;
@@ -392,7 +392,10 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
     if (s.ok() && L.itemsDone > 0) {
-      s = em.toMesh(next, &nextTopo, &maps);
+      if (ctx.rebuilt)
+        nextTopo.triangleShell = Array<uint32_t>{};  // the step made this rebuild: as toMesh without it
+      else
+        s = em.toMesh(next, &nextTopo, &maps);
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
       if (s.ok()) s = em.init(next, nextTopo);
       if (s.ok()) {
