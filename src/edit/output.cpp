@@ -192,7 +192,27 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
   if (!topo) return Status{};
 
   Topology& T = *topo;
-  T = Topology{};
+  {
+    // Topology{}, but its arrays keep their memory (emptied(), as `out`'s above).
+    Topology fresh;
+    fresh.next = emptied(T.next);
+    fresh.prev = emptied(T.prev);
+    fresh.vert = emptied(T.vert);
+    fresh.face = emptied(T.face);
+    fresh.pairKind = emptied(T.pairKind);
+    fresh.triangleHalfedge = emptied(T.triangleHalfedge);
+    fresh.vertexHalfedge = emptied(T.vertexHalfedge);
+    fresh.vertexWeld = emptied(T.vertexWeld);
+    fresh.loopHalfedge = emptied(T.loopHalfedge);
+    fresh.loopOffsets = emptied(T.loopOffsets);
+    fresh.loopHalfedges = emptied(T.loopHalfedges);
+    fresh.loopIsSeam = emptied(T.loopIsSeam);
+    fresh.loopPerimeter = emptied(T.loopPerimeter);
+    fresh.triangleDegenerate = emptied(T.triangleDegenerate);
+    fresh.vertexNonManifold = emptied(T.vertexNonManifold);
+    fresh.triangleShell = emptied(T.triangleShell);
+    T = std::move(fresh);
+  }
   const uint32_t nh = 2 * nPairs;
   T.nTriangles = nt;
   T.nVertices = nv;
