@@ -102,7 +102,8 @@ Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
 }
 
 // The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
-// too (self-intersections and solid).
+// too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
+// triangleShell equals a fresh build's), else on a fresh build with it.
 Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
                  RepairFigures& f) {
   f = RepairFigures{};
@@ -116,15 +117,18 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
     return Status{};
   }
   Topology t;
-  TopologyOptions to;
-  to.prevAndFace = false;
-  to.triangleShell = true;
-  Status s = buildTopology(mesh, t, to);
-  if (!s.ok()) return s;
+  const bool shells = topo.triangleShell.size() == mesh.nTriangles();
+  if (!shells) {
+    TopologyOptions to;
+    to.prevAndFace = false;
+    to.triangleShell = true;
+    Status s = buildTopology(mesh, t, to);
+    if (!s.ok()) return s;
+  }
   GeometryReport g;
   IntersectionOptions io;
   io.maxPairs = o.maxPairs;
-  s = analyzeGeometry(mesh, t, g, io);
+  Status s = analyzeGeometry(mesh, shells ? topo : t, g, io);
   if (!s.ok()) return s;
   f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
   f.duplicateTriangles = g.checks.nDuplicateTriangles;
@@ -335,7 +339,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
            const RepairPlan* made = nullptr) {
   Mesh cur;
   Topology topo;
-  Status s = em.toMesh(cur, &topo, nullptr);
+  // With the intersection pass, the topologies the figures are computed on carry
+  // triangleShell (figuresOf): this one, and the rebuild after the last step.
+  Status s = em.toMesh(cur, &topo, nullptr, o.intersections);
   if (!s.ok()) return s;
   const uint64_t fingerprint = fingerprintOf(cur);
   if (log && (!made || fingerprint != made->fingerprint))
@@ -392,10 +398,11 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
     if (s.ok() && L.itemsDone > 0) {
-      if (ctx.rebuilt)
-        nextTopo.triangleShell = Array<uint32_t>{};  // the step made this rebuild: as toMesh without it
-      else
-        s = em.toMesh(next, &nextTopo, &maps);
+      const bool shells = o.intersections && k == lastStep;
+      if (!ctx.rebuilt)
+        s = em.toMesh(next, &nextTopo, &maps, shells);
+      else if (!shells)
+        nextTopo.triangleShell = Array<uint32_t>{};  // the step made this rebuild with it: as toMesh without it
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
       if (s.ok()) s = em.init(next, nextTopo);
       if (s.ok()) {
