@@ -1,6 +1,8 @@
 // In-process timer of the repair (issue 23): a plain load (read + buildTopology, the
-// `info` path), planRepair, and applyRepair with the time of each step (RepairOptions::onStep),
-// medians of N runs. Prints one JSON object.
+// `info` path), planRepair, EditableMesh::init and applyRepair, with the time of each step
+// in the plan and in the apply (RepairOptions::onStep: a step's time includes the runner's
+// rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
+// whole repair of a loaded mesh. Prints one JSON object.
 //   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections]
 #include <algorithm>
 #include <chrono>
@@ -64,8 +66,8 @@ int main(int argc, char** argv) {
   }
   std::ifstream f(argv[1], std::ios::binary);
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  std::vector<double> load, plan, apply, init;
-  std::map<std::string, std::vector<double>> steps;
+  std::vector<double> load, plan, apply, init, whole;
+  std::map<std::string, std::vector<double>> steps, planSteps;
   stltopo::RepairLog last;
   for (int r = 0; r < reps; ++r) {
     auto t0 = Clock::now();
@@ -76,10 +78,15 @@ int main(int argc, char** argv) {
     lean.prevAndFace = false;
     if (!stltopo::buildTopology(mesh, topo, lean).ok()) return 1;
     load.push_back(since(t0));
+    StepTimes pst;
+    stltopo::RepairOptions timed = ro;
+    timed.onStep = onStep;
+    timed.user = &pst;
     t0 = Clock::now();
     stltopo::RepairPlan p;
-    if (!stltopo::planRepair(mesh, ro, p).ok()) return 1;
+    if (!stltopo::planRepair(mesh, timed, p).ok()) return 1;
     plan.push_back(since(t0));
+    for (auto& [k, v] : pst.seconds) planSteps[k].push_back(v);
     t0 = Clock::now();
     stltopo::EditableMesh em;
     if (!em.init(mesh).ok()) return 1;
@@ -92,12 +99,20 @@ int main(int argc, char** argv) {
     if (!stltopo::applyRepair(em, p, log).ok()) return 1;
     apply.push_back(since(t0));
     for (auto& [k, v] : st.seconds) steps[k].push_back(v);
+    whole.push_back(plan.back() + init.back() + apply.back());
     if (r + 1 == reps) last = std::move(log);
   }
-  std::printf("{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"steps\":{",
-              last.before.stats.triangles, median(load), median(plan), median(init), median(apply));
+  std::printf(
+      "{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"whole\":%.4f,\"steps\":{",
+      last.before.stats.triangles, median(load), median(plan), median(init), median(apply), median(whole));
   bool first = true;
   for (auto& [k, v] : steps) {
+    std::printf("%s\"%s\":%.4f", first ? "" : ",", k.c_str(), median(v));
+    first = false;
+  }
+  std::printf("},\"planSteps\":{");
+  first = true;
+  for (auto& [k, v] : planSteps) {
     std::printf("%s\"%s\":%.4f", first ? "" : ",", k.c_str(), median(v));
     first = false;
   }

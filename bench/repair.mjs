@@ -2,7 +2,9 @@
 // The repair benchmark (issue 23): the whole default repair of a torus with 8 holes and 1%
 // flipped faces, against a plain load of the same file, natively (in-process, with the time
 // of each step: bench/repair.cpp) and in wasm (the package in Node: loadStl, then planRepair
-// and applyRepair on an EditableMesh). Medians; the contenders alternate run by run.
+// and applyRepair on an EditableMesh). "whole" is plan + EditableMesh init + apply (the
+// repair of a loaded mesh), wholeOverLoad its ratio to the load (the issue's figure);
+// applyOverLoad is apply alone. Medians; the contenders alternate run by run.
 //   node bench/repair.mjs [--sizes 100k,1M] [--reps N] [--out FILE]
 // Needs build-bench (scripts/bench.sh builds genmesh and stltopo_repair_bench) and dist/.
 import fs from 'node:fs';
@@ -40,11 +42,13 @@ const load = t() - t0;
 t0 = t();
 const plan = await planRepair(mesh, { intersections });
 const planS = t() - t0;
+t0 = t();
 const em = await EditableMesh.from(mesh);
+const init = t() - t0;
 t0 = t();
 const log = em.applyRepair(plan);
 const apply = t() - t0;
-console.log(JSON.stringify({ load, plan: planS, apply, holesAfter: log.after.holes, inconsistentAfter: log.after.inconsistentEdges }));
+console.log(JSON.stringify({ load, plan: planS, init, apply, whole: planS + init + apply, holesAfter: log.after.holes, inconsistentAfter: log.after.inconsistentEdges }));
 em.dispose();
 `;
 const childFile = path.join(root, 'bench/.repair-child.mjs');
@@ -68,23 +72,31 @@ try {
         native.push(run(BIN.native, [file, '--reps', '1', ...(intersections ? [] : ['--no-intersections'])]));
         wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0']));
       }
-      const steps = {};
+      const steps = {}, planSteps = {};
       for (const k of Object.keys(native[0].steps)) steps[k] = median(native.map((x) => x.steps[k]));
+      for (const k of Object.keys(native[0].planSteps)) planSteps[k] = median(native.map((x) => x.planSteps[k]));
+      const med = (runs, k) => median(runs.map((x) => x[k]));
       const c = {
         size, triangles: native[0].triangles, intersections,
-        native: { load: median(native.map((x) => x.load)), plan: median(native.map((x) => x.plan)),
-          apply: median(native.map((x) => x.apply)), steps },
-        wasm: { load: median(wasm.map((x) => x.load)), plan: median(wasm.map((x) => x.plan)), apply: median(wasm.map((x) => x.apply)) },
+        native: { load: med(native, 'load'), plan: med(native, 'plan'), init: med(native, 'init'),
+          apply: med(native, 'apply'), whole: med(native, 'whole'), steps, planSteps },
+        wasm: { load: med(wasm, 'load'), plan: med(wasm, 'plan'), init: med(wasm, 'init'), apply: med(wasm, 'apply'),
+          whole: med(wasm, 'whole') },
         holesBefore: native[0].holesBefore, holesAfter: native[0].holesAfter, inconsistentAfter: native[0].inconsistentAfter,
       };
       c.native.applyOverLoad = c.native.apply / c.native.load;
       c.wasm.applyOverLoad = c.wasm.apply / c.wasm.load;
+      c.native.wholeOverLoad = c.native.whole / c.native.load;
+      c.wasm.wholeOverLoad = c.wasm.whole / c.wasm.load;
       results.cases.push(c);
       const f = (x) => x.toFixed(3);
+      const x = (v) => `${v.toFixed(1)}x`;
       console.log(`repair ${size}${intersections ? ' (with the intersection pass)' : ''}: native load ${f(c.native.load)} s, plan ${f(c.native.plan)} s, `
-        + `apply ${f(c.native.apply)} s (${c.native.applyOverLoad.toFixed(2)}x load); wasm load ${f(c.wasm.load)} s, `
-        + `plan ${f(c.wasm.plan)} s, apply ${f(c.wasm.apply)} s (${c.wasm.applyOverLoad.toFixed(2)}x load); steps: `
-        + Object.entries(steps).map(([k, v]) => `${k} ${f(v)}`).join(', '));
+        + `init ${f(c.native.init)} s, apply ${f(c.native.apply)} s, whole ${f(c.native.whole)} s (${x(c.native.wholeOverLoad)} load; apply alone `
+        + `${x(c.native.applyOverLoad)}); wasm load ${f(c.wasm.load)} s, plan ${f(c.wasm.plan)} s, init ${f(c.wasm.init)} s, `
+        + `apply ${f(c.wasm.apply)} s, whole ${f(c.wasm.whole)} s (${x(c.wasm.wholeOverLoad)} load; apply alone ${x(c.wasm.applyOverLoad)}); `
+        + 'native steps in apply: ' + Object.entries(steps).map(([k, v]) => `${k} ${f(v)}`).join(', ')
+        + '; in plan: ' + Object.entries(planSteps).map(([k, v]) => `${k} ${f(v)}`).join(', '));
     }
   }
 } finally {

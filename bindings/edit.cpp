@@ -44,6 +44,21 @@ stltopo::RuleCallback jsRule(val fn) {
   };
 }
 
+// The figures of the last plan made in this module, for applyRepair: JS hands back only a
+// plan's fingerprint and options. A plan's figures are those of the meshes with its
+// fingerprints (toMesh() equals a fresh build of the compacted mesh), so apply takes the
+// input's figures and the intersection pass's figures of the result from here (RepairPlan::
+// beforeKnown, afterKnown) when the fingerprint and the pass's options match, instead of
+// running the pass twice more. Anything else is computed as without it.
+struct PlannedFigures {
+  bool valid = false;
+  uint64_t fingerprint = 0, fingerprintAfter = 0;
+  bool intersections = false;
+  uint64_t maxPairs = 0;
+  stltopo::RepairFigures before, after;
+};
+PlannedFigures lastPlanned;
+
 class EditSession {
  public:
   // Staging: JS fills the mesh arrays of the mesh to edit (STLTOPO_JS_EDIT_UPLOADS), then
@@ -284,6 +299,8 @@ class EditSession {
     Status s = repairOptions(opts, o);
     stltopo::RepairPlan p;
     if (s.ok()) s = stltopo::planRepair(em_, o, p);
+    if (s.ok() && p.beforeKnown && p.afterKnown)
+      lastPlanned = PlannedFigures{true, p.fingerprint, p.fingerprintAfter, o.intersections, o.maxPairs, p.before, p.after};
     return s.ok() ? val(stltopo::repairPlanJson(p)) : js::status(s);
   }
   val applyRepair(val opts, const std::string& fingerprint) {
@@ -294,6 +311,13 @@ class EditSession {
     p.fingerprint = std::strtoull(fingerprint.c_str(), &end, 16);
     if (fingerprint.size() != 16 || *end)
       return js::status(Status::error(Code::InvalidArgument, "the plan has no fingerprint"));
+    if (lastPlanned.valid && lastPlanned.fingerprint == p.fingerprint &&
+        lastPlanned.intersections == p.options.intersections && lastPlanned.maxPairs == p.options.maxPairs) {
+      p.beforeKnown = p.afterKnown = true;
+      p.before = lastPlanned.before;
+      p.after = lastPlanned.after;
+      p.fingerprintAfter = lastPlanned.fingerprintAfter;
+    }
     stltopo::RepairLog log;
     s = stltopo::applyRepair(em_, p, log);
     std::string json = stltopo::repairLogJson(log);

@@ -64,6 +64,19 @@ inline std::string differenceFromRebuild(stltopo::EditableMesh& em) {
       uint32_t e = l.loopHalfedges[i];
       if (em.face(e) != em.nTriangles() + h) return "face of a loop half-edge is not its loop";
     }
+  // toMesh with triangleShell: the shells as TopologyOptions::triangleShell numbers them.
+  Mesh ms;
+  Topology ts, fs;
+  s = em.toMesh(ms, &ts, nullptr, true);
+  if (!s.ok()) return "toMesh with triangleShell: " + s.message;
+  TopologyOptions so;
+  so.triangleShell = true;
+  s = buildTopology(m, fs, so);
+  if (!s.ok()) return "buildTopology with triangleShell: " + s.message;
+  if (!gen::sameArray(ts.triangleShell, fs.triangleShell) || ts.triangleShell.size() != m.nTriangles())
+    return "triangleShell differs from a fresh build";
+  if (ts.nShells != fs.nShells || ts.nShells != t.nShells) return "nShells with triangleShell differs from a fresh build";
+  if (!gen::sameArray(ts.next, t.next) || !gen::sameArray(ts.face, t.face)) return "toMesh with triangleShell: arrays differ";
   return "";
 }
 

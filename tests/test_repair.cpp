@@ -81,6 +81,19 @@ struct Outcome {
   Mesh result;
 };
 
+// Every figure, as text (for comparing two RepairFigures).
+std::string repairFigures(const RepairFigures& f) {
+  const EditStats& s = f.stats;
+  std::string t = std::to_string(s.triangles) + " " + std::to_string(s.vertices) + " " + std::to_string(s.degenerate) +
+                  " " + std::to_string(f.zeroAreaTriangles) + " " + std::to_string(f.duplicateTriangles);
+#define STLTOPO_COUNT_TEXT(count, name, doc) t += " " + std::to_string(s.name);
+  STLTOPO_COUNTS(STLTOPO_COUNT_TEXT)
+#undef STLTOPO_COUNT_TEXT
+  t += " " + std::to_string(s.eulerCharacteristic) + (s.watertight ? " watertight" : "") +
+       (s.manifold ? " manifold" : "") + " " + std::to_string(f.selfIntersections) + (f.solid ? " solid" : "");
+  return t;
+}
+
 Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string& what) {
   Outcome r;
   const std::string inputBytes = stlBytes(input);
@@ -110,11 +123,22 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   expectNotWorse(r.log.before, r.log.after, what, splitDone);
   EXPECT_TRUE(em.toMesh(r.result, nullptr, nullptr).ok());
   // Every step's result, last first: valid, and the same report as a fresh build. (On a
-  // second application: undo consumes its log, and the caller reads r.log.)
+  // second application: undo consumes its log, and the caller reads r.log.) This one is
+  // given the plan without the figures it knows, so it runs the intersection pass on the
+  // input and on its result: the prediction and the figures the first application took
+  // from the plan must equal those fresh builds.
   EXPECT_TRUE(em.init(input).ok());
+  RepairPlan bare = r.plan;
+  bare.beforeKnown = bare.afterKnown = false;
+  bare.before = bare.after = RepairFigures{};
   RepairLog log;
-  EXPECT_TRUE(applyRepair(em, r.plan, log).ok());
+  EXPECT_TRUE(applyRepair(em, bare, log).ok());
   EXPECT_EQ(log.afterReport, r.log.afterReport) << what << ": a second application differs";
+  EXPECT_EQ(repairFigures(log.before), repairFigures(r.plan.before)) << what << ": fresh figures of the input";
+  EXPECT_EQ(repairFigures(log.after), repairFigures(predicted)) << what << ": fresh figures of the result";
+  EXPECT_EQ(repairFigures(log.after), repairFigures(r.log.after)) << what;
+  EXPECT_EQ(r.plan.fingerprintAfter, r.log.fingerprintAfter) << what;
+  EXPECT_EQ(repairFigures(r.plan.after), repairFigures(predicted)) << what;
   for (;;) {
     Status v = em.validate();
     EXPECT_TRUE(v.ok()) << what << " after " << log.steps.size() << " steps: " << v.message;
@@ -313,6 +337,44 @@ TEST(Repair, ExcludedItemsAreSkippedAndPredicted) {
   EXPECT_TRUE(r.plan.steps[0].items[1].skipped);
   EXPECT_EQ(r.plan.steps[0].items[1].reason, "left out by the user");
   EXPECT_EQ(r.log.after.duplicateTriangles, 1u);
+}
+
+// applyRepair takes the intersection pass's figures of its result from the plan only when
+// its result has the fingerprint the plan predicted; otherwise it runs the pass.
+TEST(Repair, ApplyTakesThePlansPassFiguresOnlyForThePredictedMesh) {
+  gen::Soup s = gen::cube(0, 0, 0, 10);
+  gen::append(s, gen::cube(5, 5, 5, 10));  // two boxes that cross: self-intersections
+  s.f.pop_back();                          // a hole to fill
+  std::swap(s.f[0][1], s.f[0][2]);         // and a face to orient: the repair changes the mesh
+  const Mesh m = meshOf(s);
+  RepairPlan plan;
+  ASSERT_TRUE(planRepair(m, RepairOptions{}, plan).ok());
+  ASSERT_TRUE(plan.afterKnown);
+  ASSERT_GT(plan.after.selfIntersections, 0u);
+  ASSERT_NE(plan.after.selfIntersections, kInvalid);
+  const uint32_t truth = plan.after.selfIntersections;
+  EditableMesh em;
+  ASSERT_TRUE(em.init(m).ok());
+  RepairLog log;
+  ASSERT_TRUE(applyRepair(em, plan, log).ok());
+  EXPECT_EQ(log.after.selfIntersections, truth);
+  EXPECT_EQ(log.fingerprintAfter, plan.fingerprintAfter);
+  // A plan that predicts another result: its figures are not taken.
+  RepairPlan other = plan;
+  other.fingerprintAfter ^= 1;
+  other.after.selfIntersections = truth + 1000;
+  other.after.solid = true;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(applyRepair(em, other, log).ok());
+  EXPECT_EQ(log.after.selfIntersections, truth);
+  EXPECT_FALSE(log.after.solid);
+  // One that says it knows nothing: the same.
+  other.fingerprintAfter = plan.fingerprintAfter;
+  other.afterKnown = false;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(applyRepair(em, other, log).ok());
+  EXPECT_EQ(log.after.selfIntersections, truth);
+  EXPECT_FALSE(log.after.solid);
 }
 
 TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {

@@ -319,9 +319,10 @@ class EditableMesh {
   // uses are dropped), with the attribute word, colours and normals from the triangle
   // attributes and the figures (area, volume, bbox, normal mismatches) computed as the
   // reader computes them, and, when `topo` is given, its topology, equal to
-  // buildTopology(out) in every array. Solids keep their triangles; triangles added by
-  // edits belong to the last solid. O(n). OutOfMemory leaves `out` unspecified.
-  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr) const;
+  // buildTopology(out) in every array (with `triangleShell`, Topology::triangleShell too,
+  // as TopologyOptions::triangleShell builds it). Solids keep their triangles; triangles
+  // added by edits belong to the last solid. O(n). OutOfMemory leaves `out` unspecified.
+  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr, bool triangleShell = false) const;
   // Renumbers this mesh densely (toMesh + init): ids become the compacted ones.
   Status compact(CompactMaps* maps = nullptr);
 

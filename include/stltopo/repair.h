@@ -130,6 +130,13 @@ struct RepairPlan {
   uint64_t fingerprint = 0;  // of the input (positions and triangles)
   RepairFigures before;
   bool beforeKnown = false;           // planRepair computed `before` (apply then reuses it)
+  // The predicted result: its fingerprint and its figures (= steps.back().after, or
+  // `before` when no step runs). applyRepair takes the intersection pass's figures of its
+  // result (selfIntersections, solid) from here instead of running the pass again when
+  // its result has this fingerprint; every other figure it computes afresh.
+  bool afterKnown = false;
+  uint64_t fingerprintAfter = 0;
+  RepairFigures after;
   std::vector<RepairStepPlan> steps;  // the chosen steps, in run order
   std::string remaining;              // what the steps leave (self-intersections: advice)
   std::string afterReport;            // infoJson("") of the predicted result

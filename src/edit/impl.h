@@ -106,7 +106,7 @@ struct EditableMesh::Impl {
   const AttributeView* attribute(const std::string& name) const;
   bool removeAttribute(const std::string& name);
   std::vector<std::string> attributeNames() const;
-  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr) const;
+  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr, bool triangleShell = false) const;
   Status compact(CompactMaps* maps = nullptr);
   Status validate() const;
 
@@ -337,6 +337,15 @@ struct EditableMesh::Impl {
   // Edge-connected components of the live non-degenerate triangles (every shared edge
   // counts, paired or cut). kInvalid on allocation failure.
   static uint32_t countShells(const M& m);
+  // The same components as Topology::triangleShell of the compacted mesh (`compacted`:
+  // slot -> compacted triangle id, kInvalid for a dead slot): numbered in the order of
+  // their lowest triangle, kInvalid for a degenerate triangle; nShells their number.
+  // False on allocation failure.
+  static bool labelShells(const M& m, const Array<uint32_t>& compacted, Array<uint32_t>& triangleShell,
+                          uint32_t& nShells);
+  // countShells' union-find: parent[t] is the lowest slot of t's component (t itself for a
+  // dead or degenerate slot, never united). False on allocation failure.
+  static bool uniteShells(const M& m, Array<uint32_t>& parent);
 
   // ------------------------------------------------------------------------ checks
   static Status checkTriangle(const M& m, uint32_t t) {

@@ -67,6 +67,20 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
     *this = Impl{};
     return detail::oom(kEditArrays);
   };
+  // Room past the end for the first edits. An edit reserves room for its worst case first
+  // (reserveChange): at exact capacity, the first one (a reversed triangle, a filled hole)
+  // moved every array the edit can grow to twice its size, copying all of a big mesh's
+  // memory into fresh pages. The room is not written, so it takes no pages until used.
+  auto room = [](size_t n) { return n + n / 16 + 64; };
+  const size_t np = nh / 2;
+  if (!positions_.reserve(room(nv) * 3) || !vertexDead_.reserve(room(nv)) || !vertexCorner_.reserve(room(nv)) ||
+      !vertexCornerCount_.reserve(room(nv)) || !vertexHalfedge_.reserve(room(nv)) ||
+      !vertexNonManifold_.reserve(room(nv)) || !stamp_.reserve(room(nv)) || !triangles_.reserve(room(nt) * 3) ||
+      !degenerate_.reserve(room(nt)) || !cornerNext_.reserve(room(nt) * 3) || !cornerPrev_.reserve(room(nt) * 3) ||
+      !sideHalfedge_.reserve(room(nt) * 3) || !triangleHalfedge_.reserve(room(nt)) || !triStamp_.reserve(room(nt)) ||
+      !next_.reserve(room(np) * 2) || !prev_.reserve(room(np) * 2) || !vert_.reserve(room(np) * 2) ||
+      !face_.reserve(room(np) * 2) || !pairKind_.reserve(room(np)))
+    return fail();
   if (!positions_.resize(size_t(nv) * 3) || !triangles_.resize(size_t(nt) * 3) || !vertexDead_.assign(nv, 0) ||
       !degenerate_.resize(nt) || !cornerNext_.resize(size_t(nt) * 3) || !cornerPrev_.resize(size_t(nt) * 3) ||
       !vertexCorner_.assign(nv, kInvalid) || !vertexCornerCount_.assign(nv, 0) ||

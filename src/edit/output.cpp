@@ -68,7 +68,7 @@ std::string EditableMesh::Impl::infoJson(const std::string& file) {
 
 // ============================================================================ output
 
-Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) const {
+Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell) const {
   // out and the maps start as Mesh{} and CompactMaps{}, but their arrays keep their memory
   // (emptied()).
   {
@@ -192,7 +192,27 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
   if (!topo) return Status{};
 
   Topology& T = *topo;
-  T = Topology{};
+  {
+    // Topology{}, but its arrays keep their memory (emptied(), as `out`'s above).
+    Topology fresh;
+    fresh.next = emptied(T.next);
+    fresh.prev = emptied(T.prev);
+    fresh.vert = emptied(T.vert);
+    fresh.face = emptied(T.face);
+    fresh.pairKind = emptied(T.pairKind);
+    fresh.triangleHalfedge = emptied(T.triangleHalfedge);
+    fresh.vertexHalfedge = emptied(T.vertexHalfedge);
+    fresh.vertexWeld = emptied(T.vertexWeld);
+    fresh.loopHalfedge = emptied(T.loopHalfedge);
+    fresh.loopOffsets = emptied(T.loopOffsets);
+    fresh.loopHalfedges = emptied(T.loopHalfedges);
+    fresh.loopIsSeam = emptied(T.loopIsSeam);
+    fresh.loopPerimeter = emptied(T.loopPerimeter);
+    fresh.triangleDegenerate = emptied(T.triangleDegenerate);
+    fresh.vertexNonManifold = emptied(T.vertexNonManifold);
+    fresh.triangleShell = emptied(T.triangleShell);
+    T = std::move(fresh);
+  }
   const uint32_t nh = 2 * nPairs;
   T.nTriangles = nt;
   T.nVertices = nv;
@@ -259,6 +279,10 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps) 
   T.nInconsistentEdges = nInconsistentEdges_;
   T.nNonManifoldVertices = nNonManifoldVertices_;
   T.nDegenerate = nDegenerate_;
+  if (triangleShell) {
+    if (!Impl::labelShells(*this, mp.triangles, T.triangleShell, T.nShells)) return detail::oom(kEditArrays);
+    return Status{};
+  }
   uint32_t shells = Impl::countShells(*this);
   if (shells == kInvalid) return detail::oom(kEditArrays);
   T.nShells = shells;

@@ -394,7 +394,38 @@ bool EditableMesh::Impl::labelLoops(const M& m, EditLoops& out, uint32_t* faceOu
 uint32_t EditableMesh::Impl::countShells(const M& m) {
   const uint32_t nt = m.nTriangles();
   Array<uint32_t> parent;
-  if (!parent.resize(nt)) return kInvalid;
+  if (!uniteShells(m, parent)) return kInvalid;
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < nt; ++t)
+    if (m.triangleAlive(t) && !m.degenerate_[t] && parent[t] == t) ++n;
+  return n;
+}
+
+bool EditableMesh::Impl::labelShells(const M& m, const Array<uint32_t>& compacted, Array<uint32_t>& triangleShell,
+                                     uint32_t& nShells) {
+  const uint32_t nt = m.nTriangles();
+  Array<uint32_t> parent;
+  if (!uniteShells(m, parent)) return false;
+  // As buildTopology's numberShells: parent[t] <= t, equal for the roots (the lowest slot
+  // of each shell, which is its lowest compacted id too: compaction keeps the order). In
+  // increasing t the roots below t already hold their shell numbers.
+  uint32_t n = 0, live = 0;
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (compacted[t] == kInvalid) continue;
+    ++live;
+    if (m.degenerate_[t]) continue;
+    parent[t] = parent[t] == t ? n++ : parent[parent[t]];
+  }
+  if (!triangleShell.resize(live)) return false;
+  for (uint32_t t = 0; t < nt; ++t)
+    if (compacted[t] != kInvalid) triangleShell[compacted[t]] = m.degenerate_[t] ? kInvalid : parent[t];
+  nShells = n;
+  return true;
+}
+
+bool EditableMesh::Impl::uniteShells(const M& m, Array<uint32_t>& parent) {
+  const uint32_t nt = m.nTriangles();
+  if (!parent.resize(nt)) return false;
   for (uint32_t t = 0; t < nt; ++t) parent[t] = t;
   auto find = [&](uint32_t x) {
     while (parent[x] != x) {
@@ -418,10 +449,8 @@ uint32_t EditableMesh::Impl::countShells(const M& m) {
       forEachEdgeSide(m, m.vert_[e], m.vert_[e + 1], [&](uint32_t s) { unite(t0, s / 3); });
     }
   }
-  uint32_t n = 0;
-  for (uint32_t t = 0; t < nt; ++t)
-    if (m.triangleAlive(t) && !m.degenerate_[t] && find(t) == t) ++n;
-  return n;
+  for (uint32_t t = 0; t < nt; ++t) parent[t] = find(t);
+  return true;
 }
 
 }  // namespace stltopo

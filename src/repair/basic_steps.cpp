@@ -348,11 +348,19 @@ Status runOrient(StepContext& ctx) {
     }
   }
   // 2. Closed shells outward, or inward at odd nesting depth (a cavity stays a cavity).
-  Mesh mesh;
-  Topology topo;
+  //    The mesh now, with its shells: built where the runner rebuilds the mesh after the
+  //    step (toMesh's topology equals a fresh build's, triangleShell included), which it
+  //    keeps when no shell is reversed below.
+  Mesh ownMesh;
+  Topology ownTopo;
+  const bool intoNext = ctx.next && ctx.nextTopo && ctx.maps;
+  Mesh& mesh = intoNext ? *ctx.next : ownMesh;
+  Topology& topo = intoNext ? *ctx.nextTopo : ownTopo;
   Array<Shell> shells;
-  s = shellsNow(em, mesh, topo, shells);
+  s = em.toMesh(mesh, &topo, intoNext ? ctx.maps : nullptr, true);
+  if (s.ok()) s = findShellsAndDefects(mesh, topo, &shells, nullptr);
   if (!s.ok()) return s;
+  ctx.rebuilt = intoNext;
   // The compacted ids of em's live triangles are its slot ids (the step only reversed
   // triangles, which keeps every id), so shell triangles are em's.
   uint32_t closedShells = 0;
@@ -393,6 +401,7 @@ Status runOrient(StepContext& ctx) {
                              sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
               std::move(tris));
     if (ctx.excluded()) continue;
+    ctx.rebuilt = false;  // the mesh changes after the rebuild
     s = em.reverseShell(sh.firstTriangle);
     if (!s.ok()) return s;
   }

@@ -102,7 +102,8 @@ Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
 }
 
 // The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
-// too (self-intersections and solid).
+// too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
+// triangleShell equals a fresh build's), else on a fresh build with it.
 Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
                  RepairFigures& f) {
   f = RepairFigures{};
@@ -116,15 +117,18 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
     return Status{};
   }
   Topology t;
-  TopologyOptions to;
-  to.prevAndFace = false;
-  to.triangleShell = true;
-  Status s = buildTopology(mesh, t, to);
-  if (!s.ok()) return s;
+  const bool shells = topo.triangleShell.size() == mesh.nTriangles();
+  if (!shells) {
+    TopologyOptions to;
+    to.prevAndFace = false;
+    to.triangleShell = true;
+    Status s = buildTopology(mesh, t, to);
+    if (!s.ok()) return s;
+  }
   GeometryReport g;
   IntersectionOptions io;
   io.maxPairs = o.maxPairs;
-  s = analyzeGeometry(mesh, t, g, io);
+  Status s = analyzeGeometry(mesh, shells ? topo : t, g, io);
   if (!s.ok()) return s;
   f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
   f.duplicateTriangles = g.checks.nDuplicateTriangles;
@@ -328,16 +332,19 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 }
 
 // Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`). For apply,
-// `expect` is the plan's fingerprint (checked before anything changes) and `known` the
-// plan's figures of that same mesh.
-Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, uint64_t expect = 0,
-           const RepairFigures* known = nullptr) {
+// `made` is the plan: its fingerprint is checked before anything changes, and the figures
+// it knows are those of the same meshes (the input, and the result when the result has
+// its predicted fingerprint).
+Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log,
+           const RepairPlan* made = nullptr) {
   Mesh cur;
   Topology topo;
-  Status s = em.toMesh(cur, &topo, nullptr);
+  // With the intersection pass, the topologies the figures are computed on carry
+  // triangleShell (figuresOf): this one, and the rebuild after the last step.
+  Status s = em.toMesh(cur, &topo, nullptr, o.intersections);
   if (!s.ok()) return s;
   const uint64_t fingerprint = fingerprintOf(cur);
-  if (log && fingerprint != expect)
+  if (log && (!made || fingerprint != made->fingerprint))
     return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
@@ -350,8 +357,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   Topology nextTopo;
   CompactMaps maps;
   RepairFigures before;
-  if (known) {
-    before = *known;  // the same mesh (same fingerprint): the same figures
+  if (made && made->beforeKnown) {
+    before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
     s = figuresOf(em, cur, topo, o, true, before);
     if (!s.ok()) return s;
@@ -375,7 +382,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     if (!(o.steps & (1u << k))) continue;
     RepairStepPlan sp;
     sp.kind = RepairStepKind(k);
-    repair_detail::StepContext ctx{em, o, sp, &cur, &topo};
+    repair_detail::StepContext ctx{em, o, sp, &cur, &topo, &next, &nextTopo, &maps};
     if (o.onStep) o.onStep(o.user, sp.kind, false);
     s = runStep(sp.kind, ctx);
     RepairStepLog L;
@@ -391,7 +398,11 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
     if (s.ok() && L.itemsDone > 0) {
-      s = em.toMesh(next, &nextTopo, &maps);
+      const bool shells = o.intersections && k == lastStep;
+      if (!ctx.rebuilt)
+        s = em.toMesh(next, &nextTopo, &maps, shells);
+      else if (!shells)
+        nextTopo.triangleShell = Array<uint32_t>{};  // the step made this rebuild with it: as toMesh without it
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
       if (s.ok()) s = em.init(next, nextTopo);
       if (s.ok()) {
@@ -433,10 +444,21 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (plan && lastStep >= 0) {
     after = plan->steps.back().after;
   } else if (log && changed) {
-    s = figuresOf(em, cur, topo, o, true, after);  // a fresh build of the result
+    // A fresh build of the result. The intersection pass's figures are the plan's when the
+    // result is the mesh the plan predicted (same fingerprint, same pass options).
+    const bool predicted = made && made->afterKnown && curFingerprint == made->fingerprintAfter &&
+                           made->after.selfIntersections != kInvalid;
+    s = figuresOf(em, cur, topo, o, !predicted, after);
     if (!s.ok()) return s;
+    if (predicted && o.intersections) {
+      after.selfIntersections = made->after.selfIntersections;
+      after.solid = made->after.solid;
+    }
   }
   if (plan) {
+    plan->afterKnown = true;
+    plan->fingerprintAfter = changed ? fingerprintOf(cur) : fingerprint;
+    plan->after = after;
     plan->afterReport = infoJson("", cur, &topo);
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
       plan->remaining = detail::format(
@@ -562,7 +584,7 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   if (!s.ok()) return s;
   s = checkAttributes(em);
   if (!s.ok()) return s;
-  return run(em, plan.options, nullptr, &log, plan.fingerprint, plan.beforeKnown ? &plan.before : nullptr);
+  return run(em, plan.options, nullptr, &log, &plan);
 }
 
 Status undoRepairStep(EditableMesh& em, RepairLog& log) {

@@ -30,6 +30,14 @@ struct StepContext {
   // with its topology; null when the caller (a test) gives none: snapshot() makes them.
   const Mesh* mesh = nullptr;
   const Topology* topo = nullptr;
+  // Where the runner rebuilds the mesh after the step (em.toMesh(*next, nextTopo, maps));
+  // null when the caller gives none. A step that needs that rebuild itself may make it
+  // there (with triangleShell or not) and set `rebuilt` when it edits nothing after it: the
+  // runner then takes it as its own (dropping triangleShell) instead of building it again.
+  Mesh* next = nullptr;
+  Topology* nextTopo = nullptr;
+  CompactMaps* maps = nullptr;
+  bool rebuilt = false;
   // Index the next item gets.
   uint32_t nextItem() const { return uint32_t(plan.items.size()); }
   // Starts item `action`, touching these elements (ids of em now); bbox from their

@@ -54,6 +54,44 @@ test('plan, apply, undo: the result is the plan\'s prediction, and undo gives ba
   }
 });
 
+// Two boxes that cross (self-intersections), one face flipped and one removed: a repair
+// that changes the mesh and leaves pairs for the intersection pass.
+async function crossingBoxes() {
+  const positions = [], triangles = [];
+  const box = (o, s) => {
+    const v0 = positions.length / 3;
+    for (let i = 0; i < 8; ++i) positions.push(o + (i & 1 ? s : 0), o + (i & 2 ? s : 0), o + (i & 4 ? s : 0));
+    const quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    for (const [a, b, c, d] of quads) triangles.push(v0 + a, v0 + b, v0 + c, v0 + a, v0 + c, v0 + d);
+  };
+  box(0, 10);
+  box(5, 10);
+  [triangles[1], triangles[2]] = [triangles[2], triangles[1]];
+  triangles.length -= 3;
+  return fromIndexed(new Float32Array(positions), new Uint32Array(triangles));
+}
+
+test('apply takes the pass\'s figures from the last plan only for its mesh: the same log as with a fresh pass', async () => {
+  const mesh = await crossingBoxes();
+  const other = damagedTorus(20, 10, 3);
+  const plan = await planRepair(mesh);
+  assert.ok(plan.after.selfIntersections > 0, JSON.stringify(plan.after));
+  const logOf = async () => {
+    const em = await EditableMesh.from(mesh);
+    try {
+      return em.applyRepair(plan);
+    } finally {
+      em.dispose();
+    }
+  };
+  const taken = await logOf(); // right after its plan: the figures are the plan's
+  await planRepair(await fromIndexed(other.positions, other.triangles)); // another plan since: not
+  const fresh = await logOf();
+  assert.deepEqual(fresh, taken);
+  assert.deepEqual(fresh.after, plan.after);
+  assert.deepEqual(fresh.before, plan.before);
+});
+
 test('a plan made for another mesh, a custom attribute and bad options are refused without a change', async () => {
   const a = await fromIndexed(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]), new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
   const b = await fromIndexed(new Float32Array([0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2]), new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
