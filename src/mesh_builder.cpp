@@ -147,7 +147,7 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
     return BatchResult::Failed;
   }
   const size_t nc = size_t(count) * 3;
-  if (!batchKeys.resize(nc) || !batchHashes.resize(nc) || !batchArea.resize(count) || !batchVolume.resize(count)) {
+  if (!batchKeys.resize(nc) || !batchHashes.resize(nc) || !batchOrder.resize(nc) || !batchArea.resize(count) || !batchVolume.resize(count)) {
     error = oom("the weld table");
     return BatchResult::Failed;
   }
@@ -169,16 +169,32 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
   uint16_t* attrs = mesh.attributes.data() + t0;  // within the capacity; the sizes are set at the end
   float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
 
-  // 1. Decode, keys, hashes and figures, by record ranges.
+  // The corners are split twice: by record ranges (steps 1 and 3, each thread the corners of
+  // its range, in order) and by the weld's hash parts (step 2, each thread the corners whose
+  // keys fall in the parts it owns). Step 1 sorts each range's corners by owner, so that step
+  // 2 reads only its own, and writes each corner's result in that sorted place: no two
+  // threads ever write to the same cache line, except at the ends of the ranges.
   const size_t grain = parallelGrain(4096);
-  const unsigned n1 = std::max(1u, partsFor(threads, count, grain));
+  const unsigned n = std::max(1u, partsFor(threads, count, grain));
+  const uint32_t shift = 32 - partBits;
+  uint8_t ownerOf[1u << kMaxPartBits];
+  for (uint32_t p = 0; p < nParts(); ++p) ownerOf[p] = uint8_t(p % n);
+  uint32_t* order = batchOrder.data();
+  // ownerStart[r][o]: where owner o's corners of range r start in `order` (from 3 * r0);
+  // ownerStart[r][n] is the range's corner count.
+  uint32_t ownerStart[kMaxThreads][kMaxThreads + 1];
+
+  // 1. Decode, keys, hashes and figures, by record ranges; then the range's corners sorted
+  // by owner (counting sort, stable: corner order within an owner).
   struct RangeResult {
     uint32_t mismatches = 0;
     bool visCam = false, nonFinite = false;
   } rr[kMaxThreads];
-  runParts(n1, [&](unsigned part) {
-    size_t r0 = partBegin(count, n1, part), r1 = partBegin(count, n1, part + 1);
+  runParts(n, [&](unsigned part) {
+    size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
     RangeResult res;
+    uint32_t* start = ownerStart[part];
+    for (unsigned o = 0; o <= n; ++o) start[o] = 0;
     for (size_t r = r0; r < r1; ++r) {
       float f[12];
       uint16_t attr;
@@ -189,7 +205,9 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
         finite &= finiteBits(k.x) & finiteBits(k.y) & finiteBits(k.z);
         k.id = kInvalid;
         keys[3 * r + c] = k;
-        hashes[3 * r + c] = slotHash(k);
+        const uint32_t h = slotHash(k);
+        hashes[3 * r + c] = h;
+        ++start[ownerOf[h >> shift] + 1];
       }
       if (!finite) {
         res.nonFinite = true;
@@ -204,16 +222,22 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
       if (normals) std::memcpy(normals + 3 * r, f, 3 * sizeof(float));
     }
     rr[part] = res;
+    if (res.nonFinite) return;
+    for (unsigned o = 0; o < n; ++o) start[o + 1] += start[o];
+    uint32_t cursor[kMaxThreads];
+    for (unsigned o = 0; o < n; ++o) cursor[o] = start[o];
+    uint32_t* mine = order + 3 * r0;
+    for (size_t c = 3 * r0; c < 3 * r1; ++c) mine[cursor[ownerOf[hashes[c] >> shift]]++] = uint32_t(c);
   });
-  for (unsigned p = 0; p < n1; ++p)
+  for (unsigned p = 0; p < n; ++p)
     if (rr[p].nonFinite) return BatchResult::Fallback;
 
-  // 2. The weld, by parts: each thread takes the corners of its parts in corner order. A
-  // key seen before the batch gets its vertex id; a new key is stored with kPending | the
-  // first corner that has it, which the later corners with that key get too.
-  const unsigned n2 = std::max(1u, partsFor(threads, nc, grain));
+  // 2. The weld, by parts: each thread takes the corners of its parts in corner order (range
+  // by range). A key seen before the batch gets its vertex id; a new key is stored with
+  // kPending | the first corner that has it, which the later corners with that key get too.
+  // The result replaces the corner's entry in `order`.
   bool partFailed[kMaxThreads] = {};
-  runParts(n2, [&](unsigned part) {
+  runParts(n, [&](unsigned part) {
     // As in weld(): a small cache of recent keys in front of the parts (neighbouring
     // triangles share corners), and the slots of a window of corners prefetched together.
     constexpr uint32_t kWindow = 64;
@@ -222,102 +246,163 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
     uint32_t window[kWindow];
     Array<uint64_t>& fresh = batchNew[part];
     fresh.clear();
-    // Which thread owns each part.
-    bool mine[1u << kMaxPartBits];
-    for (uint32_t p = 0; p < nParts(); ++p) mine[p] = p % n2 == part;
-    const uint32_t shift = 32 - partBits;
-    for (size_t c0 = 0; c0 < nc; c0 += kWindow) {
-      uint32_t nw = 0;
-      for (size_t c = c0; c < std::min(nc, c0 + kWindow); ++c) {
-        const uint32_t h = hashes[c];
-        if (!mine[h >> shift]) continue;
-        Slot& k = keys[c];
-        const Slot& r = recentKeys[h & (kRecent - 1)];
-        if (r.id != kInvalid && r.x == k.x && r.y == k.y && r.z == k.z) {
-          k.id = r.id;  // a key seen before (a new key in this window is not in the cache yet)
-          continue;
-        }
-        window[nw++] = uint32_t(c);
+    for (unsigned range = 0; range < n; ++range) {
+      uint32_t* list = order + 3 * partBegin(count, n, range);
+      const uint32_t i1 = ownerStart[range][part + 1];
+      for (uint32_t i0 = ownerStart[range][part]; i0 < i1; i0 += kWindow) {
+        uint32_t nw = 0;
+        for (uint32_t i = i0; i < std::min(i1, i0 + kWindow); ++i) {
+          const uint32_t c = list[i], h = hashes[c];
+          const Slot& k = keys[c];
+          const Slot& r = recentKeys[h & (kRecent - 1)];
+          if (r.id != kInvalid && r.x == k.x && r.y == k.y && r.z == k.z) {
+            list[i] = r.id;  // a key seen before (a new key in this window is not in the cache yet)
+            continue;
+          }
+          window[nw++] = i;
 #if !defined(__EMSCRIPTEN__)
-        const Part& P = parts[h >> shift];
-        __builtin_prefetch(&P.slots[h & P.mask]);
+          const Part& P = parts[h >> shift];
+          __builtin_prefetch(&P.slots[h & P.mask]);
 #endif
-      }
-      for (uint32_t w = 0; w < nw; ++w) {
-        const uint32_t c = window[w], h = hashes[c];
-        Slot& k = keys[c];
-        Slot& r = recentKeys[h & (kRecent - 1)];
-        Part& P = parts[h >> shift];
-        uint32_t i = h & P.mask;
-        for (;;) {
-          const Slot& slot = P.slots[i];
-          if (slot.id == kInvalid) break;
-          if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
-            k.id = slot.id;
-            break;
-          }
-          i = (i + 1) & P.mask;
         }
-        if (k.id == kInvalid) {
-          k.id = kPending | c;
-          P.slots[i] = k;
-          ++P.count;
-          if (!fresh.push_back(uint64_t(i) << 32 | c)) {
-            partFailed[part] = true;
-            return;
+        for (uint32_t w = 0; w < nw; ++w) {
+          const uint32_t i = window[w], c = list[i], h = hashes[c];
+          Slot k = keys[c];
+          Slot& r = recentKeys[h & (kRecent - 1)];
+          Part& P = parts[h >> shift];
+          uint32_t s = h & P.mask;
+          for (;;) {
+            const Slot& slot = P.slots[s];
+            if (slot.id == kInvalid) break;
+            if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
+              k.id = slot.id;
+              break;
+            }
+            s = (s + 1) & P.mask;
           }
-          if (size_t(P.count) * 2 > P.slots.size()) {
-            if (!growPart(P, P.count)) {
+          if (k.id == kInvalid) {
+            k.id = kPending | c;
+            P.slots[s] = k;
+            ++P.count;
+            if (!fresh.push_back(uint64_t(s) << 32 | c)) {
               partFailed[part] = true;
               return;
             }
-            // The part's new keys moved: find their slots again.
-            for (uint64_t& e : fresh) {
-              const uint32_t fc = uint32_t(e), fh = hashes[fc];
-              if (&parts[fh >> shift] != &P) continue;
-              const Slot& fk = keys[fc];
-              uint32_t j = fh & P.mask;
-              while (!(P.slots[j].x == fk.x && P.slots[j].y == fk.y && P.slots[j].z == fk.z)) j = (j + 1) & P.mask;
-              e = uint64_t(j) << 32 | fc;
+            if (size_t(P.count) * 2 > P.slots.size()) {
+              if (!growPart(P, P.count)) {
+                partFailed[part] = true;
+                return;
+              }
+              // The part's new keys moved: find their slots again.
+              for (uint64_t& e : fresh) {
+                const uint32_t fc = uint32_t(e), fh = hashes[fc];
+                if (&parts[fh >> shift] != &P) continue;
+                const Slot& fk = keys[fc];
+                uint32_t j = fh & P.mask;
+                while (!(P.slots[j].x == fk.x && P.slots[j].y == fk.y && P.slots[j].z == fk.z)) j = (j + 1) & P.mask;
+                e = uint64_t(j) << 32 | fc;
+              }
             }
           }
+          list[i] = k.id;
+          r = k;
         }
-        r = k;
       }
     }
   });
-  bool failed = false;
-  for (unsigned p = 0; p < n2; ++p) failed |= partFailed[p];
-  // 3. The numbering, in corner order: a corner that first had its key is a new vertex.
-  uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
-  for (size_t c = 0; c < nc && !failed; ++c) {
-    uint32_t id = keys[c].id;
-    if (id & kPending) {
-      uint32_t first = id & ~kPending;
-      if (first == c) {
-        float f[12];
-        uint16_t attr;
-        decodeRecord(rec + 50 * (c / 3), f, attr);
-        const float* q = f + 3 + 3 * (c % 3);
-        id = appendVertex(q[0], q[1], q[2]);
-        if (id == kInvalid) failed = true;
-      } else {
-        id = tri[first];
-      }
+  for (unsigned p = 0; p < n; ++p)
+    if (partFailed[p]) {
+      error = oom("the weld table");
+      return BatchResult::Failed;
     }
-    tri[c] = id;
+
+  // 3. The numbering, by ranges: a corner that first had its key is a new vertex, numbered in
+  // corner order. (a) each range takes its results back into corner order and counts its
+  // first corners; (b) they get their ids and positions; (c) the later corners of a new key
+  // take its id.
+  uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
+  uint32_t firsts[kMaxThreads];
+  runParts(n, [&](unsigned part) {
+    const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
+    const uint32_t* list = order + 3 * r0;
+    uint32_t cursor[kMaxThreads];
+    for (unsigned o = 0; o < n; ++o) cursor[o] = ownerStart[part][o];
+    uint32_t k = 0;
+    for (size_t c = 3 * r0; c < 3 * r1; ++c) {
+      const uint32_t id = list[cursor[ownerOf[hashes[c] >> shift]]++];
+      k += id == (kPending | uint32_t(c));
+      tri[c] = id;
+    }
+    firsts[part] = k;
+  });
+  const uint32_t v0 = mesh.nVertices();
+  uint32_t firstId[kMaxThreads];
+  size_t added = 0;
+  for (unsigned p = 0; p < n; ++p) firstId[p] = v0 + uint32_t(added), added += firsts[p];
+  {
+    const size_t have = mesh.positions.size(), need = have + 3 * added;
+    if (need > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>({96, have * 2, need}))) {
+      error = oom("the vertex array");
+      return BatchResult::Failed;
+    }
+    (void)mesh.positions.resize(need);
   }
-  if (failed) {  // the caller drops the arrays, the parts with them
-    error = oom("the vertex array");
-    return BatchResult::Failed;
-  }
-  // 4. The pending slots get their vertex ids, by parts again.
-  runParts(n2, [&](unsigned part) {
-    for (uint64_t e : batchNew[part]) {
+  float* positions = mesh.positions.data();
+  struct RangeBox {
+    float lo[3], hi[3];
+    bool any = false;
+  } boxes[kMaxThreads];
+  runParts(n, [&](unsigned part) {
+    const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
+    uint32_t id = firstId[part];
+    RangeBox b;
+    for (size_t c = 3 * r0; c < 3 * r1; ++c) {
+      if (tri[c] != (kPending | uint32_t(c))) continue;
+      float f[12];
+      uint16_t attr;
+      decodeRecord(rec + 50 * (c / 3), f, attr);
+      const float* q = f + 3 + 3 * (c % 3);  // the first-seen coordinates, as written
+      float* out = positions + 3 * size_t(id);
+      for (int k = 0; k < 3; ++k) {
+        out[k] = q[k];
+        if (!b.any) {
+          b.lo[k] = b.hi[k] = q[k];
+        } else {
+          if (q[k] < b.lo[k]) b.lo[k] = q[k];
+          if (q[k] > b.hi[k]) b.hi[k] = q[k];
+        }
+      }
+      b.any = true;
+      tri[c] = id++;
+    }
+    boxes[part] = b;
+  });
+  // (c), and the pending slots get their vertex ids, by parts.
+  runParts(n, [&](unsigned part) {
+    const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
+    for (size_t c = 3 * r0; c < 3 * r1; ++c)
+      if (tri[c] & kPending) tri[c] = tri[tri[c] & ~kPending];  // an earlier corner: numbered in (b)
+    for (uint64_t e : batchNew[part]) {  // c: the new key's first corner, numbered in (b)
       const uint32_t c = uint32_t(e), i = uint32_t(e >> 32);
       partOf(hashes[c]).slots[i].id = tri[c];
     }
   });
+  // The box in vertex order: the first vertex of the mesh starts it; strict comparisons keep
+  // the first of equal values (-0 and +0), as appendVertex does.
+  bool started = v0 > 0;
+  for (unsigned p = 0; p < n; ++p) {
+    const RangeBox& b = boxes[p];
+    if (!b.any) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (!started) {
+        mesh.bboxMin[k] = b.lo[k], mesh.bboxMax[k] = b.hi[k];
+      } else {
+        if (b.lo[k] < mesh.bboxMin[k]) mesh.bboxMin[k] = b.lo[k];
+        if (b.hi[k] > mesh.bboxMax[k]) mesh.bboxMax[k] = b.hi[k];
+      }
+    }
+    started = true;
+  }
   // The sums in triangle order: float64 addition is not associative.
   double a = mesh.area, v = mesh.volume;
   uint32_t mm = 0;
@@ -325,7 +410,7 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
   for (uint32_t r = 0; r < count; ++r) v += volume[r];
   mesh.area = a;
   mesh.volume = v;
-  for (unsigned p = 0; p < n1; ++p) {
+  for (unsigned p = 0; p < n; ++p) {
     mm += rr[p].mismatches;
     anyVisCamBit |= rr[p].visCam;
   }

@@ -85,8 +85,9 @@ struct Builder {
   uint32_t nParts() const { return 1u << partBits; }
   Part& partOf(uint32_t hash) { return parts[hash >> (32 - partBits)]; }
   // The work arrays of a parallel batch, kept from one batch to the next.
-  Array<Slot> batchKeys;                  // 3 per record: the corner's key; id: its vertex or kPending | first corner
+  Array<Slot> batchKeys;                  // 3 per record: the corner's key (its id unused)
   Array<uint32_t> batchHashes;            // 3 per record: slotHash of the key
+  Array<uint32_t> batchOrder;             // 3 per record: each range's corners by owner, then their weld results
   Array<double> batchArea, batchVolume;   // per record: its figures, summed in order afterwards
   Array<uint64_t> batchNew[kMaxThreads];  // per thread: slot index << 32 | corner of each new key
 
@@ -107,6 +108,7 @@ struct Builder {
     partBits = 0;
     batchKeys.release();
     batchHashes.release();
+    batchOrder.release();
     batchArea.release();
     batchVolume.release();
     for (Array<uint64_t>& a : batchNew) a.release();
