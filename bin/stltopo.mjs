@@ -44,7 +44,8 @@ const USAGE =
   "usage: stltopo repair IN OUT [--plan] [--steps a,b,...] [--stitch-tolerance D] [--max-hole-edges N]\n" +
   "                      [--max-hole-area A] [--max-hole-perimeter P] [--fill refine,fair|none]\n" +
   "                      [--min-shell-triangles N] [--min-shell-volume V] [--remove-walls]\n" +
-  "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--ascii|--binary]\n" +
+  "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--threads N]\n" +
+  "                      [--ascii|--binary]\n" +
   "  Plans the chosen repair steps (default duplicates,zero-area,stitch,orient,fill-holes; also\n" +
   "  split-nonmanifold, small-shells) and prints the plan as JSON (--plan: nothing is written),\n" +
   "  or carries it out, writes OUT and prints the change log as JSON. OUT appears only when\n" +
@@ -366,7 +367,7 @@ async function repair(argv) {
     return v !== '' && d !== null && d >= 0 && d <= max && (!integer || Number.isInteger(d)) ? d : null;
   };
   const takes = ['--steps', '--stitch-tolerance', '--max-hole-edges', '--max-hole-area', '--max-hole-perimeter', '--fill',
-    '--min-shell-triangles', '--min-shell-volume', '--exclude', '--max-pairs'];
+    '--min-shell-triangles', '--min-shell-volume', '--exclude', '--max-pairs', '--threads'];
   for (let i = 1; i < argv.length; ++i) {
     const s = argv[i];
     if (s === '--') {
@@ -384,7 +385,12 @@ async function repair(argv) {
     if (!takes.includes(s)) return usage(`unknown option '${s}'`);
     if (i + 1 >= argv.length) return usage(`${s} needs a value`);
     const v = argv[++i];
-    if (s === '--steps') {
+    if (s === '--threads') {
+      // Checked as the native CLI checks it. The repair runs in the full module's
+      // EditableMesh, on one thread: the output is the same for every count.
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n > 1024n) return usageError(`stltopo: bad --threads '${v}'\n`);
+    } else if (s === '--steps') {
       o.steps = [];
       for (const n of v.split(',')) {
         if (!REPAIR_STEPS.includes(n)) return usage(`unknown repair step '${n}'`);

@@ -268,6 +268,65 @@ TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
   EXPECT_EQ(s.triangle, 15000u);
 }
 
+// The plan, the change log and the result of a repair with every step, on `threads`.
+std::string repairWith(const std::string& bytes, unsigned threads) {
+  stltopo::Mesh mesh;
+  stltopo::ReadOptions ro;
+  ro.threads = threads;
+  Dump d;
+  stltopo::Status s = gen::read(bytes, mesh, ro);
+  d.status("read", s);
+  if (!s.ok()) return d.out;
+  stltopo::RepairOptions o;
+  o.steps = 0;
+  for (const char* name : {"duplicates", "zero-area", "stitch", "orient", "split-nonmanifold", "fill-holes", "small-shells"}) {
+    stltopo::RepairStepKind k;
+    if (stltopo::repairStepFromName(name, k)) o.steps |= stltopo::repairStepBit(k);
+  }
+  o.stitchTolerance = 1e-3;
+  o.maxPairs = 20000;
+  o.threads = threads;
+  stltopo::RepairPlan plan;
+  s = stltopo::planRepair(mesh, o, plan);
+  d.status("plan", s);
+  if (!s.ok()) return d.out;
+  d.out += stltopo::repairPlanJson(plan) + '\n';
+  stltopo::EditableMesh em;
+  stltopo::TopologyOptions to;
+  to.threads = threads;
+  stltopo::RepairLog log;
+  s = em.init(mesh, to);
+  if (s.ok()) s = stltopo::applyRepair(em, plan, log);
+  d.status("apply", s);
+  d.out += stltopo::repairLogJson(log) + '\n';
+  stltopo::Mesh result;
+  s = em.toMesh(result, nullptr, nullptr);
+  d.status("result", s);
+  d.arr("positions", result.positions);
+  d.arr("triangles", result.triangles);
+  return d.out;
+}
+
+// RepairOptions::threads: the same plan, log and result for every count, with the stages
+// split down to single items.
+TEST(Threads, RepairIsTheSameForEveryThreadCount) {
+  SmallGrain grain(1);
+  const uint64_t splits = stltopo::parallelSplitsForTesting();
+  size_t n = 0;
+  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) continue;
+    const std::string bytes = gen::readFile(path);
+    if (bytes.size() > (size_t(4) << 20)) continue;  // the time of the suite
+    const std::string one = repairWith(bytes, 1);
+    if (one.compare(0, 8, "read=ok ") == 0)
+      EXPECT_NE(one.find("\"steps\""), std::string::npos) << path << "\n" << one.substr(0, 300);
+    EXPECT_TRUE(repairWith(bytes, 3) == one) << path << ": 3 threads differ from one";
+    ++n;
+  }
+  EXPECT_GT(n, 50u);
+  if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits + 100) << "the threaded paths did not run";
+}
+
 #if defined(STLTOPO_CLI) && !defined(STLTOPO_WASM_TESTS)  // the CLI runs as a subprocess: not in wasm
 // The CLI's stdout and exit status for `args` (file names quoted by the caller).
 std::string cli(const std::string& args) {
@@ -300,6 +359,29 @@ TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
   EXPECT_EQ(cli("info --json --threads 0" + files), cli("info --json" + files));
   EXPECT_NE(cli("info --threads -1 x.stl").find("bad --threads '-1'"), std::string::npos);
   EXPECT_NE(cli("info --threads 1025 x.stl").find("bad --threads '1025'"), std::string::npos);
+  EXPECT_NE(cli("repair --threads x a.stl b.stl").find("bad --threads 'x'"), std::string::npos);
+}
+
+// `repair --threads N`: the same plan, log and file for every count.
+TEST(Threads, CliRepairIsTheSameForEveryThreadCount) {
+  const std::string dir = ::testing::TempDir();
+  size_t n = 0;
+  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) continue;
+    if (std::filesystem::file_size(path) > (size_t(1) << 20) || n++ % 4) continue;  // a quarter: the suite's time
+    std::string outs[2];
+    std::string files[2];
+    for (int i = 0; i < 2; ++i) {
+      files[i] = dir + "/threads-repair-" + std::to_string(i) + ".stl";
+      std::filesystem::remove(files[i]);
+      outs[i] = cli("repair --test-parallel-grain 1 --threads " + std::string(i ? "3" : "1") + " --stitch-tolerance 0.001 '" +
+                    path + "' '" + files[i] + "'");
+      const size_t at = outs[i].find(files[i]);
+      if (at != std::string::npos) outs[i].replace(at, files[i].size(), "OUT");
+    }
+    EXPECT_EQ(outs[0], outs[1]) << path;
+    EXPECT_EQ(gen::readFile(files[0]), gen::readFile(files[1])) << path;
+  }
 }
 #endif
 

@@ -57,7 +57,8 @@ const char* kUsage =
     "usage: stltopo repair IN OUT [--plan] [--steps a,b,...] [--stitch-tolerance D] [--max-hole-edges N]\n"
     "                      [--max-hole-area A] [--max-hole-perimeter P] [--fill refine,fair|none]\n"
     "                      [--min-shell-triangles N] [--min-shell-volume V] [--remove-walls]\n"
-    "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--ascii|--binary]\n"
+    "                      [--exclude step:item,...] [--no-intersections] [--max-pairs N] [--threads N]\n"
+    "                      [--ascii|--binary]\n"
     "  Plans the chosen repair steps (default duplicates,zero-area,stitch,orient,fill-holes; also\n"
     "  split-nonmanifold, small-shells) and prints the plan as JSON (--plan: nothing is written),\n"
     "  or carries it out, writes OUT and prints the change log as JSON. OUT appears only when\n"
@@ -596,12 +597,28 @@ int repair(int argc, char** argv) {
     const bool takes = s == "--steps" || s == "--stitch-tolerance" || s == "--max-hole-edges" ||
                        s == "--max-hole-area" || s == "--max-hole-perimeter" || s == "--fill" ||
                        s == "--min-shell-triangles" || s == "--min-shell-volume" || s == "--exclude" ||
-                       s == "--max-pairs";
+                       s == "--max-pairs" || s == "--threads" || s == "--test-parallel-grain";
     if (!takes) return usage("unknown option '" + s + "'");
     if (i + 1 >= argc) return usage(s + " needs a value");
     std::string v = argv[++i];
     double d = 0;
-    if (s == "--steps") {
+    if (s == "--threads") {  // as info checks it
+      char* end;
+      unsigned long long n = std::strtoull(v.c_str(), &end, 10);
+      if (*end || v.empty() || v[0] == '-' || n > 1024) {
+        std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v.c_str());
+        return 2;
+      }
+      ro.threads = unsigned(n);
+    } else if (s == "--test-parallel-grain") {  // not in the usage, as for info
+      char* end;
+      unsigned long long n = std::strtoull(v.c_str(), &end, 10);
+      if (*end || v.empty() || v[0] == '-') {
+        std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v.c_str());
+        return 2;
+      }
+      stltopo::setParallelGrainForTesting(size_t(n));
+    } else if (s == "--steps") {
       ro.steps = 0;
       for (const std::string& n : splitList(v)) {
         stltopo::RepairStepKind k;
@@ -653,7 +670,9 @@ int repair(int argc, char** argv) {
   };
   const std::string& in = files[0];
   stltopo::Mesh mesh;
-  stltopo::Status s = readFile(in, stltopo::ReadOptions{}, mesh);
+  stltopo::ReadOptions rdo;
+  rdo.threads = ro.threads;
+  stltopo::Status s = readFile(in, rdo, mesh);
   if (!s.ok()) return fail(in, s);
   stltopo::RepairPlan plan;
   s = stltopo::planRepair(mesh, ro, plan);
@@ -671,7 +690,9 @@ int repair(int argc, char** argv) {
     return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
   }
   stltopo::EditableMesh em;
-  s = em.init(mesh);
+  stltopo::TopologyOptions to;
+  to.threads = ro.threads;
+  s = em.init(mesh, to);
   stltopo::RepairLog log;
   if (s.ok()) s = stltopo::applyRepair(em, plan, log);
   stltopo::Mesh result;

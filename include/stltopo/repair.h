@@ -84,6 +84,11 @@ struct RepairOptions {
   // shells are oriented by volume sign only.
   bool intersections = true;
   uint64_t maxPairs = 4000000;
+  // Threads for the passes the plan and the runner make on the whole mesh (the rebuilt
+  // topology, the triangle checks, the intersection pass; as ReadOptions::threads: 1 = one
+  // thread, the default, 0 = the machine's hardware threads). Plans, logs and results are
+  // the same for every value, so plans and logs do not record it.
+  unsigned threads = 1;
   // Items to leave out: (step, index of the item in that step's list) of a plan made with
   // the same options and exclusions before this one.
   struct Exclusion {

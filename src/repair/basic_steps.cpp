@@ -39,12 +39,13 @@ struct Found {
 };
 
 // The mesh now held by em, with the shells (topology with triangleShell).
-Status shellsNow(const EditableMesh& em, Mesh& mesh, Topology& topo, Array<Shell>& shells) {
+Status shellsNow(const EditableMesh& em, Mesh& mesh, Topology& topo, Array<Shell>& shells, unsigned threads) {
   Status s = em.toMesh(mesh, nullptr, nullptr);
   if (!s.ok()) return s;
   TopologyOptions o;
   o.triangleShell = true;
   o.prevAndFace = false;
+  o.threads = threads;
   s = buildTopology(mesh, topo, o);
   if (!s.ok()) return s;
   return findShellsAndDefects(mesh, topo, &shells, nullptr);
@@ -84,7 +85,7 @@ Status runDuplicates(StepContext& ctx) {
   Status s = f.get(ctx);
   if (!s.ok()) return s;
   TriangleChecks checks;
-  s = checkTriangles(*f.m, f.t, checks);
+  s = checkTriangles(*f.m, f.t, checks, ctx.options.threads);
   if (!s.ok()) return s;
   ctx.plan.note = ctx.options.removeOppositeDuplicates
                       ? "keeps the lowest id of each group; groups that face both ways are removed whole"
@@ -118,7 +119,7 @@ Status runZeroArea(StepContext& ctx) {
   Status s = f.get(ctx);
   if (!s.ok()) return s;
   TriangleChecks checks;
-  s = checkTriangles(*f.m, f.t, checks);
+  s = checkTriangles(*f.m, f.t, checks, ctx.options.threads);
   if (!s.ok()) return s;
   EditableMesh& em = ctx.em;
   ctx.plan.note =
@@ -372,7 +373,8 @@ Status runOrient(StepContext& ctx) {
     Intersections found;
     IntersectionOptions io;
     io.maxPairs = ctx.options.maxPairs;
-    s = checkTriangles(mesh, &topo, checks);
+    io.threads = ctx.options.threads;
+    s = checkTriangles(mesh, &topo, checks, ctx.options.threads);
     if (s.ok()) s = findIntersections(mesh, topo, checks, found, io);
     if (s.ok()) s = findShellNesting(mesh, topo, shells, found, nesting);
     if (!s.ok()) return s;
@@ -414,7 +416,7 @@ Status runSmallShells(StepContext& ctx) {
   Mesh mesh;
   Topology topo;
   Array<Shell> shells;
-  Status s = shellsNow(ctx.em, mesh, topo, shells);
+  Status s = shellsNow(ctx.em, mesh, topo, shells, ctx.options.threads);
   if (!s.ok()) return s;
   const RepairOptions& o = ctx.options;
   ctx.plan.note = detail::format("removes shells of fewer than %u triangles", o.minShellTriangles);

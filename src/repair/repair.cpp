@@ -110,7 +110,7 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
   f.stats = em.stats();
   if (!geometry || !o.intersections) {
     TriangleChecks checks;
-    Status s = checkTriangles(mesh, &topo, checks);
+    Status s = checkTriangles(mesh, &topo, checks, o.threads);
     if (!s.ok()) return s;
     f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
     f.duplicateTriangles = checks.nDuplicateTriangles;
@@ -122,12 +122,14 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
     TopologyOptions to;
     to.prevAndFace = false;
     to.triangleShell = true;
+    to.threads = o.threads;
     Status s = buildTopology(mesh, t, to);
     if (!s.ok()) return s;
   }
   GeometryReport g;
   IntersectionOptions io;
   io.maxPairs = o.maxPairs;
+  io.threads = o.threads;
   Status s = analyzeGeometry(mesh, shells ? topo : t, g, io);
   if (!s.ok()) return s;
   f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
@@ -559,7 +561,9 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   STLTOPO_TRY { out.options = options; }
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   EditableMesh scratch;
-  s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh);
+  TopologyOptions to;
+  to.threads = options.threads;
+  s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh, to);
   if (!s.ok()) return s;
   s = run(scratch, options, &out, nullptr);
   if (!s.ok()) {

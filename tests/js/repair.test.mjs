@@ -180,6 +180,8 @@ test('stltopo repair: the npm CLI prints the native CLI\'s bytes and writes the 
       [admesh('conveyor', 'normal-directions'), ['--steps', 'orient,small-shells', '--no-intersections']],
       [admesh('block', 'fill-holes'), ['--plan']],
       [admesh('hourglass', 'fill-holes'), ['--exclude', 'fill-holes:0', '--max-hole-edges', '2']],
+      [admesh('block', 'remove-unconnected'), ['--threads', '2']],
+      [admesh('hourglass', 'fill-holes'), ['--threads', '0', '--stitch-tolerance', '0.001']],
     ];
     for (const [f, args] of cases) {
       const out = path.join(dir, 'out.stl');
@@ -199,7 +201,8 @@ test('stltopo repair: the npm CLI prints the native CLI\'s bytes and writes the 
       assert.equal(parsed.file, f);
     }
     // Usage errors: the same message and status 2.
-    for (const bad of [['--steps', 'holes'], ['--stitch-tolerance', '-1'], ['--exclude', 'orient'], ['--bogus']]) {
+    for (const bad of [['--steps', 'holes'], ['--stitch-tolerance', '-1'], ['--exclude', 'orient'], ['--bogus'],
+      ['--threads', '-1'], ['--threads', '1025'], ['--threads']]) {
       const n = spawnSync(nativeCli, ['repair', admesh('block', 'exact'), path.join(dir, 'x.stl'), ...bad]);
       const j = spawnSync(process.execPath, [path.join(root, 'bin/stltopo.mjs'), 'repair', admesh('block', 'exact'), path.join(dir, 'x.stl'), ...bad]);
       assert.equal(n.status, 2);
