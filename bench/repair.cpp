@@ -3,7 +3,8 @@
 // in the plan and in the apply (RepairOptions::onStep: a step's time includes the runner's
 // rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
 // whole repair of a loaded mesh. Prints one JSON object.
-//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections]
+//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N]
+// --threads N: RepairOptions::threads, and the load and init on as many.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -37,7 +38,7 @@ void onStep(void* user, stltopo::RepairStepKind k, bool done) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections]\n");
+    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N]\n");
     return 2;
   }
   int reps = 3;
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
+      ro.threads = unsigned(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--no-intersections"))
       ro.intersections = false;
     else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
@@ -73,9 +76,12 @@ int main(int argc, char** argv) {
     auto t0 = Clock::now();
     stltopo::Mesh mesh;
     stltopo::Topology topo;
-    if (!stltopo::readStl(bytes.data(), bytes.size(), mesh).ok()) return 1;
+    stltopo::ReadOptions rdo;
+    rdo.threads = ro.threads;
+    if (!stltopo::readStl(bytes.data(), bytes.size(), mesh, rdo).ok()) return 1;
     stltopo::TopologyOptions lean;
     lean.prevAndFace = false;
+    lean.threads = ro.threads;
     if (!stltopo::buildTopology(mesh, topo, lean).ok()) return 1;
     load.push_back(since(t0));
     StepTimes pst;
@@ -89,7 +95,9 @@ int main(int argc, char** argv) {
     for (auto& [k, v] : pst.seconds) planSteps[k].push_back(v);
     t0 = Clock::now();
     stltopo::EditableMesh em;
-    if (!em.init(mesh).ok()) return 1;
+    stltopo::TopologyOptions to;
+    to.threads = ro.threads;
+    if (!em.init(mesh, to).ok()) return 1;
     init.push_back(since(t0));
     StepTimes st;
     p.options.onStep = onStep;

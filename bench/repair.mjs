@@ -67,10 +67,13 @@ try {
     const file = path.join(DATA, `torus-${size}-holes8-flip1.stl`);
     if (!fs.existsSync(file)) spawnSync(BIN.genmesh, [String(n), file, '--hole-count', '8', '--flip-percent', '1'], { stdio: 'ignore' });
     for (const intersections of [false, true]) {
-      const native = [], wasm = [];
+      const native = [], wasm = [], native2 = [];
+      const flags = intersections ? [] : ['--no-intersections'];
       for (let r = 0; r < opt.reps; ++r) {
-        native.push(run(BIN.native, [file, '--reps', '1', ...(intersections ? [] : ['--no-intersections'])]));
+        native.push(run(BIN.native, [file, '--reps', '1', ...flags]));
         wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0']));
+        // RepairOptions::threads = 2 (the load and init on 2 threads too), alternated with the rest.
+        native2.push(run(BIN.native, [file, '--reps', '1', '--threads', '2', ...flags]));
       }
       const steps = {}, planSteps = {};
       for (const k of Object.keys(native[0].steps)) steps[k] = median(native.map((x) => x.steps[k]));
@@ -82,12 +85,18 @@ try {
           apply: med(native, 'apply'), whole: med(native, 'whole'), steps, planSteps },
         wasm: { load: med(wasm, 'load'), plan: med(wasm, 'plan'), init: med(wasm, 'init'), apply: med(wasm, 'apply'),
           whole: med(wasm, 'whole') },
+        native2Threads: { load: med(native2, 'load'), plan: med(native2, 'plan'), init: med(native2, 'init'),
+          apply: med(native2, 'apply'), whole: med(native2, 'whole') },
         holesBefore: native[0].holesBefore, holesAfter: native[0].holesAfter, inconsistentAfter: native[0].inconsistentAfter,
       };
       c.native.applyOverLoad = c.native.apply / c.native.load;
       c.wasm.applyOverLoad = c.wasm.apply / c.wasm.load;
       c.native.wholeOverLoad = c.native.whole / c.native.load;
       c.wasm.wholeOverLoad = c.wasm.whole / c.wasm.load;
+      c.native2Threads.wholeOverLoad = c.native2Threads.whole / c.native2Threads.load;
+      // Against the one-thread load: what a user gains by asking for threads.
+      c.native2Threads.wholeOverOneThreadLoad = c.native2Threads.whole / c.native.load;
+      c.native2Threads.speedup = c.native.whole / c.native2Threads.whole;
       results.cases.push(c);
       const f = (x) => x.toFixed(3);
       const x = (v) => `${v.toFixed(1)}x`;
@@ -96,7 +105,9 @@ try {
         + `${x(c.native.applyOverLoad)}); wasm load ${f(c.wasm.load)} s, plan ${f(c.wasm.plan)} s, init ${f(c.wasm.init)} s, `
         + `apply ${f(c.wasm.apply)} s, whole ${f(c.wasm.whole)} s (${x(c.wasm.wholeOverLoad)} load; apply alone ${x(c.wasm.applyOverLoad)}); `
         + 'native steps in apply: ' + Object.entries(steps).map(([k, v]) => `${k} ${f(v)}`).join(', ')
-        + '; in plan: ' + Object.entries(planSteps).map(([k, v]) => `${k} ${f(v)}`).join(', '));
+        + '; in plan: ' + Object.entries(planSteps).map(([k, v]) => `${k} ${f(v)}`).join(', ')
+        + `; native on 2 threads: whole ${f(c.native2Threads.whole)} s (${x(c.native2Threads.wholeOverOneThreadLoad)} a one-thread load, `
+        + `${c.native2Threads.speedup.toFixed(2)}x faster than one thread)`);
     }
   }
 } finally {
