@@ -16,6 +16,10 @@
 
 #include "stltopo/stltopo.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -37,6 +41,12 @@ void onStep(void* user, stltopo::RepairStepKind k, bool done) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // As the CLI (which `stltopo repair` runs) and stltopo_stages do: freed arrays stay in the
+  // heap for the next ones, instead of fresh pages that the kernel must zero first.
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
   if (argc < 2) {
     std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N]\n");
     return 2;

@@ -160,27 +160,38 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
   Array<uint32_t>& offsets = w.offsets;
   // Threaded: each part owns a range of vertices, reads every triangle and counts and puts
   // only the sides whose smaller vertex it owns, in file order; so every bucket is the same.
+  // Without branches on the owner (in a shuffled file it is a coin toss per side): a side
+  // of another part is counted into, and put at, a place of this part's own, 64 bytes
+  // apart from the other parts' places (no false sharing).
   const unsigned n = detail::partsFor(threads, nt, detail::parallelGrain(65536));
-  if (n > 1) {
+  if (n > 1 && 3 * uint64_t(nt) + 8 * n <= 0xFFFFFFFFu) {  // the places past the keys have uint32 cursors
     uint32_t live[detail::kMaxThreads] = {}, degenerate[detail::kMaxThreads] = {};
+    constexpr uint32_t kPad = 16;  // uint32 slots per part's own place (64 bytes)
+    alignas(64) uint32_t sink[detail::kMaxThreads * kPad];
     detail::runParts(n, [&](unsigned part) {
       const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
       const uint32_t t0 = uint32_t(detail::partBegin(nt, n, part)), t1 = uint32_t(detail::partBegin(nt, n, part + 1));
       uint32_t* o = offsets.data();
+      uint32_t* own = sink + kPad * part;
+      const uint32_t span = v1 - v0;
+      auto count = [&](uint32_t m) {
+        uint32_t* at = m - v0 < span ? o + m + 1 : own;
+        ++*at;
+      };
       uint32_t nLive = 0, nDegenerate = 0;
-      for (uint32_t t = 0; t < nt; ++t) {
+      for (uint32_t t = t0; t < t1; ++t) {
         uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
         bool d = a == b || b == c || a == c;
-        if (t >= t0 && t < t1) {
-          degen[t] = d;
-          nDegenerate += d;
-          if (!d) nLive += 3;
-        }
-        if (d) continue;
-        uint32_t m;
-        if ((m = std::min(a, b)) >= v0 && m < v1) ++o[m + 1];
-        if ((m = std::min(b, c)) >= v0 && m < v1) ++o[m + 1];
-        if ((m = std::min(c, a)) >= v0 && m < v1) ++o[m + 1];
+        degen[t] = d;
+        nDegenerate += d;
+        nLive += d ? 0 : 3;
+      }
+      for (uint32_t t = 0; t < nt; ++t) {
+        uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+        if (a == b || b == c || a == c) continue;  // rare: predicted
+        count(std::min(a, b));
+        count(std::min(b, c));
+        count(std::min(c, a));
       }
       live[part] = nLive;
       degenerate[part] = nDegenerate;
@@ -192,20 +203,25 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
     }
     for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
     w.nLive = nLive;
-    if (!w.keys.resize(nLive)) return detail::oom(kArrays);
+    // Past the nLive keys: each part's own place for the sides of the others (8 keys, 64
+    // bytes, apiece); past the nv cursors: each part's own cursor to it (16 apart).
+    if (!w.keys.resize(size_t(nLive) + 8 * size_t(n))) return detail::oom(kArrays);
+    (void)w.keys.resize(nLive);  // the capacity stays: the places past the end
     Array<uint32_t> cursor;
-    if (!cursor.resize(nv)) return detail::oom(kArrays);
+    if (!cursor.resize(size_t(nv) + kPad * size_t(n))) return detail::oom(kArrays);
     if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
+    for (unsigned part = 0; part < n; ++part) cursor[nv + kPad * part] = nLive + 8 * part;
     uint64_t* K = w.keys.data();
     detail::runParts(n, [&](unsigned part) {
-      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), span = uint32_t(detail::partBegin(nv, n, part + 1)) - v0;
       uint32_t* cur = cursor.data();
+      const uint32_t ownCursor = nv + kPad * part;
       auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
-        if (a < b) {
-          if (a >= v0 && a < v1) K[cur[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
-        } else if (b >= v0 && b < v1) {
-          K[cur[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
-        }
+        const uint32_t lo = std::min(a, b), hi = std::max(a, b);
+        const uint32_t mine = lo - v0 < span;
+        const uint32_t at = mine ? lo : ownCursor;
+        K[cur[at]] = (uint64_t(hi) << 31) | (uint64_t(s) << 1) | uint64_t(a < b);
+        cur[at] += mine;
       };
       for (uint32_t t = 0; t < nt; ++t) {
         if (degen[t]) continue;
