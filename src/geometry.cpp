@@ -662,6 +662,7 @@ struct JoinInput {
   const Welded& w;
   const Bvh& bvh;
   const Array<uint32_t>& corner;
+  const uint8_t* fan;  // per sorted position: bit c when corner c is a certified vertex (certifyFans)
   const BoxColumns& boxes() const { return bvh.columns; }
   Tri triAt(uint32_t q) const {
     Tri x;
@@ -678,6 +679,135 @@ struct JoinInput {
   }
 };
 
+// ---------------------------------------------------------------------------
+// Fan certificates: the vertices around which no two triangles of the pass intersect, so
+// that the join skips every pair sharing one (nearly all of a clean mesh's candidates).
+//
+// A vertex v is certified when the triangles at it form one closed manifold fan (the walk
+// around v crosses interior sides only, and it holds every triangle of the pass with corner
+// v: `count`, so nothing else shares v) and, along some coordinate axis k, with exact signs:
+//  (1) every fan triangle (v, a, b) projects with one strict orientation s, and
+//  (2) the projected link (the sides a -> b opposite v, a closed polygon) winds exactly
+//      once around proj(v), in the direction s.
+// Why no pair sharing v then intersects: by (1) each projected triangle lies in the sector
+// from proj(v) between the rays to proj(a) and proj(b), of angle in (0, pi), turning by s;
+// the turns add up to 2 pi times the winding number, so by (2) the sectors go around
+// proj(v) exactly once: their interiors are disjoint, and two of them meet only along the
+// ray of a side v a_i they share (fan neighbours: two sectors of angle < pi summing to one
+// turn need at least three) or only at proj(v). A projection with a non-zero orientation
+// is injective on the triangle, and the part of a projected triangle on a bounding ray of
+// its sector is its projected side v a_i. So a 3D point common to two fan triangles
+// projects to proj(v), and is v, or onto the projected shared side v a_i of both, and is
+// on that side: within the convex hull of the corners they share. No pair sharing v is
+// therefore a self-intersection (testPair would return -1; two triangles with the same
+// three corners would have one sector). The walk holds each triangle once: a triangle of
+// the pass has three distinct welded corners, so one side leaving v. Zero-area triangles
+// fail (1); degenerate ones have no sides. The winding number is exact: proj(v) is on no
+// side by (1), and with a ray from proj(v) along the first projected axis, a side a -> b
+// crosses it upwards when a.y <= v.y < b.y (v then on its left when s > 0) and downwards
+// when b.y <= v.y < a.y (v on its right when s < 0), so the winding number is the number
+// of upward crossings for s > 0, minus the number of downward ones for s < 0.
+constexpr uint32_t kMaxFan = 254;  // larger fans are not certified (the count saturates at 255)
+
+// Conditions (1) and (2) in the projection along axis k, for the fan of v whose link is
+// a[0..m): triangle t is (v, a[t], a[t - 1]), cyclically. Its orientation is
+// pred::orient2d(v, a[t], a[t - 1]) in the coordinates (k + 1, k + 2) (normalSign(v, a[t],
+// a[t - 1], k)), computed here as there (the same differences, products and filter, the
+// same exact fallback) with each difference computed once.
+bool fanWindsOnce(const float* pv, const float* const* a, uint32_t m, int k) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const double vx = pv[i], vy = pv[j];
+  const float* b = a[m - 1];
+  double bx = b[i] - vx, by = b[j] - vy;
+  int s = 0, crossings = 0;
+  for (uint32_t t = 0; t < m; b = a[t++]) {
+    const double ax = a[t][i] - vx, ay = a[t][j] - vy;
+    const double l = ax * by, r = ay * bx, det = l - r;
+    const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));
+    const int o = det > bound    ? 1
+                  : -det > bound ? -1
+                  : bound == 0   ? 0
+                                 : pred::orient2dExact(vx, vy, a[t][i], a[t][j], b[i], b[j]);
+    if (o == 0 || o == -s) return false;
+    s = o;
+    // The side a[t] -> b crosses the ray upwards (counted for s > 0) when ay <= 0 < by,
+    // downwards (counted for s < 0) when by <= 0 < ay: a difference of floats has the sign
+    // of their comparison.
+    crossings += s > 0 ? ay <= 0 && by > 0 : by <= 0 && ay > 0;
+    bx = ax, by = ay;
+  }
+  return crossings == 1;
+}
+
+bool certifyVertex(const Topology& topo, const Welded& w, uint32_t v, uint32_t count) {
+  const uint32_t e0 = topo.vertexHalfedge[v];
+  if (e0 == kInvalid || count < 3 || count > kMaxFan) return false;
+  // The walk around v: e leaves v to a[m]; its triangle is (v, a[m], a[m - 1]), as the side
+  // after it in the triangle, the one from a[m], goes to where the previous e went.
+  const float* a[kMaxFan];
+  uint32_t e = e0, m = 0;
+  do {
+    if (topo.pairKind[e >> 1] != uint8_t(EdgeKind::Interior) || m == count) return false;
+    a[m++] = w.p(topo.vert[e ^ 1u]);
+    e = topo.next[e ^ 1u];
+  } while (e != e0);
+  if (m != count) return false;
+  // The axis to try first: the largest coordinate of one fan triangle's normal (floating
+  // point: it decides nothing), then the other two.
+  const float* pv = w.p(v);
+  const double ux = double(a[0][0]) - pv[0], uy = double(a[0][1]) - pv[1], uz = double(a[0][2]) - pv[2];
+  const double vx = double(a[m - 1][0]) - pv[0], vy = double(a[m - 1][1]) - pv[1], vz = double(a[m - 1][2]) - pv[2];
+  const double n0 = std::fabs(uy * vz - uz * vy), n1 = std::fabs(uz * vx - ux * vz), n2 = std::fabs(ux * vy - uy * vx);
+  const int k = n0 >= n1 ? (n0 >= n2 ? 0 : 2) : (n1 >= n2 ? 1 : 2);
+  return fanWindsOnce(pv, a, m, k) || fanWindsOnce(pv, a, m, (k + 1) % 3) || fanWindsOnce(pv, a, m, (k + 2) % 3);
+}
+
+std::atomic<uint64_t> gFanCertified{0}, gFanSkipped{0};
+
+// The certificates of the vertices of the pass's triangles (`corner`: 3 welded ids per sorted
+// position, n positions) as `fan` (per position: bit c when corner c is certified). The
+// vertices split into ranges on `threads`; each vertex's result is its own, so the flags are
+// the same for every split. Needs the topology's half-edges; without them nothing is
+// certified. 1 byte per vertex while it runs.
+Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>& corner, uint32_t n, unsigned threads,
+                   Array<uint8_t>& fan) {
+  if (!fan.assign(n, 0)) return oom("the fan certificates");
+  const uint32_t nv = topo.nVertices;
+  if (topo.vertexHalfedge.size() != nv || topo.vert.size() != topo.next.size() ||
+      2 * size_t(topo.pairKind.size()) != topo.next.size())
+    return {};
+  Array<uint8_t> flag;  // per vertex: the triangles of the pass at it (saturated at 255), then 1 when certified
+  if (!flag.assign(nv, 0)) return oom("the fan certificates");
+  for (size_t c = 0; c < 3 * size_t(n); ++c) flag[corner[c]] += flag[corner[c]] < 255;
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), nv, detail::parallelGrain(32768));
+  uint64_t certified[detail::kMaxThreads] = {};
+  detail::runParts(parts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(nv, parts, id + 1));
+    for (uint32_t v = uint32_t(detail::partBegin(nv, parts, id)); v < end; ++v) {
+      flag[v] = certifyVertex(topo, w, v, flag[v]);
+      certified[id] += flag[v];
+    }
+  });
+  uint64_t total = 0;
+  for (unsigned id = 0; id < parts; ++id) total += certified[id];
+  gFanCertified.fetch_add(total, std::memory_order_relaxed);
+  for (uint32_t q = 0; q < n; ++q) {
+    const uint32_t* c = &corner[3 * size_t(q)];
+    fan[q] = uint8_t(flag[c[0]] | flag[c[1]] << 1 | flag[c[2]] << 2);
+  }
+  return {};
+}
+
+}  // namespace
+
+bool geometry_detail::fanCertifiedForTesting(const Mesh& mesh, const Topology& topo, uint32_t v, uint32_t count) {
+  return certifyVertex(topo, Welded{mesh, weldOf(&topo)}, v, count);
+}
+uint64_t geometry_detail::fanCertifiedVerticesForTesting() { return gFanCertified.load(std::memory_order_relaxed); }
+uint64_t geometry_detail::fanSkippedPairsForTesting() { return gFanSkipped.load(std::memory_order_relaxed); }
+
+namespace {
+
 // One run of the self-join from a (node, node) pair: its pairs found, its work (pair tests
 // of overlapping boxes) and why it stopped. The serial pass is one run from the root; the
 // threaded one runs tasks (pairs below the root) and adds up their counts.
@@ -686,18 +816,14 @@ struct JoinRun {
   uint64_t work = 0;
   uint64_t sinceProgress = 0;  // positions joined since the last progress report
   uint64_t maxWork = ~uint64_t(0), maxFound = ~uint64_t(0);  // stop past these (the serial limits)
+  uint64_t fanSkipped = 0;  // pairs skipped by a certified vertex (a test hook's count)
   bool stop = false, outOfMemory = false;
 };
 
-// Tests sorted positions p < q whose boxes overlap.
-inline void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t q) {
-  if (++r.work > r.maxWork) {
-    r.stop = true;
-    return;
-  }
-  unsigned ma, mb;
-  sharedCorners(&in.corner[3 * size_t(p)], &in.corner[3 * size_t(q)], ma, mb);
-  if (ma == 7) return;  // one duplicate group (testPair: -1)
+// The exact tests of positions p < q (a's corners ma shared with b's mb), for the pairs the
+// join does not skip; out of line, so that the skipping loop (testMask) stays small.
+STLTOPO_NOINLINE void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t q, unsigned ma,
+                                    unsigned mb) {
   const Tri a = in.triAt(p), b = in.triAt(q);
   if (ma && neighboursApart(a, b, ma, mb)) return;
   Found f;
@@ -714,9 +840,27 @@ inline void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t 
 }
 
 // Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
-// p's), in increasing order, until the run stops.
+// p's), in increasing order, until the run stops. Each counts as work (the limit), then the
+// pairs of one duplicate group and those sharing a certified vertex (testPair would return
+// -1 for them) are skipped.
 inline void testMask(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t first, uint32_t mask) {
-  for (; mask && !r.stop; mask &= mask - 1) testPositions(in, r, p, first + uint32_t(lowestBit(mask)));
+  const uint32_t* cp = &in.corner[3 * size_t(p)];
+  const unsigned fan = in.fan[p];
+  for (; mask && !r.stop; mask &= mask - 1) {
+    const uint32_t q = first + uint32_t(lowestBit(mask));
+    if (++r.work > r.maxWork) {
+      r.stop = true;
+      return;
+    }
+    unsigned ma, mb;
+    sharedCorners(cp, &in.corner[3 * size_t(q)], ma, mb);
+    if (ma == 7) continue;  // one duplicate group
+    if (ma & fan) {
+      ++r.fanSkipped;
+      continue;
+    }
+    testPositions(in, r, p, q, ma, mb);
+  }
 }
 
 // The positions a (node, node) pair covers: the size of its part of the join.
@@ -890,7 +1034,9 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
   corner[3 * size_t(n)] = 0;
-  const JoinInput in{w, bvh, corner};
+  Array<uint8_t> fan;
+  if (Status s = certifyFans(w, topo, corner, n, options.threads, fan); !s.ok()) return s;
+  const JoinInput in{w, bvh, corner, fan.data()};
   const uint64_t maxFound = options.maxPairs;
   // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
   const uint64_t minWork = 64 * uint64_t(nt);
@@ -912,8 +1058,10 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       size_t total = 0;
       for (unsigned i = 0; i < pj.nRuns; ++i) total += pj.runs[i].found.size();
       if (!found.reserve(total)) return oom("the intersection list");
-      for (unsigned i = 0; i < pj.nRuns; ++i)
+      for (unsigned i = 0; i < pj.nRuns; ++i) {
         for (const Found& f : pj.runs[i].found) (void)found.push_back(f);  // reserved
+        gFanSkipped.fetch_add(pj.runs[i].fanSkipped, std::memory_order_relaxed);
+      }
     }
   }
   if (serial && n > 0) {
@@ -929,6 +1077,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       }
     });
     if (r.outOfMemory) return oom("the intersection list");
+    gFanSkipped.fetch_add(r.fanSkipped, std::memory_order_relaxed);
     complete = !r.stop;
     found = std::move(r.found);
   }

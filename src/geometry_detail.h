@@ -38,6 +38,13 @@ struct Tri {
 // the intersection (floating point, decides nothing).
 int trianglePairTest(const Tri& a, const Tri& b, double point[3]);
 
+// Test hooks of the intersection pass's fan certificates (geometry.cpp): whether vertex v,
+// with `count` triangles of the pass at it, is certified; and the vertices certified and
+// the candidate pairs skipped for sharing one, summed over every pass since the start.
+bool fanCertifiedForTesting(const Mesh& mesh, const Topology& topo, uint32_t v, uint32_t count);
+uint64_t fanCertifiedVerticesForTesting();
+uint64_t fanSkippedPairsForTesting();
+
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
                topo->vertexWeld.size() != mesh.nVertices()))
