@@ -791,10 +791,14 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
   uint64_t total = 0;
   for (unsigned id = 0; id < parts; ++id) total += certified[id];
   gFanCertified.fetch_add(total, std::memory_order_relaxed);
-  for (uint32_t q = 0; q < n; ++q) {
-    const uint32_t* c = &corner[3 * size_t(q)];
-    fan[q] = uint8_t(flag[c[0]] | flag[c[1]] << 1 | flag[c[2]] << 2);
-  }
+  const unsigned qparts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  detail::runParts(qparts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(n, qparts, id + 1));
+    for (uint32_t q = uint32_t(detail::partBegin(n, qparts, id)); q < end; ++q) {
+      const uint32_t* c = &corner[3 * size_t(q)];
+      fan[q] = uint8_t(flag[c[0]] | flag[c[1]] << 1 | flag[c[2]] << 2);
+    }
+  });
   return {};
 }
 
