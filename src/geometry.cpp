@@ -765,10 +765,12 @@ bool certifyVertex(const Topology& topo, const Welded& w, uint32_t v, uint32_t c
 std::atomic<uint64_t> gFanCertified{0}, gFanSkipped{0};
 
 // The certificates of the vertices of the pass's triangles (`corner`: 3 welded ids per sorted
-// position, n positions) as `fan` (per position: bit c when corner c is certified). The
-// vertices split into ranges on `threads`; each vertex's result is its own, so the flags are
-// the same for every split. Needs the topology's half-edges; without them nothing is
-// certified. 1 byte per vertex while it runs.
+// position, n positions) as `fan` (per position: bit c when corner c is certified). Each
+// vertex is certified at its first position, in the hierarchy's order, so that the walks of
+// vertices near in space follow each other (their sides and positions are in the cache even
+// when the file's order is random); the positions split into ranges on `threads`. Each
+// vertex's result is its own, so the flags are the same for every split. Needs the
+// topology's half-edges; without them nothing is certified. 1 byte per vertex while it runs.
 Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>& corner, uint32_t n, unsigned threads,
                    Array<uint8_t>& fan) {
   if (!fan.assign(n, 0)) return oom("the fan certificates");
@@ -778,23 +780,31 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
     return {};
   Array<uint8_t> flag;  // per vertex: the triangles of the pass at it (saturated at 255), then 1 when certified
   if (!flag.assign(nv, 0)) return oom("the fan certificates");
-  for (size_t c = 0; c < 3 * size_t(n); ++c) flag[corner[c]] += flag[corner[c]] < 255;
-  const unsigned parts = detail::partsFor(detail::threadCount(threads), nv, detail::parallelGrain(32768));
-  uint64_t certified[detail::kMaxThreads] = {};
-  detail::runParts(parts, [&](unsigned id) {
-    const uint32_t end = uint32_t(detail::partBegin(nv, parts, id + 1));
-    for (uint32_t v = uint32_t(detail::partBegin(nv, parts, id)); v < end; ++v) {
-      flag[v] = certifyVertex(topo, w, v, flag[v]);
-      certified[id] += flag[v];
+  for (uint32_t q = 0; q < n; ++q) {  // the counts, and in fan[q] the corners seen first there
+    for (int c = 0; c < 3; ++c) {
+      uint8_t& f = flag[corner[3 * size_t(q) + c]];
+      fan[q] |= uint8_t(f == 0) << c;
+      f += f < 255;
     }
+  }
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  uint64_t certified[detail::kMaxThreads] = {};
+  detail::runParts(parts, [&](unsigned id) {  // each vertex at its first position: one part writes its flag
+    const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
+    for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q)
+      for (int c = 0; c < 3; ++c)
+        if (fan[q] >> c & 1) {
+          uint8_t& f = flag[corner[3 * size_t(q) + c]];
+          f = certifyVertex(topo, w, corner[3 * size_t(q) + c], f);
+          certified[id] += f;
+        }
   });
   uint64_t total = 0;
   for (unsigned id = 0; id < parts; ++id) total += certified[id];
   gFanCertified.fetch_add(total, std::memory_order_relaxed);
-  const unsigned qparts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
-  detail::runParts(qparts, [&](unsigned id) {
-    const uint32_t end = uint32_t(detail::partBegin(n, qparts, id + 1));
-    for (uint32_t q = uint32_t(detail::partBegin(n, qparts, id)); q < end; ++q) {
+  detail::runParts(parts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
+    for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q) {
       const uint32_t* c = &corner[3 * size_t(q)];
       fan[q] = uint8_t(flag[c[0]] | flag[c[1]] << 1 | flag[c[2]] << 2);
     }
