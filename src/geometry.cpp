@@ -683,125 +683,100 @@ struct JoinInput {
 // Fan certificates: the vertices around which no two triangles of the pass intersect, so
 // that the join skips every pair sharing one (nearly all of a clean mesh's candidates).
 //
-// A vertex v is certified when the triangles at it form one closed manifold fan (the walk
-// around v crosses interior sides only, and it holds every triangle of the pass with corner
-// v: `count`, so nothing else shares v) and, along some coordinate axis k, with exact signs:
-//  (1) every fan triangle (v, a, b) projects with one strict orientation s, and
-//  (2) the projected link (the sides a -> b opposite v, a closed polygon) winds exactly
-//      once around proj(v), in the direction s.
+// A vertex v is certified when its triangles form one closed manifold fan F and, along some
+// coordinate axis k, with exact signs:
+//  (1) every triangle (v, a, b) of F (in its own winding) projects with one strict
+//      orientation s (normalSign(v, a, b, k): the normal's coordinate k), and
+//  (2) the projected link (the sides a -> b opposite v, a closed polygon as F is a closed
+//      fan) winds exactly once around proj(v), in the direction s.
+// F is one closed fan of triangles of the pass, and holds all of them at v, when no side at
+// v is other than interior (EdgeKind), v's outgoing half-edges form one vnext cycle
+// (!vertexNonManifold: the topology's walk around v) and no zero-area triangle has corner v:
+// then every non-degenerate triangle at v is in the cycle, and each is in the pass. (With
+// interior sides only, each cycle's link is closed and, under (1), winds at least once, so
+// (2) over all the triangles at v also rules out two cycles: the vertexNonManifold test is
+// a cheap early no.)
 // Why no pair sharing v then intersects: by (1) each projected triangle lies in the sector
 // from proj(v) between the rays to proj(a) and proj(b), of angle in (0, pi), turning by s;
 // the turns add up to 2 pi times the winding number, so by (2) the sectors go around
 // proj(v) exactly once: their interiors are disjoint, and two of them meet only along the
-// ray of a side v a_i they share (fan neighbours: two sectors of angle < pi summing to one
-// turn need at least three) or only at proj(v). A projection with a non-zero orientation
-// is injective on the triangle, and the part of a projected triangle on a bounding ray of
-// its sector is its projected side v a_i. So a 3D point common to two fan triangles
-// projects to proj(v), and is v, or onto the projected shared side v a_i of both, and is
-// on that side: within the convex hull of the corners they share. No pair sharing v is
-// therefore a self-intersection (testPair would return -1; two triangles with the same
-// three corners would have one sector). The walk holds each triangle once: a triangle of
-// the pass has three distinct welded corners, so one side leaving v. Zero-area triangles
-// fail (1); degenerate ones have no sides. The winding number is exact: proj(v) is on no
-// side by (1), and with a ray from proj(v) along the first projected axis, a side a -> b
-// crosses it upwards when a.y <= v.y < b.y (v then on its left when s > 0) and downwards
-// when b.y <= v.y < a.y (v on its right when s < 0), so the winding number is the number
-// of upward crossings for s > 0, minus the number of downward ones for s < 0.
-constexpr uint32_t kMaxFan = 254;  // larger fans are not certified (the count saturates at 255)
+// ray of a side v a_i they share (fan neighbours: sectors of angle < pi summing to one turn
+// are at least three) or only at proj(v). A projection with a non-zero orientation is
+// injective on the triangle, and the part of a projected triangle on a bounding ray of its
+// sector is its projected side v a_i. So a 3D point common to two fan triangles projects
+// to proj(v), and is v, or onto the projected shared side v a_i of both, and is on that side:
+// within the convex hull of the corners they share. No pair sharing v is therefore a
+// self-intersection (testPair would return -1; two triangles with the same three corners
+// would have one sector). A triangle of the pass has three distinct welded corners, so it
+// appears once in v's fan. The winding number is exact and a sum over the triangles, in any
+// order: proj(v) is on no side by (1), and with a ray from proj(v) along the first projected
+// axis (coordinate k + 1; y is coordinate k + 2), a side a -> b crosses it upwards when
+// a.y <= v.y < b.y (v then on its left when s > 0) and downwards when b.y <= v.y < a.y (v on
+// its right when s < 0): the winding number is the number of upward crossings for s > 0,
+// minus the number of downward ones for s < 0. So one pass over the triangles, in the
+// hierarchy's order (vertices near in space near in time, whatever the file's order),
+// gathers per vertex and axis the signs seen and the crossings (up to 2), and no walk is
+// needed.
+namespace fan {
+constexpr uint16_t kBad = 1u << 15;                                                  // a side or triangle that rules v out
+inline constexpr unsigned signBit(int k, int s) { return 3u * unsigned(k) + (s > 0 ? 0u : s < 0 ? 1u : 2u); }  // bits 0-8
+inline constexpr unsigned crossShift(int k) { return 9u + 2u * unsigned(k); }        // bits 9-14: crossings, 0-2
+}  // namespace fan
 
-// Conditions (1) and (2) in the projection along axis k, for the fan of v whose link is
-// a[0..m): triangle t is (v, a[t], a[t - 1]), cyclically. Its orientation is
-// pred::orient2d(v, a[t], a[t - 1]) in the coordinates (k + 1, k + 2) (normalSign(v, a[t],
-// a[t - 1], k)), computed here as there (the same differences, products and filter, the
-// same exact fallback) with each difference computed once.
-bool fanWindsOnce(const float* pv, const float* const* a, uint32_t m, int k) {
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  const double vx = pv[i], vy = pv[j];
-  const float* b = a[m - 1];
-  double bx = b[i] - vx, by = b[j] - vy;
-  int s = 0, crossings = 0;
-  for (uint32_t t = 0; t < m; b = a[t++]) {
-    const double ax = a[t][i] - vx, ay = a[t][j] - vy;
-    const double l = ax * by, r = ay * bx, det = l - r;
-    const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));
-    const int o = det > bound    ? 1
-                  : -det > bound ? -1
-                  : bound == 0   ? 0
-                                 : pred::orient2dExact(vx, vy, a[t][i], a[t][j], b[i], b[j]);
-    if (o == 0 || o == -s) return false;
-    s = o;
-    // The side a[t] -> b crosses the ray upwards (counted for s > 0) when ay <= 0 < by,
-    // downwards (counted for s < 0) when by <= 0 < ay: a difference of floats has the sign
-    // of their comparison.
-    crossings += s > 0 ? ay <= 0 && by > 0 : by <= 0 && ay > 0;
-    bx = ax, by = ay;
+// Certifies the vertices of the pass's triangles (`corner`: 3 welded ids each, n triangles):
+// certified[v] = 1, else 0 (2 bytes per vertex). zeroArea: checkTriangles' list.
+Status certifyVertices(const Welded& w, const Topology& topo, const Array<uint32_t>& zeroArea, const uint32_t* corner,
+                       uint32_t n, Array<uint16_t>& state) {
+  const uint32_t nv = topo.nVertices;
+  if (!state.assign(nv, 0)) return oom("the fan certificates");
+  if (topo.vertexNonManifold.size() != nv || 2 * size_t(topo.pairKind.size()) != topo.vert.size())
+    return {};  // no topology to go by: nothing is certified
+  for (size_t k = 0; k < topo.pairKind.size(); ++k)
+    if (topo.pairKind[k] != uint8_t(EdgeKind::Interior))
+      state[topo.vert[2 * k]] |= fan::kBad, state[topo.vert[2 * k + 1]] |= fan::kBad;
+  for (uint32_t t : zeroArea)
+    for (int c = 0; c < 3; ++c) state[w.v(t, c)] |= fan::kBad;
+  for (uint32_t q = 0; q < n; ++q) {
+    const uint32_t* id = corner + 3 * size_t(q);
+    const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
+    int sg[3];
+    for (int k = 0; k < 3; ++k) sg[k] = pred::normalSign(p[0], p[1], p[2], k);  // the same for every corner
+    for (int c = 0; c < 3; ++c) {
+      const float *v = p[c], *a = p[(c + 1) % 3], *b = p[(c + 2) % 3];
+      uint16_t st = state[id[c]];
+      for (int k = 0; k < 3; ++k) {
+        const int j = (k + 2) % 3;
+        st |= uint16_t(1u << fan::signBit(k, sg[k]));
+        const bool cross = sg[k] > 0 ? a[j] <= v[j] && v[j] < b[j] : b[j] <= v[j] && v[j] < a[j];
+        if (cross && (st >> fan::crossShift(k) & 3) < 2) st = uint16_t(st + (1u << fan::crossShift(k)));
+      }
+      state[id[c]] = st;
+    }
   }
-  return crossings == 1;
-}
-
-bool certifyVertex(const Topology& topo, const Welded& w, uint32_t v, uint32_t count) {
-  const uint32_t e0 = topo.vertexHalfedge[v];
-  if (e0 == kInvalid || count < 3 || count > kMaxFan) return false;
-  // The walk around v: e leaves v to a[m]; its triangle is (v, a[m], a[m - 1]), as the side
-  // after it in the triangle, the one from a[m], goes to where the previous e went.
-  const float* a[kMaxFan];
-  uint32_t e = e0, m = 0;
-  do {
-    if (topo.pairKind[e >> 1] != uint8_t(EdgeKind::Interior) || m == count) return false;
-    a[m++] = w.p(topo.vert[e ^ 1u]);
-    e = topo.next[e ^ 1u];
-  } while (e != e0);
-  if (m != count) return false;
-  // The axis to try first: the largest coordinate of one fan triangle's normal (floating
-  // point: it decides nothing), then the other two.
-  const float* pv = w.p(v);
-  const double ux = double(a[0][0]) - pv[0], uy = double(a[0][1]) - pv[1], uz = double(a[0][2]) - pv[2];
-  const double vx = double(a[m - 1][0]) - pv[0], vy = double(a[m - 1][1]) - pv[1], vz = double(a[m - 1][2]) - pv[2];
-  const double n0 = std::fabs(uy * vz - uz * vy), n1 = std::fabs(uz * vx - ux * vz), n2 = std::fabs(ux * vy - uy * vx);
-  const int k = n0 >= n1 ? (n0 >= n2 ? 0 : 2) : (n1 >= n2 ? 1 : 2);
-  return fanWindsOnce(pv, a, m, k) || fanWindsOnce(pv, a, m, (k + 1) % 3) || fanWindsOnce(pv, a, m, (k + 2) % 3);
+  for (uint32_t v = 0; v < nv; ++v) {
+    const unsigned st = state[v];
+    bool ok = false;
+    for (int k = 0; k < 3 && !(st & fan::kBad) && !topo.vertexNonManifold[v]; ++k) {
+      const unsigned signs = st >> (3 * k) & 7;  // only s > 0 or only s < 0, and one crossing
+      ok = ok || ((signs == 1 || signs == 2) && (st >> fan::crossShift(k) & 3) == 1);
+    }
+    state[v] = ok;
+  }
+  return {};
 }
 
 std::atomic<uint64_t> gFanCertified{0}, gFanSkipped{0};
 
-// The certificates of the vertices of the pass's triangles (`corner`: 3 welded ids per sorted
-// position, n positions) as `fan` (per position: bit c when corner c is certified). Each
-// vertex is certified at its first position, in the hierarchy's order, so that the walks of
-// vertices near in space follow each other (their sides and positions are in the cache even
-// when the file's order is random); the positions split into ranges on `threads`. Each
-// vertex's result is its own, so the flags are the same for every split. Needs the
-// topology's half-edges; without them nothing is certified. 1 byte per vertex while it runs.
-Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>& corner, uint32_t n, unsigned threads,
-                   Array<uint8_t>& fan) {
-  if (!fan.assign(n, 0)) return oom("the fan certificates");
-  const uint32_t nv = topo.nVertices;
-  if (topo.vertexHalfedge.size() != nv || topo.vert.size() != topo.next.size() ||
-      2 * size_t(topo.pairKind.size()) != topo.next.size())
-    return {};
-  Array<uint8_t> flag;  // per vertex: the triangles of the pass at it (saturated at 255), then 1 when certified
-  if (!flag.assign(nv, 0)) return oom("the fan certificates");
-  for (uint32_t q = 0; q < n; ++q) {  // the counts, and in fan[q] the corners seen first there
-    for (int c = 0; c < 3; ++c) {
-      uint8_t& f = flag[corner[3 * size_t(q) + c]];
-      fan[q] |= uint8_t(f == 0) << c;
-      f += f < 255;
-    }
-  }
-  const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
-  uint64_t certified[detail::kMaxThreads] = {};
-  detail::runParts(parts, [&](unsigned id) {  // each vertex at its first position: one part writes its flag
-    const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
-    for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q)
-      for (int c = 0; c < 3; ++c)
-        if (fan[q] >> c & 1) {
-          uint8_t& f = flag[corner[3 * size_t(q) + c]];
-          f = certifyVertex(topo, w, corner[3 * size_t(q) + c], f);
-          certified[id] += f;
-        }
-  });
+// The certificates as `fan`: per sorted position, bit c when corner c is certified.
+Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>& zeroArea,
+                   const Array<uint32_t>& corner, uint32_t n, unsigned threads, Array<uint8_t>& fan) {
+  Array<uint16_t> flag;
+  if (Status s = certifyVertices(w, topo, zeroArea, corner.data(), n, flag); !s.ok()) return s;
+  if (!fan.resize(n)) return oom("the fan certificates");
   uint64_t total = 0;
-  for (unsigned id = 0; id < parts; ++id) total += certified[id];
+  for (uint16_t f : flag) total += f;
   gFanCertified.fetch_add(total, std::memory_order_relaxed);
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
     for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q) {
@@ -814,8 +789,24 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
 
 }  // namespace
 
-bool geometry_detail::fanCertifiedForTesting(const Mesh& mesh, const Topology& topo, uint32_t v, uint32_t count) {
-  return certifyVertex(topo, Welded{mesh, weldOf(&topo)}, v, count);
+Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
+                                                  Array<uint8_t>& certified) {
+  const Welded w{mesh, weldOf(&topo)};
+  Array<uint8_t> zero;
+  Array<uint32_t> corner;
+  if (!zero.assign(mesh.nTriangles(), 0) || !corner.reserve(3 * size_t(mesh.nTriangles())))
+    return oom("the fan certificates");
+  for (uint32_t t : checks.zeroArea) zero[t] = 1;
+  for (uint32_t t = 0; t < mesh.nTriangles(); ++t) {
+    const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+    if (a != b && b != c && a != c && !zero[t]) (void)corner.push_back(a), (void)corner.push_back(b), (void)corner.push_back(c);
+  }
+  Array<uint16_t> state;
+  if (Status s = certifyVertices(w, topo, checks.zeroArea, corner.data(), uint32_t(corner.size() / 3), state); !s.ok())
+    return s;
+  if (!certified.resize(state.size())) return oom("the fan certificates");
+  for (size_t v = 0; v < state.size(); ++v) certified[v] = uint8_t(state[v]);
+  return {};
 }
 uint64_t geometry_detail::fanCertifiedVerticesForTesting() { return gFanCertified.load(std::memory_order_relaxed); }
 uint64_t geometry_detail::fanSkippedPairsForTesting() { return gFanSkipped.load(std::memory_order_relaxed); }
@@ -1049,7 +1040,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
   corner[3 * size_t(n)] = 0;
   Array<uint8_t> fan;
-  if (Status s = certifyFans(w, topo, corner, n, options.threads, fan); !s.ok()) return s;
+  if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) return s;
   const JoinInput in{w, bvh, corner, fan.data()};
   const uint64_t maxFound = options.maxPairs;
   // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.

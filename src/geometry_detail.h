@@ -38,10 +38,12 @@ struct Tri {
 // the intersection (floating point, decides nothing).
 int trianglePairTest(const Tri& a, const Tri& b, double point[3]);
 
-// Test hooks of the intersection pass's fan certificates (geometry.cpp): whether vertex v,
-// with `count` triangles of the pass at it, is certified; and the vertices certified and
-// the candidate pairs skipped for sharing one, summed over every pass since the start.
-bool fanCertifiedForTesting(const Mesh& mesh, const Topology& topo, uint32_t v, uint32_t count);
+// Test hooks of the intersection pass's fan certificates (geometry.cpp): the certified
+// vertices of a mesh (1 each; the pass's own rule, on the triangles of the pass); and the
+// vertices certified and the candidate pairs skipped for sharing one, summed over every pass
+// since the start.
+Status fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
+                                 Array<uint8_t>& certified);
 uint64_t fanCertifiedVerticesForTesting();
 uint64_t fanSkippedPairsForTesting();
 

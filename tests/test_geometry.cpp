@@ -560,13 +560,12 @@ std::vector<std::array<P, 3>> bipyramid(P t, P b, const std::vector<P>& a) {
   return f;
 }
 
-// The pass on triangles t (as runPass), and whether the vertex at point c, with `count`
-// triangles at it, is certified.
+// The pass on triangles t (as runPass), and whether the vertex at point c is certified.
 struct FanRun {
   Passed run;
   bool certified = false;
 };
-void runFan(const std::vector<std::array<P, 3>>& t, P c, uint32_t count, FanRun& out) {
+void runFan(const std::vector<std::array<P, 3>>& t, P c, FanRun& out) {
   runPass(t, out.run);
   ASSERT_TRUE(out.run.ok);
   stltopo::Topology topo;
@@ -578,7 +577,9 @@ void runFan(const std::vector<std::array<P, 3>>& t, P c, uint32_t count, FanRun&
         mesh.positions[3 * v + 2] == float(c[2]))
       id = v;
   ASSERT_NE(id, stltopo::kInvalid);
-  out.certified = stltopo::geometry_detail::fanCertifiedForTesting(mesh, topo, id, count);
+  stltopo::Array<uint8_t> certified;
+  ASSERT_TRUE(stltopo::geometry_detail::fanCertificatesForTesting(mesh, topo, out.run.checks, certified).ok());
+  out.certified = certified[id] != 0;
 }
 
 // Whether some pair of `pairs` has both triangles at point c.
@@ -602,12 +603,9 @@ TEST(Geometry, FanCertificatesCoverACleanTorus) {
   // Each triangle has 12 others at its corners (3 across its sides, 9 at corners only),
   // whose boxes all overlap its own: 6 pairs per triangle, all skipped.
   EXPECT_EQ(stltopo::geometry_detail::fanSkippedPairsForTesting() - skipped0, 6u * t.mesh.nTriangles());
-  std::vector<uint32_t> count(t.mesh.nVertices());
-  for (uint32_t c : t.mesh.triangles) ++count[c];
-  for (uint32_t v = 0; v < t.mesh.nVertices(); ++v)
-    ASSERT_TRUE(stltopo::geometry_detail::fanCertifiedForTesting(t.mesh, t.topo, v, count[v])) << v;
-  // A wrong count (a triangle of the pass outside the walk) certifies nothing.
-  EXPECT_FALSE(stltopo::geometry_detail::fanCertifiedForTesting(t.mesh, t.topo, 0, count[0] + 1));
+  stltopo::Array<uint8_t> certified;
+  ASSERT_TRUE(stltopo::geometry_detail::fanCertificatesForTesting(t.mesh, t.topo, t.geo.checks, certified).ok());
+  for (uint32_t v = 0; v < t.mesh.nVertices(); ++v) ASSERT_EQ(certified[v], 1) << v;
   // With a hole (a quad left out: 4 boundary vertices), the others stay certified.
   const uint64_t certified1 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
   Result cut;
@@ -643,12 +641,12 @@ TEST(Geometry, FanCertificatesRefuseFansThatOverlap) {
     Brute want = brute(t);
     ASSERT_TRUE(pairAt(t, want.pairs, c.t)) << c.name << ": the case must have a pair sharing its centre";
     FanRun f;
-    runFan(t, c.t, uint32_t(c.link.size()), f);
+    runFan(t, c.t, f);
     EXPECT_FALSE(f.certified) << c.name;
     EXPECT_EQ(f.run.pairs, want.pairs) << c.name;
   }
   // A pinch: two closed fans at one vertex, one flat in z = 0, one in x = 0; each alone would
-  // be certified, but the vertex has 8 triangles of the pass and a walk finds 4.
+  // be certified, but the vertex has two cycles of sides (vertexNonManifold).
   {
     auto t = bipyramid({0, 0, 0}, {0, 0, -5}, {{10, 0, 0}, {0, 10, 0}, {-10, 0, 0}, {0, -10, 0}});
     const auto second = bipyramid({0, 0, 0}, {9, 0, 0}, {{0, 7, 7}, {0, -7, 7}, {0, -7, -7}, {0, 7, -7}});
@@ -656,14 +654,14 @@ TEST(Geometry, FanCertificatesRefuseFansThatOverlap) {
     Brute want = brute(t);
     ASSERT_TRUE(pairAt(t, want.pairs, {0, 0, 0})) << "pinch";
     FanRun f;
-    runFan(t, {0, 0, 0}, 8, f);
+    runFan(t, {0, 0, 0}, f);
     EXPECT_FALSE(f.certified) << "pinch";
     EXPECT_EQ(f.run.pairs, want.pairs) << "pinch";
   }
   // The same apexes over a convex link are certified, and nothing intersects.
   const auto clean = bipyramid({0, 0, 3}, {0, 0, -3}, {{10, 0, 0}, {3, 10, 0}, {-8, 6, 0}, {-8, -6, 0}, {3, -10, 0}});
   FanRun f;
-  runFan(clean, {0, 0, 3}, 5, f);
+  runFan(clean, {0, 0, 3}, f);
   EXPECT_TRUE(f.certified);
   EXPECT_TRUE(f.run.pairs.empty());
 }
@@ -701,7 +699,7 @@ TEST(Geometry, FanCertificatesAgainstIntegerBruteForce) {
     const auto tr = bipyramid(t, b, link);
     Brute want = brute(tr);
     FanRun f;
-    runFan(tr, t, uint32_t(m), f);
+    runFan(tr, t, f);
     ASSERT_EQ(f.run.pairs, want.pairs) << "round " << round;
     if (f.certified) {
       ++certified;
