@@ -662,6 +662,7 @@ struct JoinInput {
   const Welded& w;
   const Bvh& bvh;
   const Array<uint32_t>& corner;
+  const uint8_t* fan;  // per sorted position: bit c when corner c is a certified vertex (certifyFans)
   const BoxColumns& boxes() const { return bvh.columns; }
   Tri triAt(uint32_t q) const {
     Tri x;
@@ -678,6 +679,140 @@ struct JoinInput {
   }
 };
 
+// ---------------------------------------------------------------------------
+// Fan certificates: the vertices around which no two triangles of the pass intersect, so
+// that the join skips every pair sharing one (nearly all of a clean mesh's candidates).
+//
+// A vertex v is certified when its triangles form one closed manifold fan F and, along some
+// coordinate axis k, with exact signs:
+//  (1) every triangle (v, a, b) of F (in its own winding) projects with one strict
+//      orientation s (normalSign(v, a, b, k): the normal's coordinate k), and
+//  (2) the projected link (the sides a -> b opposite v, a closed polygon as F is a closed
+//      fan) winds exactly once around proj(v), in the direction s.
+// F is one closed fan of triangles of the pass, and holds all of them at v, when no side at
+// v is other than interior (EdgeKind), v's outgoing half-edges form one vnext cycle
+// (!vertexNonManifold: the topology's walk around v) and no zero-area triangle has corner v:
+// then every non-degenerate triangle at v is in the cycle, and each is in the pass. (With
+// interior sides only, each cycle's link is closed and, under (1), winds at least once, so
+// (2) over all the triangles at v also rules out two cycles: the vertexNonManifold test is
+// a cheap early no.)
+// Why no pair sharing v then intersects: by (1) each projected triangle lies in the sector
+// from proj(v) between the rays to proj(a) and proj(b), of angle in (0, pi), turning by s;
+// the turns add up to 2 pi times the winding number, so by (2) the sectors go around
+// proj(v) exactly once: their interiors are disjoint, and two of them meet only along the
+// ray of a side v a_i they share (fan neighbours: sectors of angle < pi summing to one turn
+// are at least three) or only at proj(v). A projection with a non-zero orientation is
+// injective on the triangle, and the part of a projected triangle on a bounding ray of its
+// sector is its projected side v a_i. So a 3D point common to two fan triangles projects
+// to proj(v), and is v, or onto the projected shared side v a_i of both, and is on that side:
+// within the convex hull of the corners they share. No pair sharing v is therefore a
+// self-intersection (testPair would return -1; two triangles with the same three corners
+// would have one sector). A triangle of the pass has three distinct welded corners, so it
+// appears once in v's fan. The winding number is exact and a sum over the triangles, in any
+// order: proj(v) is on no side by (1), and with a ray from proj(v) along the first projected
+// axis (coordinate k + 1; y is coordinate k + 2), a side a -> b crosses it upwards when
+// a.y <= v.y < b.y (v then on its left when s > 0) and downwards when b.y <= v.y < a.y (v on
+// its right when s < 0): the winding number is the number of upward crossings for s > 0,
+// minus the number of downward ones for s < 0. So one pass over the triangles, in the
+// hierarchy's order (vertices near in space near in time, whatever the file's order),
+// gathers per vertex and axis the signs seen and the crossings (up to 2), and no walk is
+// needed.
+namespace fan {
+constexpr uint16_t kBad = 1u << 15;                                                  // a side or triangle that rules v out
+inline constexpr unsigned signBit(int k, int s) { return 3u * unsigned(k) + (s > 0 ? 0u : s < 0 ? 1u : 2u); }  // bits 0-8
+inline constexpr unsigned crossShift(int k) { return 9u + 2u * unsigned(k); }        // bits 9-14: crossings, 0-2
+}  // namespace fan
+
+// Certifies the vertices of the pass's triangles (`corner`: 3 welded ids each, n triangles):
+// certified[v] = 1, else 0 (2 bytes per vertex). zeroArea: checkTriangles' list.
+Status certifyVertices(const Welded& w, const Topology& topo, const Array<uint32_t>& zeroArea, const uint32_t* corner,
+                       uint32_t n, Array<uint16_t>& state) {
+  const uint32_t nv = topo.nVertices;
+  if (!state.assign(nv, 0)) return oom("the fan certificates");
+  if (topo.vertexNonManifold.size() != nv || 2 * size_t(topo.pairKind.size()) != topo.vert.size())
+    return {};  // no topology to go by: nothing is certified
+  for (size_t k = 0; k < topo.pairKind.size(); ++k)
+    if (topo.pairKind[k] != uint8_t(EdgeKind::Interior))
+      state[topo.vert[2 * k]] |= fan::kBad, state[topo.vert[2 * k + 1]] |= fan::kBad;
+  for (uint32_t t : zeroArea)
+    for (int c = 0; c < 3; ++c) state[w.v(t, c)] |= fan::kBad;
+  for (uint32_t q = 0; q < n; ++q) {
+    const uint32_t* id = corner + 3 * size_t(q);
+    const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
+    int sg[3];
+    for (int k = 0; k < 3; ++k) sg[k] = pred::normalSign(p[0], p[1], p[2], k);  // the same for every corner
+    for (int c = 0; c < 3; ++c) {
+      const float *v = p[c], *a = p[(c + 1) % 3], *b = p[(c + 2) % 3];
+      uint16_t st = state[id[c]];
+      for (int k = 0; k < 3; ++k) {
+        const int j = (k + 2) % 3;
+        st |= uint16_t(1u << fan::signBit(k, sg[k]));
+        const bool cross = sg[k] > 0 ? a[j] <= v[j] && v[j] < b[j] : b[j] <= v[j] && v[j] < a[j];
+        if (cross && (st >> fan::crossShift(k) & 3) < 2) st = uint16_t(st + (1u << fan::crossShift(k)));
+      }
+      state[id[c]] = st;
+    }
+  }
+  for (uint32_t v = 0; v < nv; ++v) {
+    const unsigned st = state[v];
+    bool ok = false;
+    for (int k = 0; k < 3 && !(st & fan::kBad) && !topo.vertexNonManifold[v]; ++k) {
+      const unsigned signs = st >> (3 * k) & 7;  // only s > 0 or only s < 0, and one crossing
+      ok = ok || ((signs == 1 || signs == 2) && (st >> fan::crossShift(k) & 3) == 1);
+    }
+    state[v] = ok;
+  }
+  return {};
+}
+
+std::atomic<uint64_t> gFanCertified{0}, gFanSkipped{0};
+
+// The certificates as `fan`: per sorted position, bit c when corner c is certified.
+Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>& zeroArea,
+                   const Array<uint32_t>& corner, uint32_t n, unsigned threads, Array<uint8_t>& fan) {
+  Array<uint16_t> flag;
+  if (Status s = certifyVertices(w, topo, zeroArea, corner.data(), n, flag); !s.ok()) return s;
+  if (!fan.resize(n)) return oom("the fan certificates");
+  uint64_t total = 0;
+  for (uint16_t f : flag) total += f;
+  gFanCertified.fetch_add(total, std::memory_order_relaxed);
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  detail::runParts(parts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
+    for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q) {
+      const uint32_t* c = &corner[3 * size_t(q)];
+      fan[q] = uint8_t(flag[c[0]] | flag[c[1]] << 1 | flag[c[2]] << 2);
+    }
+  });
+  return {};
+}
+
+}  // namespace
+
+Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
+                                                  Array<uint8_t>& certified) {
+  const Welded w{mesh, weldOf(&topo)};
+  Array<uint8_t> zero;
+  Array<uint32_t> corner;
+  if (!zero.assign(mesh.nTriangles(), 0) || !corner.reserve(3 * size_t(mesh.nTriangles())))
+    return oom("the fan certificates");
+  for (uint32_t t : checks.zeroArea) zero[t] = 1;
+  for (uint32_t t = 0; t < mesh.nTriangles(); ++t) {
+    const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+    if (a != b && b != c && a != c && !zero[t]) (void)corner.push_back(a), (void)corner.push_back(b), (void)corner.push_back(c);
+  }
+  Array<uint16_t> state;
+  if (Status s = certifyVertices(w, topo, checks.zeroArea, corner.data(), uint32_t(corner.size() / 3), state); !s.ok())
+    return s;
+  if (!certified.resize(state.size())) return oom("the fan certificates");
+  for (size_t v = 0; v < state.size(); ++v) certified[v] = uint8_t(state[v]);
+  return {};
+}
+uint64_t geometry_detail::fanCertifiedVerticesForTesting() { return gFanCertified.load(std::memory_order_relaxed); }
+uint64_t geometry_detail::fanSkippedPairsForTesting() { return gFanSkipped.load(std::memory_order_relaxed); }
+
+namespace {
+
 // One run of the self-join from a (node, node) pair: its pairs found, its work (pair tests
 // of overlapping boxes) and why it stopped. The serial pass is one run from the root; the
 // threaded one runs tasks (pairs below the root) and adds up their counts.
@@ -686,18 +821,14 @@ struct JoinRun {
   uint64_t work = 0;
   uint64_t sinceProgress = 0;  // positions joined since the last progress report
   uint64_t maxWork = ~uint64_t(0), maxFound = ~uint64_t(0);  // stop past these (the serial limits)
+  uint64_t fanSkipped = 0;  // pairs skipped by a certified vertex (a test hook's count)
   bool stop = false, outOfMemory = false;
 };
 
-// Tests sorted positions p < q whose boxes overlap.
-inline void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t q) {
-  if (++r.work > r.maxWork) {
-    r.stop = true;
-    return;
-  }
-  unsigned ma, mb;
-  sharedCorners(&in.corner[3 * size_t(p)], &in.corner[3 * size_t(q)], ma, mb);
-  if (ma == 7) return;  // one duplicate group (testPair: -1)
+// The exact tests of positions p < q (a's corners ma shared with b's mb), for the pairs the
+// join does not skip; out of line, so that the skipping loop (testMask) stays small.
+STLTOPO_NOINLINE void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t q, unsigned ma,
+                                    unsigned mb) {
   const Tri a = in.triAt(p), b = in.triAt(q);
   if (ma && neighboursApart(a, b, ma, mb)) return;
   Found f;
@@ -714,9 +845,27 @@ inline void testPositions(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t 
 }
 
 // Tests p against the positions of the leaf from `first` in `mask` (their boxes overlap
-// p's), in increasing order, until the run stops.
+// p's), in increasing order, until the run stops. Each counts as work (the limit), then the
+// pairs of one duplicate group and those sharing a certified vertex (testPair would return
+// -1 for them) are skipped.
 inline void testMask(const JoinInput& in, JoinRun& r, uint32_t p, uint32_t first, uint32_t mask) {
-  for (; mask && !r.stop; mask &= mask - 1) testPositions(in, r, p, first + uint32_t(lowestBit(mask)));
+  const uint32_t* cp = &in.corner[3 * size_t(p)];
+  const unsigned fan = in.fan[p];
+  for (; mask && !r.stop; mask &= mask - 1) {
+    const uint32_t q = first + uint32_t(lowestBit(mask));
+    if (++r.work > r.maxWork) {
+      r.stop = true;
+      return;
+    }
+    unsigned ma, mb;
+    sharedCorners(cp, &in.corner[3 * size_t(q)], ma, mb);
+    if (ma == 7) continue;  // one duplicate group
+    if (ma & fan) {
+      ++r.fanSkipped;
+      continue;
+    }
+    testPositions(in, r, p, q, ma, mb);
+  }
 }
 
 // The positions a (node, node) pair covers: the size of its part of the join.
@@ -890,7 +1039,9 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   for (uint32_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
   corner[3 * size_t(n)] = 0;
-  const JoinInput in{w, bvh, corner};
+  Array<uint8_t> fan;
+  if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) return s;
+  const JoinInput in{w, bvh, corner, fan.data()};
   const uint64_t maxFound = options.maxPairs;
   // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
   const uint64_t minWork = 64 * uint64_t(nt);
@@ -912,8 +1063,10 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       size_t total = 0;
       for (unsigned i = 0; i < pj.nRuns; ++i) total += pj.runs[i].found.size();
       if (!found.reserve(total)) return oom("the intersection list");
-      for (unsigned i = 0; i < pj.nRuns; ++i)
+      for (unsigned i = 0; i < pj.nRuns; ++i) {
         for (const Found& f : pj.runs[i].found) (void)found.push_back(f);  // reserved
+        gFanSkipped.fetch_add(pj.runs[i].fanSkipped, std::memory_order_relaxed);
+      }
     }
   }
   if (serial && n > 0) {
@@ -929,6 +1082,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       }
     });
     if (r.outOfMemory) return oom("the intersection list");
+    gFanSkipped.fetch_add(r.fanSkipped, std::memory_order_relaxed);
     complete = !r.stop;
     found = std::move(r.found);
   }

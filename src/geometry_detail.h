@@ -38,6 +38,15 @@ struct Tri {
 // the intersection (floating point, decides nothing).
 int trianglePairTest(const Tri& a, const Tri& b, double point[3]);
 
+// Test hooks of the intersection pass's fan certificates (geometry.cpp): the certified
+// vertices of a mesh (1 each; the pass's own rule, on the triangles of the pass); and the
+// vertices certified and the candidate pairs skipped for sharing one, summed over every pass
+// since the start.
+Status fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
+                                 Array<uint8_t>& certified);
+uint64_t fanCertifiedVerticesForTesting();
+uint64_t fanSkippedPairsForTesting();
+
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||
                topo->vertexWeld.size() != mesh.nVertices()))

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
@@ -542,6 +543,175 @@ TEST(Geometry, UnsharedPairsAgainstIntegerBruteForce) {
   }
   EXPECT_GT(kinds["crossing"], 500);
   EXPECT_GT(kinds["touching"], 30);
+}
+
+// ---------------------------------------------------------------------------
+// Fan certificates: the pass skips the pairs that share a vertex whose closed fan projects
+// along an axis as sectors winding once around it (geometry.cpp, certifyFans).
+
+// A closed bipyramid: apexes t and b over the link polygon a[0..m): faces (t, a[i], a[i+1])
+// (the first m) and (b, a[i+1], a[i]). Every vertex has one closed manifold fan when the
+// points are distinct.
+std::vector<std::array<P, 3>> bipyramid(P t, P b, const std::vector<P>& a) {
+  std::vector<std::array<P, 3>> f;
+  const size_t m = a.size();
+  for (size_t i = 0; i < m; ++i) f.push_back({t, a[i], a[(i + 1) % m]});
+  for (size_t i = 0; i < m; ++i) f.push_back({b, a[(i + 1) % m], a[i]});
+  return f;
+}
+
+// The pass on triangles t (as runPass), and whether the vertex at point c is certified.
+struct FanRun {
+  Passed run;
+  bool certified = false;
+};
+void runFan(const std::vector<std::array<P, 3>>& t, P c, FanRun& out) {
+  runPass(t, out.run);
+  ASSERT_TRUE(out.run.ok);
+  stltopo::Topology topo;
+  ASSERT_TRUE(stltopo::buildTopology(out.run.mesh, topo).ok());
+  const stltopo::Mesh& mesh = out.run.mesh;
+  uint32_t id = stltopo::kInvalid;
+  for (uint32_t v = 0; v < mesh.nVertices(); ++v)
+    if (mesh.positions[3 * v] == float(c[0]) && mesh.positions[3 * v + 1] == float(c[1]) &&
+        mesh.positions[3 * v + 2] == float(c[2]))
+      id = v;
+  ASSERT_NE(id, stltopo::kInvalid);
+  stltopo::Array<uint8_t> certified;
+  ASSERT_TRUE(stltopo::geometry_detail::fanCertificatesForTesting(mesh, topo, out.run.checks, certified).ok());
+  out.certified = certified[id] != 0;
+}
+
+// Whether some pair of `pairs` has both triangles at point c.
+bool pairAt(const std::vector<std::array<P, 3>>& t, const std::set<std::tuple<uint32_t, uint32_t, std::string>>& pairs,
+            P c) {
+  auto has = [&](uint32_t i) { return t[i][0] == c || t[i][1] == c || t[i][2] == c; };
+  for (auto& x : pairs)
+    if (has(std::get<0>(x)) && has(std::get<1>(x))) return true;
+  return false;
+}
+
+TEST(Geometry, FanCertificatesCoverACleanTorus) {
+  const uint64_t certified0 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
+  const uint64_t skipped0 = stltopo::geometry_detail::fanSkippedPairsForTesting();
+  Result t;
+  analyze(gen::torus(64, 32), t);
+  EXPECT_EQ(t.geo.intersections.nPairs(), 0u);
+  // Every vertex of the torus is certified, and the pass used them: nearly every candidate
+  // pair of a clean mesh is a neighbour pair.
+  EXPECT_EQ(stltopo::geometry_detail::fanCertifiedVerticesForTesting() - certified0, uint64_t(t.mesh.nVertices()));
+  // Each triangle has 12 others at its corners (3 across its sides, 9 at corners only),
+  // whose boxes all overlap its own: 6 pairs per triangle, all skipped.
+  EXPECT_EQ(stltopo::geometry_detail::fanSkippedPairsForTesting() - skipped0, 6u * t.mesh.nTriangles());
+  stltopo::Array<uint8_t> certified;
+  ASSERT_TRUE(stltopo::geometry_detail::fanCertificatesForTesting(t.mesh, t.topo, t.geo.checks, certified).ok());
+  for (uint32_t v = 0; v < t.mesh.nVertices(); ++v) ASSERT_EQ(certified[v], 1) << v;
+  // With a hole (a quad left out: 4 boundary vertices), the others stay certified.
+  const uint64_t certified1 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
+  Result cut;
+  analyze(gen::torus(64, 32, {5}), cut);
+  const uint64_t n = stltopo::geometry_detail::fanCertifiedVerticesForTesting() - certified1;
+  EXPECT_EQ(n, uint64_t(cut.mesh.nVertices()) - 4);
+}
+
+// Fans that must not be certified, each with pairs that share its centre: the pass finds
+// them all (the integer brute force decides).
+TEST(Geometry, FanCertificatesRefuseFansThatOverlap) {
+  const std::vector<P> star = {{10, 0, 0}, {-8, 6, 0}, {3, -10, 0}, {3, 10, 0}, {-8, -6, 0}};  // a pentagram
+  struct Case {
+    const char* name;
+    P t, b;
+    std::vector<P> link;
+  };
+  const std::vector<Case> cases = {
+      // (1) holds, the link winds twice around the apex: opposite chords cross.
+      {"cone over a pentagram", {0, 0, 3}, {0, 0, -3}, star},
+      // (1) holds, the link winds twice in the fan's own plane: coplanar overlaps.
+      {"flat pentagram", {0, 0, 0}, {0, 0, -3}, star},
+      // Two fan triangles that share only the apex pass through each other.
+      {"folded fan",
+       {0, 0, 0},
+       {0, 0, -20},
+       {{10, 0, 0}, {0, 10, 0}, {-10, 0, 0}, {5, 5, 5}, {5, 5, -5}, {0, -10, 0}}},
+      // Flat, folded over the side from the centre to (0, 10, 0).
+      {"fold-over across a side", {0, 0, 0}, {0, 0, -5}, {{10, 0, 0}, {0, 10, 0}, {5, 5, 0}, {-10, -10, 0}, {10, -10, 0}}},
+  };
+  for (const Case& c : cases) {
+    const auto t = bipyramid(c.t, c.b, c.link);
+    Brute want = brute(t);
+    ASSERT_TRUE(pairAt(t, want.pairs, c.t)) << c.name << ": the case must have a pair sharing its centre";
+    FanRun f;
+    runFan(t, c.t, f);
+    EXPECT_FALSE(f.certified) << c.name;
+    EXPECT_EQ(f.run.pairs, want.pairs) << c.name;
+  }
+  // A pinch: two closed fans at one vertex, one flat in z = 0, one in x = 0; each alone would
+  // be certified, but the vertex has two cycles of sides (vertexNonManifold).
+  {
+    auto t = bipyramid({0, 0, 0}, {0, 0, -5}, {{10, 0, 0}, {0, 10, 0}, {-10, 0, 0}, {0, -10, 0}});
+    const auto second = bipyramid({0, 0, 0}, {9, 0, 0}, {{0, 7, 7}, {0, -7, 7}, {0, -7, -7}, {0, 7, -7}});
+    t.insert(t.end(), second.begin(), second.end());
+    Brute want = brute(t);
+    ASSERT_TRUE(pairAt(t, want.pairs, {0, 0, 0})) << "pinch";
+    FanRun f;
+    runFan(t, {0, 0, 0}, f);
+    EXPECT_FALSE(f.certified) << "pinch";
+    EXPECT_EQ(f.run.pairs, want.pairs) << "pinch";
+  }
+  // The same apexes over a convex link are certified, and nothing intersects.
+  const auto clean = bipyramid({0, 0, 3}, {0, 0, -3}, {{10, 0, 0}, {3, 10, 0}, {-8, 6, 0}, {-8, -6, 0}, {3, -10, 0}});
+  FanRun f;
+  runFan(clean, {0, 0, 3}, f);
+  EXPECT_TRUE(f.certified);
+  EXPECT_TRUE(f.run.pairs.empty());
+}
+
+// Random bipyramids on a small integer grid (many folded, flat, star-shaped and clean fans)
+// against the integer brute force: the certificates never hide a pair.
+TEST(Geometry, FanCertificatesAgainstIntegerBruteForce) {
+  std::mt19937 rng(4242);
+  int certified = 0, refused = 0, withPairs = 0;
+  for (int round = 0; round < 3000; ++round) {
+    const int grid = 3 + int(rng() % 4);
+    const int m = 3 + int(rng() % 6);
+    std::set<P> used;
+    auto point = [&](bool flat) {
+      for (;;) {
+        P p = {int64_t(rng() % (grid + 1)), int64_t(rng() % (grid + 1)), flat ? 0 : int64_t(rng() % (grid + 1))};
+        if (used.insert(p).second) return p;
+      }
+    };
+    const bool flat = round % 3 == 0;  // the apex and the link in one plane
+    const bool sorted = round % 2 == 1;
+    if (sorted) used.insert({grid / 2, grid / 2, flat ? 0 : grid / 2});
+    const P t = sorted ? P{grid / 2, grid / 2, flat ? 0 : grid / 2} : point(flat);
+    P b = point(false);
+    std::vector<P> link;
+    for (int i = 0; i < m; ++i) link.push_back(point(flat));
+    // Half the rounds: the apex in the middle, the link sorted by angle around it (mostly
+    // certifiable fans).
+    if (sorted) {
+      std::sort(link.begin(), link.end(), [&](const P& x, const P& y) {
+        return std::atan2(double(x[1] - t[1]), double(x[0] - t[0])) < std::atan2(double(y[1] - t[1]), double(y[0] - t[0]));
+      });
+      b = {t[0], t[1], t[2] - 2 * grid - 1};
+    }
+    const auto tr = bipyramid(t, b, link);
+    Brute want = brute(tr);
+    FanRun f;
+    runFan(tr, t, f);
+    ASSERT_EQ(f.run.pairs, want.pairs) << "round " << round;
+    if (f.certified) {
+      ++certified;
+      ASSERT_FALSE(pairAt(tr, want.pairs, t)) << "round " << round;
+    } else {
+      ++refused;
+    }
+    withPairs += !want.pairs.empty();
+  }
+  EXPECT_GT(certified, 300);
+  EXPECT_GT(refused, 300);
+  EXPECT_GT(withPairs, 300);
 }
 
 // The exact predicates where floating point alone fails: coordinates far apart in scale.

@@ -99,11 +99,18 @@ struct Intersections {
 // is reset first. Cost: a bounding-volume hierarchy over the triangles (built in O(n) by
 // a radix sort of Morton codes) and a self-join of it, so O(n log n) for meshes whose
 // triangles' boxes overlap a bounded number of others; the work limit bounds the rest. The
-// pairs that share corners (nearly all of a mesh's) take a few exact signs each. Memory:
-// about 50 bytes per triangle while it runs (ids 4, boxes 24, corners 12, nodes about 9,
-// flags 1), plus 33 bytes per pair found. With options.threads other than 1, the join is
-// split into tasks (pairs of subtrees, in the serial join's order) that the threads take in
-// turn, and the pairs found are sorted as always: the result is the same. Should the work
+// pairs that share corners (nearly all of a mesh's) take a few exact signs each, and none
+// when they share a certified vertex: one whose triangles form a single closed fan (interior
+// sides only, none zero-area) that, projected along a coordinate axis, turns one way and
+// winds exactly once around it (exact signs; one O(n) pass over the triangles before the
+// join), so that no two of them intersect. Such pairs still count toward the work limit. On
+// a clean closed mesh every vertex is certified and the exact tests run only for the pairs
+// that share no corner. Memory: about 51 bytes per triangle while it runs (ids 4, boxes 24,
+// corners 12, nodes about 9, flags 1, certificates 1), 2 bytes per vertex while certifying,
+// plus 33 bytes per pair found. With options.threads other than 1, the certificates' flags
+// per triangle are set by ranges and the join
+// is split into tasks (pairs of subtrees, in the serial join's order) that the threads take
+// in turn, and the pairs found are sorted as always: the result is the same. Should the work
 // or pair limit be reached, the pass runs again on one thread, whose truncated list depends
 // on the order of the tests (the threaded attempt stops once the limit is seen, so this at
 // most doubles the bounded work). Progress is reported from the calling thread only.
