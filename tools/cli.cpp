@@ -538,6 +538,18 @@ int split(int argc, char** argv) {
 }  // namespace
 
 // Parses a number option's value: a finite double >= 0 (integer: a whole number <= max).
+// --threads N (N <= 1024) and the hidden --test-parallel-grain N: a whole number written
+// in decimal, no sign. Prints "stltopo: bad OPTION 'v'" when it is not.
+bool countArg(const char* option, const char* v, unsigned long long max, unsigned long long& out) {
+  char* end;
+  out = std::strtoull(v, &end, 10);
+  if (*end || !*v || *v == '-' || out > max) {
+    std::fprintf(stderr, "stltopo: bad %s '%s'\n", option, v);
+    return false;
+  }
+  return true;
+}
+
 bool numberArg(const std::string& v, double& out, bool integer, double max) {
   char* end = nullptr;
   errno = 0;
@@ -602,21 +614,12 @@ int repair(int argc, char** argv) {
     if (i + 1 >= argc) return usage(s + " needs a value");
     std::string v = argv[++i];
     double d = 0;
-    if (s == "--threads") {  // as info checks it
-      char* end;
-      unsigned long long n = std::strtoull(v.c_str(), &end, 10);
-      if (*end || v.empty() || v[0] == '-' || n > 1024) {
-        std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v.c_str());
-        return 2;
-      }
+    unsigned long long n = 0;
+    if (s == "--threads") {
+      if (!countArg("--threads", v.c_str(), 1024, n)) return 2;
       ro.threads = unsigned(n);
     } else if (s == "--test-parallel-grain") {  // not in the usage, as for info
-      char* end;
-      unsigned long long n = std::strtoull(v.c_str(), &end, 10);
-      if (*end || v.empty() || v[0] == '-') {
-        std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v.c_str());
-        return 2;
-      }
+      if (!countArg("--test-parallel-grain", v.c_str(), ~0ull, n)) return 2;
       stltopo::setParallelGrainForTesting(size_t(n));
     } else if (s == "--steps") {
       ro.steps = 0;
@@ -818,22 +821,14 @@ int main(int argc, char** argv) {
       a.inputs.push_back({value("--list"), true});
     } else if (!endOfOptions && s == "--threads") {
       const char* v = value("--threads");
-      char* end;
-      unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-' || n > 1024) {
-        std::fprintf(stderr, "stltopo: bad --threads '%s'\n", v);
-        return 2;
-      }
+      unsigned long long n;
+      if (!countArg("--threads", v, 1024, n)) return 2;
       a.threads = unsigned(n);
     } else if (!endOfOptions && s == "--test-parallel-grain") {
       // Not in the usage: the tests make every threaded stage split small files with it.
       const char* v = value("--test-parallel-grain");
-      char* end;
-      unsigned long long n = std::strtoull(v, &end, 10);
-      if (*end || !*v || *v == '-') {
-        std::fprintf(stderr, "stltopo: bad --test-parallel-grain '%s'\n", v);
-        return 2;
-      }
+      unsigned long long n;
+      if (!countArg("--test-parallel-grain", v, ~0ull, n)) return 2;
       stltopo::setParallelGrainForTesting(size_t(n));
     } else if (!endOfOptions && s.size() > 1 && s[0] == '-') {
       std::fprintf(stderr, "stltopo: unknown option '%s'\n%s", s.c_str(), kUsage);
