@@ -663,6 +663,7 @@ struct JoinInput {
   const Bvh& bvh;
   const Array<uint32_t>& corner;
   const uint8_t* fan;  // per sorted position: bit c when corner c is a certified vertex (certifyFans)
+  const uint8_t* free;  // per node: 1 when no two of its triangles intersect (certifyPatches)
   const BoxColumns& boxes() const { return bvh.columns; }
   Tri triAt(uint32_t q) const {
     Tri x;
@@ -787,6 +788,401 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
   return {};
 }
 
+
+// ---------------------------------------------------------------------------
+// Patch certificates: nodes of the hierarchy no two of whose triangles intersect, so that
+// the join skips every pair inside them (the pairs between two nodes it still tests).
+//
+// A node N is certified when, along some coordinate axis k and with exact signs:
+//  (1) every triangle of N projects with one strict orientation s (normalSign(k) == s), and
+//  (2) the sides of N's triangles that do not cancel (a side u -> v cancels against a side
+//      v -> u of another triangle of N, by welded id) form one closed loop through distinct
+//      vertices whose projection is a simple polygon: two sides of the loop meet only where
+//      they follow each other, and there only in their shared corner.
+// Why no two triangles of N then intersect. Let N's triangles be a 2-chain c (each with
+// weight 1) and take s > 0 (s < 0 is the mirror image). In the plane, for a point p on no
+// projected side, the number of projected triangles that cover p equals the winding number
+// of the projected boundary of c around p (each triangle's indicator is the winding of its
+// own sides, and the sum of the sides is the boundary, as the cancelled ones cancel). The
+// boundary is a simple polygon (2), so that number is at most 1: the projected triangles'
+// interiors are pairwise disjoint. Now let triangles A and B of N share a 3D point q, and
+// p = proj(q). Near p each triangle containing p covers a sector: all of the plane (p inside
+// it), a half-plane (p inside a side) or a wedge under pi (p a corner); the sectors are
+// disjoint, and a triangle's sector is bounded by the rays of its sides through p. Such a
+// side either cancels, and then the triangle on its other side (it runs the opposite way,
+// so by (1) it lies on the other side of the side) has the adjacent sector, sharing that
+// side's corners; or it is a side of the boundary, and at most two rays of the boundary
+// leave p, by (2), which come from one boundary corner at p or one boundary side through p.
+// Following the sectors around p from A through cancelled sides, and from B the same way,
+// every triangle passed shares A's corner at p (p a corner of A), or A's side through p, and
+// the sectors do not overlap, so the two walks are one: B shares with A the corner or the
+// side whose projection holds p. The projection is injective on each triangle (1), so q,
+// the point of A over p, is that corner or lies on that side: within the convex hull of the
+// corners A and B share. Hence testPair returns -1 for every pair of N (two triangles with
+// the same corners would cover one sector twice). The same holds with zero-area, degenerate
+// and skipped triangles present elsewhere: N holds only the pass's triangles.
+// The test runs top down from the root; a node of at least kMinPatch positions whose
+// triangles have a common strict sign along some axis (the AND of their sign masks, one
+// pass over the nodes bottom up) is tried, and when it fails its children are. Cost: one
+// hash of N's sides and a sweep over its boundary sides per node tried (O(n) on a smooth
+// mesh, as each position is tried about once); memory: 1 byte per triangle for the sign
+// masks and 1 per node.
+namespace patch {
+constexpr uint32_t kMinPatch = 64;  // smaller nodes are not tried (setPatchMinimumForTesting)
+// Larger nodes are not tried (their children are): the hash stays in cache, and what a
+// larger patch would save is the join across its children's common boundary, which is short.
+constexpr uint32_t kMaxPatch = 8192;
+constexpr size_t kMaxLoops = 32;  // more boundary loops: not tried (the test is quadratic in them)
+struct Slot {
+  uint32_t lo, hi;  // the side's vertices, lo < hi; lo == hi: empty
+  int32_t net;      // sides lo -> hi minus sides hi -> lo
+};
+}  // namespace patch
+
+// Sign mask of a triangle of the pass: bit 2k when its normal's coordinate k is > 0, bit
+// 2k + 1 when it is < 0 (exact: normalSign).
+inline uint8_t signMask(const float* a, const float* b, const float* c) {
+  uint8_t m = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int s = pred::normalSign(a, b, c, k);
+    m |= uint8_t((s > 0 ? 1u : s < 0 ? 2u : 0u) << (2 * k));
+  }
+  return m;
+}
+
+struct PatchCertifier {
+  PatchCertifier(const Welded& w_, const Array<uint32_t>& corner_) : w(w_), corner(corner_) {}
+  const Welded& w;
+  const Array<uint32_t>& corner;
+  Array<patch::Slot> table;
+  Array<uint32_t> used;    // slots filled in the node being tried
+  Array<uint64_t> sides;   // boundary sides: origin << 32 | destination, sorted
+  Array<uint32_t> into;    // the sides by destination
+  Array<uint32_t> next;    // per side: the side its loop takes next
+  Array<uint8_t> taken;    // per side: in a loop already
+  struct Ray {
+    uint32_t side;
+    bool out;  // the side leaves the corner (else it enters it)
+  };
+  Array<Ray> rays;         // the sides at one corner left more than once, by angle
+  Array<uint32_t> loops;   // the loops' sides, loop after loop
+  Array<uint32_t> loopEnd;  // per loop: its end in `loops`
+  Array<uint32_t> order;   // sweep order of the sides
+  uint64_t certifiedPositions = 0;
+
+  uint32_t origin(size_t s) const { return uint32_t(sides[s] >> 32); }
+  uint32_t dest(size_t s) const { return uint32_t(sides[s]); }
+  // The first side leaving vertex v (sides are sorted by origin), or sides.size().
+  size_t firstFrom(uint32_t v) const {
+    return size_t(std::lower_bound(sides.begin(), sides.end(), uint64_t(v) << 32) - sides.begin());
+  }
+
+  // The sides of positions [first, end) that do not cancel, into `sides`, cut into loops
+  // that pass each vertex at most once (`loops`, `loopEnd`). False when a side is left
+  // more than once, or a vertex is left and entered a different number of times.
+  bool boundary(uint32_t first, uint32_t end) {
+    const size_t want = size_t(end - first) * 6;
+    size_t cap = 64;
+    while (cap < want) cap *= 2;
+    if (table.size() < cap && !table.assign(cap, patch::Slot{0, 0, 0})) return false;
+    const size_t mask = cap - 1;
+    used.clear();
+    sides.clear();
+    // Reserved first: a push below cannot fail, so that every filled slot is cleared again.
+    if (!used.reserve(3 * size_t(end - first)) || !sides.reserve(3 * size_t(end - first))) return false;
+    for (uint32_t q = first; q < end; ++q) {
+      const uint32_t* c = &corner[3 * size_t(q)];
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t u = c[i], v = c[(i + 1) % 3];
+        const uint32_t lo = std::min(u, v), hi = std::max(u, v);
+        size_t h = size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+        while (table[h].lo != table[h].hi && (table[h].lo != lo || table[h].hi != hi)) h = (h + 1) & mask;
+        if (table[h].lo == table[h].hi) {
+          table[h].lo = lo;
+          table[h].hi = hi;
+          (void)used.push_back(uint32_t(h));  // reserved
+        }
+        table[h].net += u < v ? 1 : -1;
+      }
+    }
+    bool ok = true;
+    for (uint32_t h : used) {
+      const patch::Slot sl = table[h];
+      table[h] = patch::Slot{0, 0, 0};
+      if (sl.net == 0) continue;
+      if (sl.net > 1 || sl.net < -1) ok = false;
+      const uint32_t lo = sl.lo, hi = sl.hi;
+      (void)sides.push_back(sl.net > 0 ? uint64_t(lo) << 32 | hi : uint64_t(hi) << 32 | lo);  // reserved
+    }
+    const size_t nb = sides.size();
+    if (!ok || nb < 3) return false;
+    std::sort(sides.begin(), sides.end());
+    // Entered as often as left: the destinations, sorted, are the origins.
+    if (!order.resize(nb) || !next.resize(nb) || !taken.resize(nb) || !loops.reserve(nb) || !loopEnd.reserve(nb) ||
+        !rays.reserve(nb))
+      return false;
+    for (size_t s = 0; s < nb; ++s) order[s] = dest(s);
+    std::sort(order.begin(), order.end());
+    for (size_t s = 0; s < nb; ++s)
+      if (order[s] != origin(s)) return false;
+    // The sides by destination (ties by origin), for the corners left more than once.
+    if (!into.resize(nb)) return false;
+    for (size_t s = 0; s < nb; ++s) into[s] = uint32_t(s);
+    std::sort(into.begin(), into.end(), [&](uint32_t x, uint32_t y) {
+      return dest(x) != dest(y) ? dest(x) < dest(y) : origin(x) < origin(y);
+    });
+    return true;
+  }
+
+  // Whether, projected along axis k, the boundary sides meet only in the corners they share
+  // (sides from one corner not overlapping), and of the loops at most one turns the way s
+  // the triangles do (all the others turn the other way).
+  bool certifiedIn(int k, int s) {
+    const size_t nb = sides.size();
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    for (size_t x = 0; x < nb; ++x) order[x] = uint32_t(x);
+    auto lo = [&](uint32_t a) { return std::min(w.p(origin(a))[i], w.p(dest(a))[i]); };
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return lo(a) < lo(b); });
+    for (size_t x = 0; x < nb; ++x) {
+      const uint32_t a = order[x];
+      const uint32_t au = origin(a), av = dest(a);
+      const float *a0 = w.p(au), *a1 = w.p(av);
+      const float ahi = std::max(a0[i], a1[i]), ajlo = std::min(a0[j], a1[j]), ajhi = std::max(a0[j], a1[j]);
+      for (size_t y = x + 1; y < nb; ++y) {
+        const uint32_t b = order[y];
+        const uint32_t bu = origin(b), bv = dest(b);
+        const float *b0 = w.p(bu), *b1 = w.p(bv);
+        if (std::min(b0[i], b1[i]) > ahi) break;
+        if (std::max(b0[j], b1[j]) < ajlo || std::min(b0[j], b1[j]) > ajhi) continue;
+        // A shared corner c, with x and y the other ends: they overlap only along one ray.
+        const uint32_t c = au == bu || au == bv ? au : av == bu || av == bv ? av : kInvalid;
+        if (c == kInvalid) {
+          if (segSeg2d(k, a0, a1, b0, b1)) return false;
+          continue;
+        }
+        const float* pc = w.p(c);
+        const float* px = w.p(c == au ? av : au);
+        const float* py = w.p(c == bu ? bv : bu);
+        if (orient2dIn(k, pc, px, py) != 0) continue;
+        const int m = pc[i] != px[i] ? i : j;  // c != x in projection (a side of a strict triangle)
+        if ((px[m] < pc[m]) == (py[m] < pc[m]) && py[m] != pc[m]) return false;
+      }
+    }
+    if (!linkLoops(k, s)) return false;
+    // The loops do not cross: each is a (weakly) simple polygon, and its winding number is
+    // 0 or its turn t (+1 counter-clockwise) off it. The triangles' count over a point is the
+    // sum of the windings. It is 1 just left of every side (so 0 just right of it, and 0 or 1
+    // everywhere, as every bounded region between the loops borders a side) when for each
+    // loop L: [t(L) == s] + (sum of t(M) over the loops M around L) * s == 1.
+    const size_t nl = loopEnd.size();
+    if (nl > patch::kMaxLoops) return false;
+    int turn[patch::kMaxLoops];
+    size_t begin = 0;
+    for (size_t l = 0; l < nl; ++l) {
+      const size_t end = loopEnd[l];
+      // The turn at its lowest corner (by i, then j), which it passes once.
+      size_t best = begin;
+      for (size_t x = begin + 1; x < end; ++x) {
+        const float *p = w.p(origin(loops[x])), *q = w.p(origin(loops[best]));
+        if (p[i] < q[i] || (p[i] == q[i] && p[j] < q[j])) best = x;
+      }
+      for (size_t x = begin; x < end; ++x)
+        if (x != best && origin(loops[x]) == origin(loops[best])) return false;
+      const size_t prev = best == begin ? end - 1 : best - 1;
+      const int o = orient2dIn(k, w.p(origin(loops[prev])), w.p(origin(loops[best])), w.p(dest(loops[best])));
+      if (o == 0) return false;  // cannot happen: no two sides from one corner overlap
+      turn[l] = o;
+      begin = end;
+    }
+    for (size_t l = 0; l < nl; ++l) {
+      int around = 0;
+      const size_t lb = l ? loopEnd[l - 1] : 0;
+      for (size_t m = 0; m < nl; ++m) {
+        if (m == l) continue;
+        const size_t mb = m ? loopEnd[m - 1] : 0, me = loopEnd[m];
+        // A corner of L that is not on M: M's winding there (L does not cross M).
+        uint32_t v = kInvalid;
+        for (size_t x = lb; x < loopEnd[l] && v == kInvalid; ++x) {
+          const uint32_t c = origin(loops[x]);
+          bool on = false;
+          for (size_t y = mb; y < me && !on; ++y) on = origin(loops[y]) == c;
+          if (!on) v = c;
+        }
+        if (v == kInvalid) return false;
+        around += winding(k, w.p(v), mb, me);
+      }
+      if ((turn[l] == s ? 1 : 0) + around * s != 1) return false;
+    }
+    return true;
+  }
+
+  // The winding number of loop loops[b..e) around point p (on none of its sides), exactly:
+  // crossings of the ray from p along +i, with p moved by (eps, eps^2) so that the ray meets
+  // no corner.
+  int winding(int k, const float* p, size_t b, size_t e) const {
+    const int j = (k + 2) % 3;  // the ray runs along coordinate (k + 1) % 3
+    int wn = 0;
+    for (size_t x = b; x < e; ++x) {
+      const float *u = w.p(origin(loops[x])), *v = w.p(dest(loops[x]));
+      const bool uu = u[j] > p[j], vu = v[j] > p[j];
+      if (uu == vu) continue;
+      int o = orient2dIn(k, u, v, p);
+      if (o == 0) o = v[j] > u[j] ? -1 : 1;  // the eps term: -(v.j - u.j)
+      // Upwards (v above) with p on the left, or downwards with p on the right.
+      if (vu && o > 0) ++wn;
+      if (!vu && o < 0) --wn;
+    }
+    return wn;
+  }
+
+  // Cuts the sides into loops (`loops`, `loopEnd`) that do not cross: at a corner left more
+  // than once, the sides around it must alternate between leaving and entering (by angle),
+  // and a loop entering it leaves by the side that bounds the same covered wedge (the next
+  // one clockwise for s > 0, counter-clockwise for s < 0). False when they do not alternate.
+  bool linkLoops(int k, int s) {
+    const size_t nb = sides.size();
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    size_t in = 0;  // into[in..]: the sides entering the corner at hand
+    for (size_t a = 0; a < nb;) {
+      const uint32_t v = origin(a);
+      size_t e = a + 1;
+      while (e < nb && origin(e) == v) ++e;
+      while (in < nb && dest(into[in]) < v) ++in;
+      if (e - a == 1) {
+        next[into[in]] = uint32_t(a);
+        ++in;
+        a = e;
+        continue;
+      }
+      // Corner v is left e - a times: its rays by angle (half-planes, then orientation).
+      const float* pv = w.p(v);
+      rays.clear();
+      for (size_t x = a; x < e; ++x) (void)rays.push_back(Ray{uint32_t(x), true});  // reserved: nb
+      for (size_t x = in; x < in + (e - a); ++x) (void)rays.push_back(Ray{into[x], false});
+      auto end = [&](const Ray& r) { return w.p(r.out ? dest(r.side) : origin(r.side)); };
+      auto half = [&](const float* x) { return x[j] > pv[j] || (x[j] == pv[j] && x[i] > pv[i]) ? 0 : 1; };
+      std::sort(rays.begin(), rays.end(), [&](const Ray& x, const Ray& y) {
+        const float *px = end(x), *py = end(y);
+        const int hx = half(px), hy = half(py);
+        if (hx != hy) return hx < hy;
+        return orient2dIn(k, pv, px, py) > 0;
+      });
+      const size_t m = rays.size();
+      for (size_t x = 0; x < m; ++x)
+        if (rays[x].out == rays[(x + 1) % m].out) return false;
+      for (size_t x = 0; x < m; ++x)
+        if (!rays[x].out) next[rays[x].side] = rays[(s > 0 ? x + m - 1 : x + 1) % m].side;
+      in += e - a;
+      a = e;
+    }
+    loops.clear();
+    loopEnd.clear();
+    std::memset(taken.data(), 0, nb);
+    for (size_t a = 0; a < nb; ++a) {
+      if (taken[a]) continue;
+      for (uint32_t x = uint32_t(a); !taken[x]; x = next[x]) {
+        taken[x] = 1;
+        (void)loops.push_back(x);  // reserved: nb
+      }
+      (void)loopEnd.push_back(uint32_t(loops.size()));
+    }
+    return true;
+  }
+
+  bool certify(uint32_t first, uint32_t end, uint8_t signs) {
+    if (!boundary(first, end)) return false;
+    for (int k = 0; k < 3; ++k)
+      for (int s = 1; s >= -1; s -= 2)
+        if ((signs >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) return true;
+    return false;
+  }
+};
+
+std::atomic<uint64_t> gPatchPositions{0};
+std::atomic<bool> gPatchesOff{false};
+std::atomic<uint32_t> gPatchMinimum{0};  // 0: patch::kMinPatch
+
+// Per node: 1 when no two of its triangles intersect (the certificate above). The nodes of
+// at most kMaxPatch positions below larger ones are independent tasks: each computes its
+// positions' sign masks, its nodes' masks bottom up, and tries its nodes top down within a
+// budget of 4 tries per position (a region where the tries keep failing, a soup, stops
+// trying), so that the result is the same on any number of threads.
+Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, unsigned threads,
+                      Array<uint8_t>& free) {
+  const uint32_t nn = uint32_t(bvh.nodes.size());
+  if (!free.assign(nn, 0)) return oom("the patch certificates");
+  if (nn == 0 || gPatchesOff.load(std::memory_order_relaxed)) return {};
+  const uint32_t minPatch = gPatchMinimum.load(std::memory_order_relaxed) ? gPatchMinimum.load() : patch::kMinPatch;
+  Array<uint32_t> tasks;  // subtree roots
+  {
+    uint32_t todo[128];
+    int sp = 0;
+    todo[sp++] = 0;
+    while (sp > 0) {
+      const uint32_t id = todo[--sp];
+      const Node& nd = bvh.nodes[id];
+      if (nd.end - nd.first < minPatch) continue;
+      if (nd.end - nd.first <= patch::kMaxPatch) {
+        if (!tasks.push_back(id)) return oom("the patch certificates");
+      } else {
+        todo[sp++] = nd.right;
+        todo[sp++] = id + 1;
+      }
+    }
+  }
+  Array<uint8_t> nodeSigns;
+  if (!nodeSigns.resize(nn)) return oom("the patch certificates");
+  const uint32_t n = bvh.nodes[0].end;
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  std::atomic<uint32_t> next{0};
+  std::atomic<uint64_t> certified{0};
+  detail::runParts(parts, [&](unsigned) {
+    PatchCertifier pc(w, corner);
+    for (;;) {
+      const uint32_t t = next.fetch_add(1, std::memory_order_relaxed);
+      if (t >= tasks.size()) break;
+      const uint32_t root = tasks[t];
+      const Node& top = bvh.nodes[root];
+      const uint32_t nodes = 2 * ((top.end - top.first + kLeaf - 1) / kLeaf) - 1;  // a subtree's ids follow its root
+      for (uint32_t id = root + nodes; id-- > root;) {
+        const Node& nd = bvh.nodes[id];
+        if (nd.right) {
+          nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
+        } else {
+          uint8_t m = 0x3f;
+          for (uint32_t q = nd.first; q < nd.end; ++q) {
+            const uint32_t* c = &corner[3 * size_t(q)];
+            m &= signMask(w.p(c[0]), w.p(c[1]), w.p(c[2]));
+          }
+          nodeSigns[id] = m;
+        }
+      }
+      const uint64_t budget = 4 * uint64_t(top.end - top.first);
+      uint64_t tried = 0;
+      uint32_t todo[64];
+      int sp = 0;
+      todo[sp++] = root;
+      while (sp > 0) {
+        const uint32_t id = todo[--sp];
+        const Node& nd = bvh.nodes[id];
+        if (nd.end - nd.first < minPatch) continue;
+        if (nodeSigns[id] && tried < budget &&
+            (tried += nd.end - nd.first, pc.certify(nd.first, nd.end, nodeSigns[id]))) {
+          free[id] = 1;
+          pc.certifiedPositions += nd.end - nd.first;
+          continue;
+        }
+        if (nd.right) {
+          todo[sp++] = nd.right;
+          todo[sp++] = id + 1;
+        }
+      }
+    }
+    certified.fetch_add(pc.certifiedPositions, std::memory_order_relaxed);
+  });
+  gPatchPositions.fetch_add(certified.load(), std::memory_order_relaxed);
+  return {};
+}
 }  // namespace
 
 Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
@@ -810,6 +1206,11 @@ Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topolo
 }
 uint64_t geometry_detail::fanCertifiedVerticesForTesting() { return gFanCertified.load(std::memory_order_relaxed); }
 uint64_t geometry_detail::fanSkippedPairsForTesting() { return gFanSkipped.load(std::memory_order_relaxed); }
+uint64_t geometry_detail::patchCertifiedPositionsForTesting() { return gPatchPositions.load(std::memory_order_relaxed); }
+void geometry_detail::setPatchCertificatesForTesting(bool on) { gPatchesOff.store(!on, std::memory_order_relaxed); }
+void geometry_detail::setPatchMinimumForTesting(uint32_t positions) {
+  gPatchMinimum.store(positions, std::memory_order_relaxed);
+}
 
 namespace {
 
@@ -900,6 +1301,7 @@ void joinFrom(const JoinInput& in, JoinRun& r, uint64_t start, Array<uint64_t>* 
     const Node& A = bvh.nodes[ia];
     const Node& B = bvh.nodes[ib];
     if (ia == ib) {
+      if (in.free[ia]) continue;  // a certified patch: no pair inside it intersects
       if (A.right) {
         const uint32_t l = ia + 1, rt = A.right;
         todo[sp++] = uint64_t(l) << 32 | rt;
@@ -1041,7 +1443,9 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   corner[3 * size_t(n)] = 0;
   Array<uint8_t> fan;
   if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) return s;
-  const JoinInput in{w, bvh, corner, fan.data()};
+  Array<uint8_t> free;
+  if (Status s = certifyPatches(w, bvh, corner, options.threads, free); !s.ok()) return s;
+  const JoinInput in{w, bvh, corner, fan.data(), free.data()};
   const uint64_t maxFound = options.maxPairs;
   // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
   const uint64_t minWork = 64 * uint64_t(nt);

@@ -46,6 +46,13 @@ Status fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const T
                                  Array<uint8_t>& certified);
 uint64_t fanCertifiedVerticesForTesting();
 uint64_t fanSkippedPairsForTesting();
+// The patch certificates (geometry.cpp): the positions found in certified nodes so far, and
+// a switch that turns them off (the pass is then what it was before them).
+uint64_t patchCertifiedPositionsForTesting();
+void setPatchCertificatesForTesting(bool on);
+// The smallest node the patch certificates try (0: the default, 64 positions); tests set 2
+// so that small meshes exercise them.
+void setPatchMinimumForTesting(uint32_t positions);
 
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||

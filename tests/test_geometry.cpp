@@ -592,6 +592,11 @@ bool pairAt(const std::vector<std::array<P, 3>>& t, const std::set<std::tuple<ui
 }
 
 TEST(Geometry, FanCertificatesCoverACleanTorus) {
+  // Without the patch certificates, which would skip the pairs inside whole nodes first.
+  struct PatchesOff {
+    PatchesOff() { stltopo::geometry_detail::setPatchCertificatesForTesting(false); }
+    ~PatchesOff() { stltopo::geometry_detail::setPatchCertificatesForTesting(true); }
+  } off;
   const uint64_t certified0 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
   const uint64_t skipped0 = stltopo::geometry_detail::fanSkippedPairsForTesting();
   Result t;
@@ -712,6 +717,156 @@ TEST(Geometry, FanCertificatesAgainstIntegerBruteForce) {
   EXPECT_GT(certified, 300);
   EXPECT_GT(refused, 300);
   EXPECT_GT(withPairs, 300);
+}
+
+// ---------------------------------------------------------------------------
+// Patch certificates (geometry.cpp, certifyPatches): hierarchy nodes whose triangles all
+// face one way along an axis, and whose boundary, projected along it, is made of loops that
+// do not cross, with the triangles covering each point at most once, are skipped by the
+// join. With the smallest node tried lowered to 2 positions, small meshes exercise them.
+
+struct PatchMinimum {
+  explicit PatchMinimum(uint32_t n) { stltopo::geometry_detail::setPatchMinimumForTesting(n); }
+  ~PatchMinimum() { stltopo::geometry_detail::setPatchMinimumForTesting(0); }
+};
+
+// A height field over a g x g grid of points 3 apart (z random in [0, zr]), each cell cut by
+// a random diagonal, every triangle counter-clockwise seen from above.
+std::vector<std::array<P, 3>> heightField(std::mt19937& rng, int g, int zr) {
+  std::vector<std::vector<P>> v(g, std::vector<P>(g));
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j < g; ++j) v[i][j] = {3 * i, 3 * j, zr ? int64_t(rng() % (zr + 1)) : 0};
+  std::vector<std::array<P, 3>> t;
+  for (int i = 0; i + 1 < g; ++i)
+    for (int j = 0; j + 1 < g; ++j) {
+      const P &a = v[i][j], &b = v[i + 1][j], &c = v[i + 1][j + 1], &d = v[i][j + 1];
+      if (rng() % 2) {
+        t.push_back({a, b, c});
+        t.push_back({a, c, d});
+      } else {
+        t.push_back({a, b, d});
+        t.push_back({b, c, d});
+      }
+    }
+  return t;
+}
+
+// A clean height field is one patch: no pair, and the join skips it whole.
+TEST(Geometry, PatchCertificatesCoverAHeightField) {
+  std::mt19937 rng(7);
+  const auto t = heightField(rng, 12, 5);  // 242 triangles
+  const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+  Passed run;
+  runPass(t, run);
+  ASSERT_TRUE(run.ok);
+  EXPECT_TRUE(run.pairs.empty());
+  EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before, uint64_t(t.size()));
+  // A clean torus of 8192 triangles: every position is in a certified node.
+  const uint64_t before2 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+  Result torus;
+  analyze(gen::torus(128, 32), torus);
+  EXPECT_EQ(torus.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before2, uint64_t(torus.mesh.nTriangles()));
+}
+
+// Nodes that must not be certified, each hiding pairs inside one node: a sheet crossing a
+// flat field from inside it (two loops turning the same way, one inside the other: the
+// triangles cover the inner region twice), a ramp that winds past its own start and comes
+// down through it (its boundary crosses itself in projection), and a field with a flap
+// folded back over it (a loop through a corner twice). The brute force decides.
+TEST(Geometry, PatchCertificatesRefuseNodesThatOverlap) {
+  PatchMinimum small(2);
+  std::mt19937 rng(11);
+  std::vector<std::pair<const char*, std::vector<std::array<P, 3>>>> cases;
+  {
+    auto t = heightField(rng, 8, 0);  // z = 0, x, y in [0, 21]
+    t.push_back({P{6, 6, -2}, P{15, 6, 3}, P{15, 15, 3}});
+    t.push_back({P{6, 6, -2}, P{15, 15, 3}, P{6, 15, -2}});
+    cases.push_back({"a sheet through a field", t});
+  }
+  {
+    // A ramp around the z axis: 10 sectors of 45 degrees (450 degrees in all), rising
+    // steeply, then dropping through its first sector at the end.
+    std::vector<std::array<P, 3>> t;
+    const double r0 = 20, r1 = 40;
+    auto at = [](double r, double a, int64_t z) { return P{int64_t(std::lround(r * std::cos(a))), int64_t(std::lround(r * std::sin(a))), z}; };
+    for (int k = 0; k < 10; ++k) {
+      const double a0 = k * M_PI / 4, a1 = (k + 1) * M_PI / 4;
+      const int64_t z0 = k < 9 ? 2 * k : 16, z1 = k < 8 ? 2 * (k + 1) : k == 8 ? 16 : -5;
+      const P p = at(r0, a0, z0), q = at(r1, a0, z0), u = at(r1, a1, z1), v = at(r0, a1, z1);
+      t.push_back({p, q, u});
+      t.push_back({p, u, v});
+    }
+    cases.push_back({"a ramp past its start", t});
+  }
+  {
+    auto t = heightField(rng, 6, 0);  // z = 0, x, y in [0, 15]
+    // A flap on the side x = 15, folded back over the field, dipping through it.
+    t.push_back({P{15, 3, 0}, P{15, 6, 0}, P{6, 6, 2}});
+    t.push_back({P{15, 3, 0}, P{6, 6, 2}, P{6, 3, -2}});
+    cases.push_back({"a folded flap", t});
+  }
+  {
+    auto t = heightField(rng, 6, 0);  // z = 0, x, y in [0, 15]
+    // A triangle at the field's corner (0, 0, 0), over the field and through it: the
+    // boundary leaves that corner twice, and the sides there do not alternate.
+    t.push_back({P{0, 0, 0}, P{9, 3, 2}, P{3, 9, -2}});
+    cases.push_back({"a triangle at a corner", t});
+  }
+  for (auto& [name, t] : cases) {
+    Brute want = brute(t);
+    ASSERT_FALSE(want.pairs.empty()) << name << ": the case must have pairs";
+    Passed run;
+    runPass(t, run);
+    ASSERT_TRUE(run.ok) << name;
+    EXPECT_EQ(run.pairs, want.pairs) << name;
+  }
+}
+
+// Random height fields, damaged (corners dragged across the field, triangles flipped or
+// removed, stray triangles added), against the integer brute force, with every node of two
+// or more positions tried: the certificates never hide a pair.
+TEST(Geometry, PatchCertificatesAgainstIntegerBruteForce) {
+  PatchMinimum small(2);
+  std::mt19937 rng(2026);
+  int withPairs = 0, certifiedRounds = 0, rounds = 0;
+  for (int round = 0; round < 1500; ++round) {
+    const int g = 3 + int(rng() % 5);
+    auto t = heightField(rng, g, int(rng() % 4));
+    const int damage = int(rng() % 5);
+    for (int d = 0; d < damage; ++d) {
+      switch (rng() % 4) {
+        case 0: {  // drag a corner to a random point over the field
+          const P from = t[rng() % t.size()][rng() % 3];
+          const P to = {int64_t(rng() % (3 * g)), int64_t(rng() % (3 * g)), int64_t(rng() % 4) - 1};
+          for (auto& x : t)
+            for (auto& c : x)
+              if (c == from) c = to;
+          break;
+        }
+        case 1: std::swap(t[rng() % t.size()][1], t[rng() % t.size()][2]); break;
+        case 2:
+          if (t.size() > 2) t.erase(t.begin() + long(rng() % t.size()));
+          break;
+        default: {  // a stray triangle, counter-clockwise seen from above
+          std::array<P, 3> x;
+          for (auto& c : x) c = {int64_t(rng() % (3 * g)), int64_t(rng() % (3 * g)), int64_t(rng() % 5) - 2};
+          t.push_back(x);
+        }
+      }
+    }
+    Brute want = brute(t);
+    const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+    Passed run;
+    runPass(t, run);
+    ASSERT_TRUE(run.ok) << "round " << round;
+    ASSERT_EQ(run.pairs, want.pairs) << "round " << round;
+    certifiedRounds += stltopo::geometry_detail::patchCertifiedPositionsForTesting() > before;
+    withPairs += !want.pairs.empty();
+    ++rounds;
+  }
+  EXPECT_GT(certifiedRounds, rounds / 4);
+  EXPECT_GT(withPairs, rounds / 4);
 }
 
 // The exact predicates where floating point alone fails: coordinates far apart in scale.
