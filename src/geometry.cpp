@@ -567,10 +567,20 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
 
 // Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
 // columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box.
-Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar) {
+// The Morton codes and the boxes are computed by ranges on `threads` threads (the same
+// result for every value).
+Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar, unsigned threads = 1) {
   const uint32_t nt = w.mesh.nTriangles();
-  uint32_t n = 0;
-  for (uint32_t t = 0; t < nt; ++t) n += valid[t];
+  const unsigned parts = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(32768));
+  uint32_t firstOf[detail::kMaxThreads + 1] = {0};  // per part: the index of its first valid triangle
+  detail::runParts(parts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
+    uint32_t c = 0;
+    for (uint32_t t = uint32_t(detail::partBegin(nt, parts, id)); t < end; ++t) c += valid[t];
+    firstOf[id + 1] = c;
+  });
+  for (unsigned i = 0; i < parts; ++i) firstOf[i + 1] += firstOf[i];
+  const uint32_t n = firstOf[parts];
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
   if (columnar) {
     bvh.columns.stride = size_t(n) + kLeaf;
@@ -585,19 +595,22 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   const float* hi = w.mesh.bboxMax;
   double scale[3];
   for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
-  uint32_t i = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (!valid[t]) continue;
-    uint32_t code = 0;
-    for (int k = 0; k < 3; ++k) {
-      double c = 0;
-      for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
-      double q = (c / 3 - lo[k]) * scale[k];
-      uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
-      code |= spread10(qi) << k;
+  detail::runParts(parts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
+    uint32_t i = firstOf[id];
+    for (uint32_t t = uint32_t(detail::partBegin(nt, parts, id)); t < end; ++t) {
+      if (!valid[t]) continue;
+      uint32_t code = 0;
+      for (int k = 0; k < 3; ++k) {
+        double c = 0;
+        for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
+        double q = (c / 3 - lo[k]) * scale[k];
+        uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
+        code |= spread10(qi) << k;
+      }
+      keys[i++] = uint64_t(code) << 32 | t;
     }
-    keys[i++] = uint64_t(code) << 32 | t;
-  }
+  });
   // LSD radix sort on the 30-bit code, 3 passes of 10 bits (stable: ties by triangle id).
   uint32_t count[1024];
   for (int pass = 0; pass < 3; ++pass) {
@@ -614,24 +627,28 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
     std::swap(keys, tmp);
   }
   tmp.release();
-  for (uint32_t j = 0; j < n; ++j) {
-    const uint32_t t = uint32_t(keys[j]);
-    bvh.tri[j] = t;
-    Box b;
-    for (int k = 0; k < 3; ++k) {
-      const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
-      b.lo[k] = std::min({a, c, d});
-      b.hi[k] = std::max({a, c, d});
-    }
-    if (columnar) {
+  const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  detail::runParts(boxParts, [&](unsigned id) {
+    const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
+    for (uint32_t j = uint32_t(detail::partBegin(n, boxParts, id)); j < end; ++j) {
+      const uint32_t t = uint32_t(keys[j]);
+      bvh.tri[j] = t;
+      Box b;
       for (int k = 0; k < 3; ++k) {
-        bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
-        bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+        const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
+        b.lo[k] = std::min({a, c, d});
+        b.hi[k] = std::max({a, c, d});
       }
-    } else {
-      bvh.box[j] = b;
+      if (columnar) {
+        for (int k = 0; k < 3; ++k) {
+          bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
+          bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+        }
+      } else {
+        bvh.box[j] = b;
+      }
     }
-  }
+  });
   keys.release();
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
   if (!bvh.nodes.resize(2 * size_t(leaves))) return oom("the intersection hierarchy");
@@ -1102,13 +1119,15 @@ std::atomic<uint64_t> gPatchPositions{0};
 std::atomic<bool> gPatchesOff{false};
 std::atomic<uint32_t> gPatchMinimum{0};  // 0: patch::kMinPatch
 
-// Per node: 1 when no two of its triangles intersect (the certificate above). The nodes of
+// Per node: 1 when no two of its triangles intersect (the certificate above); `signs`: per
+// sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes. The nodes of
 // at most kMaxPatch positions below larger ones are independent tasks: each computes its
 // positions' sign masks, its nodes' masks bottom up, and tries its nodes top down within a
 // budget of 4 tries per position (a region where the tries keep failing, a soup, stops
 // trying), so that the result is the same on any number of threads.
-Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, unsigned threads,
-                      Array<uint8_t>& free) {
+Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, const Array<uint8_t>& signs,
+                      unsigned threads, Array<uint8_t>& free, uint64_t& inPatches) {
+  inPatches = 0;
   const uint32_t nn = uint32_t(bvh.nodes.size());
   if (!free.assign(nn, 0)) return oom("the patch certificates");
   if (nn == 0 || gPatchesOff.load(std::memory_order_relaxed)) return {};
@@ -1150,10 +1169,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
           nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
         } else {
           uint8_t m = 0x3f;
-          for (uint32_t q = nd.first; q < nd.end; ++q) {
-            const uint32_t* c = &corner[3 * size_t(q)];
-            m &= signMask(w.p(c[0]), w.p(c[1]), w.p(c[2]));
-          }
+          for (uint32_t q = nd.first; q < nd.end; ++q) m &= signs[q];
           nodeSigns[id] = m;
         }
       }
@@ -1180,7 +1196,8 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
     }
     certified.fetch_add(pc.certifiedPositions, std::memory_order_relaxed);
   });
-  gPatchPositions.fetch_add(certified.load(), std::memory_order_relaxed);
+  inPatches = certified.load();
+  gPatchPositions.fetch_add(inPatches, std::memory_order_relaxed);
   return {};
 }
 }  // namespace
@@ -1433,18 +1450,39 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     valid[t] = 0;
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh, true); !s.ok()) return s;
+  if (Status s = buildBvh(w, valid, bvh, true, options.threads); !s.ok()) return s;
   valid.release();
   const uint32_t n = uint32_t(bvh.tri.size());
+  // The corners of each sorted position, and its triangle's sign mask, by ranges.
   Array<uint32_t> corner;
-  if (!corner.resize(3 * size_t(n) + 1)) return oom("the intersection hierarchy");
-  for (uint32_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) corner[3 * size_t(i) + c] = w.v(bvh.tri[i], c);
+  Array<uint8_t> signs;
+  if (!corner.resize(3 * size_t(n) + 1) || !signs.resize(n)) return oom("the intersection hierarchy");
+  {
+    const unsigned parts = detail::partsFor(detail::threadCount(options.threads), n, detail::parallelGrain(32768));
+    detail::runParts(parts, [&](unsigned id) {
+      const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
+      for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q) {
+        uint32_t* c = &corner[3 * size_t(q)];
+        const uint32_t t = bvh.tri[q];
+        for (int k = 0; k < 3; ++k) c[k] = w.v(t, k);
+        signs[q] = signMask(w.p(c[0]), w.p(c[1]), w.p(c[2]));
+      }
+    });
+  }
   corner[3 * size_t(n)] = 0;
-  Array<uint8_t> fan;
-  if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) return s;
   Array<uint8_t> free;
-  if (Status s = certifyPatches(w, bvh, corner, options.threads, free); !s.ok()) return s;
+  uint64_t inPatches = 0;
+  if (Status s = certifyPatches(w, bvh, corner, signs, options.threads, free, inPatches); !s.ok()) return s;
+  signs.release();
+  // The fan certificates pay where the join still meets most pairs: when patches hold at
+  // least half of the positions, the pairs left (between patches, and in the rest) are few,
+  // and neighboursApart decides those that share corners (the result is the same).
+  Array<uint8_t> fan;
+  if (2 * inPatches >= n) {
+    if (!fan.assign(n, 0)) return oom("the fan certificates");
+  } else if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) {
+    return s;
+  }
   const JoinInput in{w, bvh, corner, fan.data(), free.data()};
   const uint64_t maxFound = options.maxPairs;
   // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
