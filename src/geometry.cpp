@@ -567,9 +567,23 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
 
 // Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
 // columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box.
+// Sign mask of a triangle of the pass: bit 2k when its normal's coordinate k is > 0, bit
+// 2k + 1 when it is < 0 (exact: normalSign).
+inline uint8_t signMask(const float* a, const float* b, const float* c) {
+  uint8_t m = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int s = pred::normalSign(a, b, c, k);
+    m |= uint8_t((s > 0 ? 1u : s < 0 ? 2u : 0u) << (2 * k));
+  }
+  return m;
+}
+
 // The Morton codes and the boxes are computed by ranges on `threads` threads (the same
 // result for every value).
-Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar, unsigned threads = 1) {
+// With `corner` (and `signs`), also each sorted position's welded corners (3 + 1 trailing 0)
+// and its triangle's sign mask, read with its box.
+Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar, unsigned threads = 1,
+                Array<uint32_t>* corner = nullptr, Array<uint8_t>* signs = nullptr) {
   const uint32_t nt = w.mesh.nTriangles();
   const unsigned parts = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(32768));
   uint32_t firstOf[detail::kMaxThreads + 1] = {0};  // per part: the index of its first valid triangle
@@ -581,6 +595,10 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   });
   for (unsigned i = 0; i < parts; ++i) firstOf[i + 1] += firstOf[i];
   const uint32_t n = firstOf[parts];
+  if (corner) {
+    if (!corner->resize(3 * size_t(n) + 1) || !signs->resize(n)) return oom("the intersection hierarchy");
+    (*corner)[3 * size_t(n)] = 0;
+  }
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
   if (columnar) {
     bvh.columns.stride = size_t(n) + kLeaf;
@@ -633,11 +651,16 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
     for (uint32_t j = uint32_t(detail::partBegin(n, boxParts, id)); j < end; ++j) {
       const uint32_t t = uint32_t(keys[j]);
       bvh.tri[j] = t;
+      const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
+      const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
       Box b;
       for (int k = 0; k < 3; ++k) {
-        const float a = w.p(w.v(t, 0))[k], c = w.p(w.v(t, 1))[k], d = w.p(w.v(t, 2))[k];
-        b.lo[k] = std::min({a, c, d});
-        b.hi[k] = std::max({a, c, d});
+        b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
+        b.hi[k] = std::max({p[0][k], p[1][k], p[2][k]});
+      }
+      if (corner) {
+        for (int c = 0; c < 3; ++c) (*corner)[3 * size_t(j) + c] = id[c];
+        (*signs)[j] = signMask(p[0], p[1], p[2]);
       }
       if (columnar) {
         for (int k = 0; k < 3; ++k) {
@@ -856,17 +879,6 @@ struct Slot {
 };
 }  // namespace patch
 
-// Sign mask of a triangle of the pass: bit 2k when its normal's coordinate k is > 0, bit
-// 2k + 1 when it is < 0 (exact: normalSign).
-inline uint8_t signMask(const float* a, const float* b, const float* c) {
-  uint8_t m = 0;
-  for (int k = 0; k < 3; ++k) {
-    const int s = pred::normalSign(a, b, c, k);
-    m |= uint8_t((s > 0 ? 1u : s < 0 ? 2u : 0u) << (2 * k));
-  }
-  return m;
-}
-
 struct PatchCertifier {
   PatchCertifier(const Welded& w_, const Array<uint32_t>& corner_) : w(w_), corner(corner_) {}
   const Welded& w;
@@ -898,7 +910,7 @@ struct PatchCertifier {
   // that pass each vertex at most once (`loops`, `loopEnd`). False when a side is left
   // more than once, or a vertex is left and entered a different number of times.
   bool boundary(uint32_t first, uint32_t end) {
-    const size_t want = size_t(end - first) * 6;
+    const size_t want = size_t(end - first) * 3;  // about 1.5 sides a triangle are distinct
     size_t cap = 64;
     while (cap < want) cap *= 2;
     if (table.size() < cap && !table.assign(cap, patch::Slot{0, 0, 0})) return false;
@@ -1450,26 +1462,12 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     valid[t] = 0;
   }
   Bvh bvh;
-  if (Status s = buildBvh(w, valid, bvh, true, options.threads); !s.ok()) return s;
-  valid.release();
-  const uint32_t n = uint32_t(bvh.tri.size());
-  // The corners of each sorted position, and its triangle's sign mask, by ranges.
+  // The hierarchy, with the corners of each sorted position and its triangle's sign mask.
   Array<uint32_t> corner;
   Array<uint8_t> signs;
-  if (!corner.resize(3 * size_t(n) + 1) || !signs.resize(n)) return oom("the intersection hierarchy");
-  {
-    const unsigned parts = detail::partsFor(detail::threadCount(options.threads), n, detail::parallelGrain(32768));
-    detail::runParts(parts, [&](unsigned id) {
-      const uint32_t end = uint32_t(detail::partBegin(n, parts, id + 1));
-      for (uint32_t q = uint32_t(detail::partBegin(n, parts, id)); q < end; ++q) {
-        uint32_t* c = &corner[3 * size_t(q)];
-        const uint32_t t = bvh.tri[q];
-        for (int k = 0; k < 3; ++k) c[k] = w.v(t, k);
-        signs[q] = signMask(w.p(c[0]), w.p(c[1]), w.p(c[2]));
-      }
-    });
-  }
-  corner[3 * size_t(n)] = 0;
+  if (Status s = buildBvh(w, valid, bvh, true, options.threads, &corner, &signs); !s.ok()) return s;
+  valid.release();
+  const uint32_t n = uint32_t(bvh.tri.size());
   Array<uint8_t> free;
   uint64_t inPatches = 0;
   if (Status s = certifyPatches(w, bvh, corner, signs, options.threads, free, inPatches); !s.ok()) return s;
