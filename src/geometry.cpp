@@ -1472,11 +1472,11 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   uint64_t inPatches = 0;
   if (Status s = certifyPatches(w, bvh, corner, signs, options.threads, free, inPatches); !s.ok()) return s;
   signs.release();
-  // The fan certificates pay where the join still meets most pairs: when patches hold at
-  // least half of the positions, the pairs left (between patches, and in the rest) are few,
+  // The fan certificates pay where the join still meets many pairs: when patches hold all but
+  // at most 1/16 of the positions, the pairs left (between patches, and in the rest) are few,
   // and neighboursApart decides those that share corners (the result is the same).
   Array<uint8_t> fan;
-  if (2 * inPatches >= n) {
+  if (inPatches >= n - n / 16) {
     if (!fan.assign(n, 0)) return oom("the fan certificates");
   } else if (Status s = certifyFans(w, topo, checks.zeroArea, corner, n, options.threads, fan); !s.ok()) {
     return s;

@@ -111,7 +111,7 @@ struct Intersections {
 // the sides that do not cancel inside the node, projected along it, form loops that do not
 // cross and cover each point at most once (exact signs; the proof is in geometry.cpp). The
 // join skips the pairs inside a patch without visiting them, so they do not count toward the
-// work limit; when patches hold at least half of the triangles, the vertex certificates are
+// work limit; when patches hold all but at most 1/16 of the triangles, the vertex certificates are
 // not made (the pairs left are few). On a smooth mesh (the 1M torus) every triangle is in a
 // patch and the join tests only the pairs between patches. Memory: about 52 bytes per
 // triangle while it runs (ids 4, boxes 24, corners 12, nodes about 9, flags 1, certificates
