@@ -602,7 +602,9 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
   if (columnar) {
     bvh.columns.stride = size_t(n) + kLeaf;
-    if (!bvh.columns.v.assign(6 * bvh.columns.stride, std::nanf(""))) return oom("the intersection hierarchy");
+    if (!bvh.columns.v.resize(6 * bvh.columns.stride)) return oom("the intersection hierarchy");
+    for (int k = 0; k < 6; ++k)  // [0, n) of each column is written below
+      for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + n + i] = std::nanf("");
   } else if (!bvh.box.resize(n)) {
     return oom("the intersection hierarchy");
   }
@@ -629,19 +631,25 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       keys[i++] = uint64_t(code) << 32 | t;
     }
   });
-  // LSD radix sort on the 30-bit code, 3 passes of 10 bits (stable: ties by triangle id).
-  uint32_t count[1024];
+  // LSD radix sort on the 30-bit code, 3 passes of 10 bits (stable: ties by triangle id); the
+  // three digits' counts in one read.
+  uint32_t count[3][1024];
+  std::memset(count, 0, sizeof count);
+  for (uint32_t j = 0; j < n; ++j) {
+    const uint32_t code = uint32_t(keys[j] >> 32);
+    ++count[0][code & 1023];
+    ++count[1][(code >> 10) & 1023];
+    ++count[2][(code >> 20) & 1023];
+  }
   for (int pass = 0; pass < 3; ++pass) {
     const int shift = 32 + 10 * pass;
-    std::memset(count, 0, sizeof count);
-    for (uint32_t j = 0; j < n; ++j) ++count[(keys[j] >> shift) & 1023];
     uint32_t sum = 0;
-    for (uint32_t& c : count) {
+    for (uint32_t& c : count[pass]) {
       uint32_t x = c;
       c = sum;
       sum += x;
     }
-    for (uint32_t j = 0; j < n; ++j) tmp[count[(keys[j] >> shift) & 1023]++] = keys[j];
+    for (uint32_t j = 0; j < n; ++j) tmp[count[pass][(keys[j] >> shift) & 1023]++] = keys[j];
     std::swap(keys, tmp);
   }
   tmp.release();
