@@ -565,8 +565,6 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
   return id;
 }
 
-// Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
-// columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box.
 // Sign mask of a triangle of the pass: bit 2k when its normal's coordinate k is > 0, bit
 // 2k + 1 when it is < 0 (exact: normalSign).
 inline uint8_t signMask(const float* a, const float* b, const float* c) {
@@ -578,10 +576,11 @@ inline uint8_t signMask(const float* a, const float* b, const float* c) {
   return m;
 }
 
-// The Morton codes and the boxes are computed by ranges on `threads` threads (the same
-// result for every value).
-// With `corner` (and `signs`), also each sorted position's welded corners (3 + 1 trailing 0)
-// and its triangle's sign mask, read with its box.
+// Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
+// columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box. The Morton
+// codes and the boxes are computed by ranges on `threads` threads (the same result for every
+// value). With `corner` (and `signs`), also each sorted position's welded corners (3, and one
+// trailing 0 after the last) and its triangle's sign mask, read with its box.
 Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool columnar, unsigned threads = 1,
                 Array<uint32_t>* corner = nullptr, Array<uint8_t>* signs = nullptr) {
   const uint32_t nt = w.mesh.nTriangles();
@@ -836,7 +835,6 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
   return {};
 }
 
-
 // ---------------------------------------------------------------------------
 // Patch certificates: nodes of the hierarchy no two of whose triangles intersect, so that
 // the join skips every pair inside them (the pairs between two nodes it still tests).
@@ -844,37 +842,47 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
 // A node N is certified when, along some coordinate axis k and with exact signs:
 //  (1) every triangle of N projects with one strict orientation s (normalSign(k) == s), and
 //  (2) the sides of N's triangles that do not cancel (a side u -> v cancels against a side
-//      v -> u of another triangle of N, by welded id) form one closed loop through distinct
-//      vertices whose projection is a simple polygon: two sides of the loop meet only where
-//      they follow each other, and there only in their shared corner.
+//      v -> u of another triangle of N, by welded id; each edge may keep at most one side)
+//      are its boundary B, and projected along k:
+//      (a) two sides of B meet only in a corner they share, and two sides leaving or
+//          entering one corner do not overlap (certifiedIn's sweep);
+//      (b) at a corner that B leaves more than once, its sides alternate between leaving and
+//          entering by angle; B is then cut into loops that do not cross, each leaving such
+//          a corner by the side that bounds the same covered wedge as the side it came in by
+//          (linkLoops);
+//      (c) for each loop L, [L turns the way s does] + s * (the sum of the turns of the
+//          other loops that wind around L) == 1.
 // Why no two triangles of N then intersect. Let N's triangles be a 2-chain c (each with
 // weight 1) and take s > 0 (s < 0 is the mirror image). In the plane, for a point p on no
 // projected side, the number of projected triangles that cover p equals the winding number
 // of the projected boundary of c around p (each triangle's indicator is the winding of its
 // own sides, and the sum of the sides is the boundary, as the cancelled ones cancel). The
-// boundary is a simple polygon (2), so that number is at most 1: the projected triangles'
-// interiors are pairwise disjoint. Now let triangles A and B of N share a 3D point q, and
-// p = proj(q). Near p each triangle containing p covers a sector: all of the plane (p inside
-// it), a half-plane (p inside a side) or a wedge under pi (p a corner); the sectors are
-// disjoint, and a triangle's sector is bounded by the rays of its sides through p. Such a
-// side either cancels, and then the triangle on its other side (it runs the opposite way,
-// so by (1) it lies on the other side of the side) has the adjacent sector, sharing that
-// side's corners; or it is a side of the boundary, and at most two rays of the boundary
-// leave p, by (2), which come from one boundary corner at p or one boundary side through p.
-// Following the sectors around p from A through cancelled sides, and from B the same way,
-// every triangle passed shares A's corner at p (p a corner of A), or A's side through p, and
-// the sectors do not overlap, so the two walks are one: B shares with A the corner or the
-// side whose projection holds p. The projection is injective on each triangle (1), so q,
-// the point of A over p, is that corner or lies on that side: within the convex hull of the
-// corners A and B share. Hence testPair returns -1 for every pair of N (two triangles with
-// the same corners would cover one sector twice). The same holds with zero-area, degenerate
-// and skipped triangles present elsewhere: N holds only the pass's triangles.
-// The test runs top down from the root; a node of at least kMinPatch positions whose
-// triangles have a common strict sign along some axis (the AND of their sign masks, one
-// pass over the nodes bottom up) is tried, and when it fails its children are. Cost: one
-// hash of N's sides and a sweep over its boundary sides per node tried (O(n) on a smooth
-// mesh, as each position is tried about once); memory: 1 byte per triangle for the sign
-// masks and 1 per node.
+// loops of (b) do not cross, so each winds 0 or its turn around a point off it, and the
+// winding of B is the sum over the loops. By (c) it is 1 just left of every side of B and so
+// 0 just right of it; every bounded region between the loops borders a side, so it is 0 or
+// 1 everywhere: the projected triangles' interiors are pairwise disjoint. Now let triangles
+// A and B of N share a 3D point q, and p = proj(q). Near p each triangle containing p covers
+// a sector: all of the plane (p inside it), a half-plane (p inside a side) or a wedge under
+// pi (p a corner); the sectors are disjoint, and a triangle's sector is bounded by the rays
+// of its sides through p. Such a side either cancels, and then the triangle on its other
+// side (it runs the opposite way, so by (1) it lies on the other side of the side) has the
+// adjacent sector, sharing that side's corners; or it is a side of the boundary, and by (a)
+// the boundary rays at p all come from one boundary side through p or from one corner w of
+// the boundary at p. Following the sectors around p from A through cancelled sides, and
+// from B the same way, every triangle passed shares A's side through p, or A's corner at p
+// (a corner of another id at p would bring a second fan of sectors around p, overlapping
+// this one, or boundary sides meeting there, against (a)); the sectors do not overlap, so B
+// shares with A the corner or the side whose projection holds p. The projection is
+// injective on each triangle (1), so q, the point of A over p, is that corner or lies on
+// that side: within the convex hull of the corners A and B share. Hence testPair returns -1
+// for every pair of N (two triangles with the same corners would cover one sector twice).
+// The same holds with zero-area, degenerate and skipped triangles present elsewhere: N
+// holds only the pass's triangles.
+// The nodes of kMinPatch to kMaxPatch positions are tried top down; a node whose triangles
+// have a common strict sign along some axis (the AND of their sign masks, bottom up) is
+// tried, and when it fails its children are. Cost: one hash of N's sides and a sweep over
+// its boundary sides per node tried (O(n) on a smooth mesh, as each position is tried about
+// once); memory: 1 byte per triangle for the sign masks and 2 per node.
 namespace patch {
 constexpr uint32_t kMinPatch = 64;  // smaller nodes are not tried (setPatchMinimumForTesting)
 // Larger nodes are not tried (their children are): the hash stays in cache, and what a
@@ -892,31 +900,27 @@ struct PatchCertifier {
   const Welded& w;
   const Array<uint32_t>& corner;
   Array<patch::Slot> table;
-  Array<uint32_t> used;    // slots filled in the node being tried
-  Array<uint64_t> sides;   // boundary sides: origin << 32 | destination, sorted
-  Array<uint32_t> into;    // the sides by destination
-  Array<uint32_t> next;    // per side: the side its loop takes next
-  Array<uint8_t> taken;    // per side: in a loop already
+  Array<uint32_t> used;   // slots filled in the node being tried
+  Array<uint64_t> sides;  // boundary sides: origin << 32 | destination, sorted
+  Array<uint32_t> into;   // the sides by destination
+  Array<uint32_t> next;   // per side: the side its loop takes next
+  Array<uint8_t> taken;   // per side: in a loop already
   struct Ray {
     uint32_t side;
     bool out;  // the side leaves the corner (else it enters it)
   };
-  Array<Ray> rays;         // the sides at one corner left more than once, by angle
-  Array<uint32_t> loops;   // the loops' sides, loop after loop
+  Array<Ray> rays;          // the sides at one corner left more than once, by angle
+  Array<uint32_t> loops;    // the loops' sides, loop after loop
   Array<uint32_t> loopEnd;  // per loop: its end in `loops`
-  Array<uint32_t> order;   // sweep order of the sides
+  Array<uint32_t> order;    // sweep order of the sides
   uint64_t certifiedPositions = 0;
 
   uint32_t origin(size_t s) const { return uint32_t(sides[s] >> 32); }
   uint32_t dest(size_t s) const { return uint32_t(sides[s]); }
-  // The first side leaving vertex v (sides are sorted by origin), or sides.size().
-  size_t firstFrom(uint32_t v) const {
-    return size_t(std::lower_bound(sides.begin(), sides.end(), uint64_t(v) << 32) - sides.begin());
-  }
-
-  // The sides of positions [first, end) that do not cancel, into `sides`, cut into loops
-  // that pass each vertex at most once (`loops`, `loopEnd`). False when a side is left
-  // more than once, or a vertex is left and entered a different number of times.
+  // The sides of positions [first, end) that do not cancel, into `sides` (sorted by origin)
+  // and `into` (their indices by destination). False when an edge keeps more than one side,
+  // when fewer than 3 are left, or when a vertex is left and entered a different number of
+  // times.
   bool boundary(uint32_t first, uint32_t end) {
     const size_t want = size_t(end - first) * 3;  // about 1.5 sides a triangle are distinct
     size_t cap = 64;
@@ -965,15 +969,13 @@ struct PatchCertifier {
     // The sides by destination (ties by origin), for the corners left more than once.
     if (!into.resize(nb)) return false;
     for (size_t s = 0; s < nb; ++s) into[s] = uint32_t(s);
-    std::sort(into.begin(), into.end(), [&](uint32_t x, uint32_t y) {
-      return dest(x) != dest(y) ? dest(x) < dest(y) : origin(x) < origin(y);
-    });
+    std::sort(into.begin(), into.end(),
+              [&](uint32_t x, uint32_t y) { return dest(x) != dest(y) ? dest(x) < dest(y) : origin(x) < origin(y); });
     return true;
   }
 
-  // Whether, projected along axis k, the boundary sides meet only in the corners they share
-  // (sides from one corner not overlapping), and of the loops at most one turns the way s
-  // the triangles do (all the others turn the other way).
+  // Whether, projected along axis k, the boundary meets (2a), (2b) and (2c) above for
+  // triangles that turn the way s.
   bool certifiedIn(int k, int s) {
     const size_t nb = sides.size();
     const int i = (k + 1) % 3, j = (k + 2) % 3;
@@ -1140,11 +1142,11 @@ std::atomic<bool> gPatchesOff{false};
 std::atomic<uint32_t> gPatchMinimum{0};  // 0: patch::kMinPatch
 
 // Per node: 1 when no two of its triangles intersect (the certificate above); `signs`: per
-// sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes. The nodes of
-// at most kMaxPatch positions below larger ones are independent tasks: each computes its
-// positions' sign masks, its nodes' masks bottom up, and tries its nodes top down within a
-// budget of 4 tries per position (a region where the tries keep failing, a soup, stops
-// trying), so that the result is the same on any number of threads.
+// sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes.
+// The nodes of at most kMaxPatch positions below larger ones are independent tasks: each
+// computes its nodes' masks bottom up and tries its nodes top down, within a budget of 4
+// times its positions (a region where the tries keep failing, a soup, stops trying), so
+// that the result is the same on any number of threads.
 Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, const Array<uint8_t>& signs,
                       unsigned threads, Array<uint8_t>& free, uint64_t& inPatches) {
   inPatches = 0;
@@ -1243,7 +1245,9 @@ Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topolo
 }
 uint64_t geometry_detail::fanCertifiedVerticesForTesting() { return gFanCertified.load(std::memory_order_relaxed); }
 uint64_t geometry_detail::fanSkippedPairsForTesting() { return gFanSkipped.load(std::memory_order_relaxed); }
-uint64_t geometry_detail::patchCertifiedPositionsForTesting() { return gPatchPositions.load(std::memory_order_relaxed); }
+uint64_t geometry_detail::patchCertifiedPositionsForTesting() {
+  return gPatchPositions.load(std::memory_order_relaxed);
+}
 void geometry_detail::setPatchCertificatesForTesting(bool on) { gPatchesOff.store(!on, std::memory_order_relaxed); }
 void geometry_detail::setPatchMinimumForTesting(uint32_t positions) {
   gPatchMinimum.store(positions, std::memory_order_relaxed);

@@ -147,7 +147,8 @@ Builder::BatchResult Builder::addBatchParallel(const uint8_t* rec, uint32_t coun
     return BatchResult::Failed;
   }
   const size_t nc = size_t(count) * 3;
-  if (!batchKeys.resize(nc) || !batchHashes.resize(nc) || !batchOrder.resize(nc) || !batchArea.resize(count) || !batchVolume.resize(count)) {
+  if (!batchKeys.resize(nc) || !batchHashes.resize(nc) || !batchOrder.resize(nc) || !batchArea.resize(count) ||
+      !batchVolume.resize(count)) {
     error = oom("the weld table");
     return BatchResult::Failed;
   }

@@ -213,7 +213,8 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
     for (unsigned part = 0; part < n; ++part) cursor[nv + kPad * part] = nLive + 8 * part;
     uint64_t* K = w.keys.data();
     detail::runParts(n, [&](unsigned part) {
-      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), span = uint32_t(detail::partBegin(nv, n, part + 1)) - v0;
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)),
+                     span = uint32_t(detail::partBegin(nv, n, part + 1)) - v0;
       uint32_t* cur = cursor.data();
       const uint32_t ownCursor = nv + kPad * part;
       auto put = [&](uint32_t s, uint32_t a, uint32_t b) {

@@ -790,7 +790,9 @@ TEST(Geometry, PatchCertificatesRefuseNodesThatOverlap) {
     // steeply, then dropping through its first sector at the end.
     std::vector<std::array<P, 3>> t;
     const double r0 = 20, r1 = 40;
-    auto at = [](double r, double a, int64_t z) { return P{int64_t(std::lround(r * std::cos(a))), int64_t(std::lround(r * std::sin(a))), z}; };
+    auto at = [](double r, double a, int64_t z) {
+      return P{int64_t(std::lround(r * std::cos(a))), int64_t(std::lround(r * std::sin(a))), z};
+    };
     for (int k = 0; k < 10; ++k) {
       const double a0 = k * M_PI / 4, a1 = (k + 1) * M_PI / 4;
       const int64_t z0 = k < 9 ? 2 * k : 16, z1 = k < 8 ? 2 * (k + 1) : k == 8 ? 16 : -5;
@@ -909,7 +911,8 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
       ASSERT_TRUE(gen::read(bytes, mesh).ok()) << name;
       if (round > 0) {
         double diag = 0;
-        for (int k = 0; k < 3; ++k) diag += double(mesh.bboxMax[k] - mesh.bboxMin[k]) * (mesh.bboxMax[k] - mesh.bboxMin[k]);
+        for (int k = 0; k < 3; ++k)
+          diag += double(mesh.bboxMax[k] - mesh.bboxMin[k]) * (mesh.bboxMax[k] - mesh.bboxMin[k]);
         const float reach = float(std::sqrt(diag) / (round == 1 ? 200 : 20));
         const uint32_t drags = std::max<uint32_t>(1, mesh.nVertices() / 100);
         std::uniform_real_distribution<float> off(-reach, reach);
@@ -921,7 +924,8 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
       stltopo::Intersections on, off;
       ASSERT_TRUE(pass(mesh, true, on).ok()) << name;
       ASSERT_TRUE(pass(mesh, false, off).ok()) << name;
-      ASSERT_TRUE(gen::sameArray(on.pairs, off.pairs) && gen::sameArray(on.kinds, off.kinds)) << name << " round " << round;
+      ASSERT_TRUE(gen::sameArray(on.pairs, off.pairs) && gen::sameArray(on.kinds, off.kinds))
+          << name << " round " << round;
       ASSERT_EQ(on.complete, off.complete) << name << " round " << round;
       ++compared;
       withPairs += on.nPairs() > 0;

@@ -537,7 +537,6 @@ int split(int argc, char** argv) {
 
 }  // namespace
 
-// Parses a number option's value: a finite double >= 0 (integer: a whole number <= max).
 // --threads N (N <= 1024) and the hidden --test-parallel-grain N: a whole number written
 // in decimal, no sign. Prints "stltopo: bad OPTION 'v'" when it is not.
 bool countArg(const char* option, const char* v, unsigned long long max, unsigned long long& out) {
@@ -550,6 +549,7 @@ bool countArg(const char* option, const char* v, unsigned long long max, unsigne
   return true;
 }
 
+// Parses a number option's value: a finite double >= 0 (integer: a whole number <= max).
 bool numberArg(const std::string& v, double& out, bool integer, double max) {
   char* end = nullptr;
   errno = 0;

@@ -111,15 +111,15 @@ struct Intersections {
 // the sides that do not cancel inside the node, projected along it, form loops that do not
 // cross and cover each point at most once (exact signs; the proof is in geometry.cpp). The
 // join skips the pairs inside a patch without visiting them, so they do not count toward the
-// work limit; when patches hold all but at most 1/16 of the triangles, the vertex certificates are
-// not made (the pairs left are few). On a smooth mesh (the 1M torus) every triangle is in a
+// work limit; when patches hold all but at most 1/16 of the triangles, the vertex
+// certificates are not made (the pairs left are few). On a smooth mesh (the 1M torus) every triangle is in a
 // patch and the join tests only the pairs between patches. Memory: about 52 bytes per
 // triangle while it runs (ids 4, boxes 24, corners 12, nodes about 9, flags 1, certificates
 // 1, sign masks 1, patch flags under 1), 2 bytes per vertex while certifying vertices, about
-// 1 MB per thread for the patch test, plus 33 bytes per pair found. With options.threads other than 1, the certificates' flags
-// per triangle are set by ranges and the join
-// is split into tasks (pairs of subtrees, in the serial join's order) that the threads take
-// in turn, and the pairs found are sorted as always: the result is the same. Should the work
+// 1 MB per thread for the patch test, plus 33 bytes per pair found. With options.threads
+// other than 1, the certificates' flags per triangle are set by ranges and the join is split
+// into tasks (pairs of subtrees, in the serial join's order) that the threads take in turn,
+// and the pairs found are sorted as always: the result is the same. Should the work
 // or pair limit be reached, the pass runs again on one thread, whose truncated list depends
 // on the order of the tests (the threaded attempt stops once the limit is seen, so this at
 // most doubles the bounded work). Progress is reported from the calling thread only.
