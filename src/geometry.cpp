@@ -16,6 +16,7 @@
 #include "geometry_detail.h"
 #include "parallel.h"
 #include "predicates.h"
+#include "prefetch.h"
 #include "stltopo/geometry.h"
 
 namespace stltopo {
@@ -576,6 +577,10 @@ inline uint8_t signMask(const float* a, const float* b, const float* c) {
   return m;
 }
 
+using detail::kAhead;
+using detail::keepAlive;
+using detail::touch;
+
 // Builds the hierarchy over the triangles with valid[t] (non-degenerate, non-zero-area).
 // columnar: the boxes go to bvh.columns (the intersection pass), else to bvh.box. The Morton
 // codes and the boxes are computed by ranges on `threads` threads (the same result for every
@@ -616,8 +621,10 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
-    uint32_t i = firstOf[id];
+    uint32_t i = firstOf[id], sink = 0;
     for (uint32_t t = uint32_t(detail::partBegin(nt, parts, id)); t < end; ++t) {
+      if (t + kAhead < end)
+        for (int j = 0; j < 3; ++j) touch(w.p(w.v(t + kAhead, j)), sink);
       if (!valid[t]) continue;
       uint32_t code = 0;
       for (int k = 0; k < 3; ++k) {
@@ -629,6 +636,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       }
       keys[i++] = uint64_t(code) << 32 | t;
     }
+    keepAlive(sink);
   });
   // LSD radix sort on the 30-bit code, 3 passes of 10 bits (stable: ties by triangle id); the
   // three digits' counts in one read.
@@ -655,7 +663,13 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   detail::runParts(boxParts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
+    uint32_t sink = 0;
     for (uint32_t j = uint32_t(detail::partBegin(n, boxParts, id)); j < end; ++j) {
+      if (j + 2 * kAhead < end) touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[j + 2 * kAhead]))], sink);
+      if (j + kAhead < end) {
+        const uint32_t ta = uint32_t(keys[j + kAhead]);
+        for (int c = 0; c < 3; ++c) touch(w.p(w.v(ta, c)), sink);
+      }
       const uint32_t t = uint32_t(keys[j]);
       bvh.tri[j] = t;
       const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
@@ -678,6 +692,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
         bvh.box[j] = b;
       }
     }
+    keepAlive(sink);
   });
   keys.release();
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
@@ -931,12 +946,21 @@ struct PatchCertifier {
     sides.clear();
     // Reserved first: a push below cannot fail, so that every filled slot is cleared again.
     if (!used.reserve(3 * size_t(end - first)) || !sides.reserve(3 * size_t(end - first))) return false;
+    auto slotOf = [&](uint32_t lo, uint32_t hi) {
+      return size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+    };
+    uint32_t sink = 0;
     for (uint32_t q = first; q < end; ++q) {
       const uint32_t* c = &corner[3 * size_t(q)];
+      if (q + kAhead < end)
+        for (int i = 0; i < 3; ++i) {
+          const uint32_t u = c[3 * kAhead + i], v = c[3 * kAhead + (i + 1) % 3];
+          touch(&table[slotOf(std::min(u, v), std::max(u, v))], sink);
+        }
       for (int i = 0; i < 3; ++i) {
         const uint32_t u = c[i], v = c[(i + 1) % 3];
         const uint32_t lo = std::min(u, v), hi = std::max(u, v);
-        size_t h = size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+        size_t h = slotOf(lo, hi);
         while (table[h].lo != table[h].hi && (table[h].lo != lo || table[h].hi != hi)) h = (h + 1) & mask;
         if (table[h].lo == table[h].hi) {
           table[h].lo = lo;
@@ -946,6 +970,7 @@ struct PatchCertifier {
         table[h].net += u < v ? 1 : -1;
       }
     }
+    keepAlive(sink);
     bool ok = true;
     for (uint32_t h : used) {
       const patch::Slot sl = table[h];

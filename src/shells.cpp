@@ -8,6 +8,7 @@
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
+#include "prefetch.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
 
@@ -165,8 +166,13 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   size_t solid = 0;
   uint32_t nextShell = 0;
   const bool exactWeld = !(topo.tolerance > 0);
+  uint32_t sink = 0;
   for (uint32_t t = 0; t < nt; ++t) {
     const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
+    // The corners of a triangle a few ahead: in a file whose triangles are not in spatial
+    // order, these reads miss the cache.
+    if (t + detail::kAhead < nt)
+      for (int c = 0; c < 3; ++c) detail::touch(P + size_t(corner[3 * detail::kAhead + c]) * 3, sink);
     uint32_t s = triangleShell[t];
     if (topo.triangleDegenerate[t]) {
       if (s != kInvalid) return bad("triangleShell: a degenerate triangle has a shell");
@@ -215,6 +221,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       for (; it != probes.end() && it->halfedge == h0; ++it) triangleOf[it->wanted] = t;
     }
   }
+  detail::keepAlive(sink);
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
   seen.release();
   probes.release();

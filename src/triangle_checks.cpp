@@ -6,6 +6,7 @@
 #include "geometry_detail.h"
 #include "parallel.h"
 #include "predicates.h"
+#include "prefetch.h"
 #include "stltopo/geometry.h"
 
 namespace stltopo {
@@ -80,13 +81,32 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
   // a range of triangles, and the lists are joined in range order.
   Array<uint32_t> cand;
   auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) -> Status {
+    uint32_t sink = 0;
     for (uint32_t t = t0; t < t1; ++t) {
+      // The corners (and the edge canHaveDuplicate reads) of a triangle a few ahead: in a
+      // file whose triangles are not in spatial order, these reads miss the cache.
+      // canHaveDuplicate's reads are a chain of two: the first link 2 * kAhead ahead.
+      if (t + detail::kAhead < t1) {
+        for (int i = 0; i < 3; ++i) detail::touch(w.p(w.v(t + detail::kAhead, i)), sink);
+        if (useTopology) {
+          const uint32_t e = topo->triangleHalfedge[t + detail::kAhead];
+          if (e != kInvalid) detail::touch(&topo->vert[topo->next[e ^ 1u] ^ 1u], sink);
+        }
+      }
+      if (useTopology && t + 2 * detail::kAhead < t1) {
+        const uint32_t e = topo->triangleHalfedge[t + 2 * detail::kAhead];
+        if (e != kInvalid) {
+          detail::touch(&topo->pairKind[e >> 1], sink);
+          detail::touch(&topo->next[e ^ 1u], sink);
+        }
+      }
       const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
       if (a == b || b == c || a == c) continue;  // degenerate
       if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
       if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !candidates.push_back(t))
         return oom("the duplicate candidates");
     }
+    detail::keepAlive(sink);
     return {};
   };
   const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
