@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "parallel.h"
+#include "prefetch.h"
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
@@ -509,8 +510,13 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
   Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
-  uint32_t k = 0, nb = 0;
+  uint32_t k = 0, nb = 0, sink = 0;
   for (uint32_t t = 0; t < nt; ++t) {
+    // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
+    // are not in spatial order. (Not its partner entries: a later side's holds nothing until
+    // its partner's triangle is numbered, and in wasm a touch is a real load.)
+    if (t + detail::kAhead < nt)
+      for (uint32_t c = 0; c < 3; ++c) detail::touch(&vi[C[3 * (t + detail::kAhead) + c]], sink);
     if (degen[t]) {
       out.triangleHalfedge[t] = kInvalid;
       continue;
@@ -552,6 +558,7 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
       ++vi[v].deg;
     }
   }
+  detail::keepAlive(sink);
   w.partner.release();
   w.remapped.release();
   w.C = nullptr;
