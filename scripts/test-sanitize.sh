@@ -2,7 +2,7 @@
 # Sanitizers and fuzz smoke (part of `npm test`):
 #  1. the native tests (GoogleTest, CLI included) built with ASan+UBSan in build-asan;
 #  2. each libFuzzer target (clang, -fsanitize=fuzzer,address,undefined) for
-#     FUZZ_SMOKE_SECONDS (default 20) on its seed corpus tests/fuzz/seeds/<target>.
+#     FUZZ_SMOKE_SECONDS (default 10) on its seed corpus tests/fuzz/seeds/<target>.
 # Installs clang and compiler-rt when missing. About 2-3 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,5 +22,5 @@ echo "sanitizer build ($cxx, ASan+UBSan): tests passed ($((SECONDS - t0)) s)"
 
 # 2. Fuzz smoke: every target on its seeds.
 t0=$SECONDS
-FUZZ_SMOKE_SECONDS=${FUZZ_SMOKE_SECONDS:-20} bash scripts/fuzz.sh
+FUZZ_SMOKE_SECONDS=${FUZZ_SMOKE_SECONDS:-10} bash scripts/fuzz.sh
 echo "fuzz smoke: ok ($((SECONDS - t0)) s)"

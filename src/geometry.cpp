@@ -577,6 +577,7 @@ inline uint8_t signMask(const float* a, const float* b, const float* c) {
   return m;
 }
 
+using detail::aheadOf;
 using detail::kAhead;
 using detail::keepAlive;
 using detail::touch;
@@ -621,10 +622,11 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
+    const uint32_t begin = uint32_t(detail::partBegin(nt, parts, id));
     uint32_t i = firstOf[id], sink = 0;
-    for (uint32_t t = uint32_t(detail::partBegin(nt, parts, id)); t < end; ++t) {
-      if (t + kAhead < end)
-        for (int j = 0; j < 3; ++j) touch(w.p(w.v(t + kAhead, j)), sink);
+    for (uint32_t t = begin; t < end; ++t) {
+      for (auto [u, ue] = aheadOf(t, begin, end, kAhead); u < ue; ++u)
+        for (int j = 0; j < 3; ++j) touch(w.p(w.v(u, j)), sink);
       if (!valid[t]) continue;
       uint32_t code = 0;
       for (int k = 0; k < 3; ++k) {
@@ -663,12 +665,15 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   detail::runParts(boxParts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
+    const uint32_t begin = uint32_t(detail::partBegin(n, boxParts, id));
     uint32_t sink = 0;
-    for (uint32_t j = uint32_t(detail::partBegin(n, boxParts, id)); j < end; ++j) {
-      if (j + 2 * kAhead < end) touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[j + 2 * kAhead]))], sink);
-      if (j + kAhead < end) {
-        const uint32_t ta = uint32_t(keys[j + kAhead]);
-        for (int c = 0; c < 3; ++c) touch(w.p(w.v(ta, c)), sink);
+    for (uint32_t j = begin; j < end; ++j) {
+      // A chain of two: a triangle's record, then its corners' positions.
+      for (auto [u, ue] = aheadOf(j, begin, end, 2 * kAhead); u < ue; ++u)
+        touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[u]))], sink);
+      for (auto [u, ue] = aheadOf(j, begin, end, kAhead); u < ue; ++u) {
+        const uint32_t tu = uint32_t(keys[u]);
+        for (int c = 0; c < 3; ++c) touch(w.p(w.v(tu, c)), sink);
       }
       const uint32_t t = uint32_t(keys[j]);
       bvh.tri[j] = t;
@@ -952,11 +957,13 @@ struct PatchCertifier {
     uint32_t sink = 0;
     for (uint32_t q = first; q < end; ++q) {
       const uint32_t* c = &corner[3 * size_t(q)];
-      if (q + kAhead < end)
+      for (auto [r, re] = aheadOf(q, first, end, kAhead); r < re; ++r) {
+        const uint32_t* cr = &corner[3 * size_t(r)];
         for (int i = 0; i < 3; ++i) {
-          const uint32_t u = c[3 * kAhead + i], v = c[3 * kAhead + (i + 1) % 3];
+          const uint32_t u = cr[i], v = cr[(i + 1) % 3];
           touch(&table[slotOf(std::min(u, v), std::max(u, v))], sink);
         }
+      }
       for (int i = 0; i < 3; ++i) {
         const uint32_t u = c[i], v = c[(i + 1) % 3];
         const uint32_t lo = std::min(u, v), hi = std::max(u, v);

@@ -2,6 +2,7 @@
 // work on this one. Private (not installed).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 
@@ -22,6 +23,27 @@ inline void touch(const void* p, uint32_t& sink) {
 // How many items ahead the loops that use touch() start loading: enough for the misses to
 // overlap, few enough that the lines are still cached when the item comes.
 constexpr uint32_t kAhead = 8;
+
+// The items a loop over [first, end) touches at item i, for items `lead` on: natively the one
+// item i + lead (a prefetch does not hold up the loop), in wasm a whole group of kAhead items
+// when i starts a group (counted from first) and none otherwise. In wasm a touch is a load,
+// which the loop's later work waits on: a group's loads run back to back, so that their
+// misses overlap instead of coming one item at a time.
+//   for (auto [u, ue] = aheadOf(i, first, end, kAhead); u < ue; ++u) ... touch(... u ...);
+struct AheadRange {
+  uint32_t begin, end;
+};
+inline AheadRange aheadOf(uint32_t i, uint32_t first, uint32_t end, uint32_t lead) {
+  const uint64_t b = uint64_t(i) + lead;
+  if (b >= end) return {0, 0};
+#if defined(__EMSCRIPTEN__)
+  if ((i - first) % kAhead != 0) return {0, 0};
+  return {uint32_t(b), uint32_t(std::min<uint64_t>(end, b + kAhead))};
+#else
+  (void)first;
+  return {uint32_t(b), uint32_t(b + 1)};
+#endif
+}
 
 inline std::atomic<uint32_t> gTouchSink{0};
 inline void keepAlive(uint32_t sink) { gTouchSink.fetch_add(sink, std::memory_order_relaxed); }

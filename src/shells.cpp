@@ -171,8 +171,8 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
     // The corners of a triangle a few ahead: in a file whose triangles are not in spatial
     // order, these reads miss the cache.
-    if (t + detail::kAhead < nt)
-      for (int c = 0; c < 3; ++c) detail::touch(P + size_t(corner[3 * detail::kAhead + c]) * 3, sink);
+    for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
+      for (int c = 0; c < 3; ++c) detail::touch(P + size_t(mesh.triangles[3 * size_t(u) + c]) * 3, sink);
     uint32_t s = triangleShell[t];
     if (topo.triangleDegenerate[t]) {
       if (s != kInvalid) return bad("triangleShell: a degenerate triangle has a shell");

@@ -86,20 +86,21 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
       // The corners (and the edge canHaveDuplicate reads) of a triangle a few ahead: in a
       // file whose triangles are not in spatial order, these reads miss the cache.
       // canHaveDuplicate's reads are a chain of two: the first link 2 * kAhead ahead.
-      if (t + detail::kAhead < t1) {
-        for (int i = 0; i < 3; ++i) detail::touch(w.p(w.v(t + detail::kAhead, i)), sink);
+      for (auto [u, ue] = detail::aheadOf(t, t0, t1, detail::kAhead); u < ue; ++u) {
+        for (int i = 0; i < 3; ++i) detail::touch(w.p(w.v(u, i)), sink);
         if (useTopology) {
-          const uint32_t e = topo->triangleHalfedge[t + detail::kAhead];
+          const uint32_t e = topo->triangleHalfedge[u];
           if (e != kInvalid) detail::touch(&topo->vert[topo->next[e ^ 1u] ^ 1u], sink);
         }
       }
-      if (useTopology && t + 2 * detail::kAhead < t1) {
-        const uint32_t e = topo->triangleHalfedge[t + 2 * detail::kAhead];
-        if (e != kInvalid) {
-          detail::touch(&topo->pairKind[e >> 1], sink);
-          detail::touch(&topo->next[e ^ 1u], sink);
+      if (useTopology)
+        for (auto [u, ue] = detail::aheadOf(t, t0, t1, 2 * detail::kAhead); u < ue; ++u) {
+          const uint32_t e = topo->triangleHalfedge[u];
+          if (e != kInvalid) {
+            detail::touch(&topo->pairKind[e >> 1], sink);
+            detail::touch(&topo->next[e ^ 1u], sink);
+          }
         }
-      }
       const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
       if (a == b || b == c || a == c) continue;  // degenerate
       if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
