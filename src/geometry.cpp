@@ -951,23 +951,12 @@ struct PatchCertifier {
     sides.clear();
     // Reserved first: a push below cannot fail, so that every filled slot is cleared again.
     if (!used.reserve(3 * size_t(end - first)) || !sides.reserve(3 * size_t(end - first))) return false;
-    auto slotOf = [&](uint32_t lo, uint32_t hi) {
-      return size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-    };
-    uint32_t sink = 0;
     for (uint32_t q = first; q < end; ++q) {
       const uint32_t* c = &corner[3 * size_t(q)];
-      for (auto [r, re] = aheadOf(q, first, end, kAhead); r < re; ++r) {
-        const uint32_t* cr = &corner[3 * size_t(r)];
-        for (int i = 0; i < 3; ++i) {
-          const uint32_t u = cr[i], v = cr[(i + 1) % 3];
-          touch(&table[slotOf(std::min(u, v), std::max(u, v))], sink);
-        }
-      }
       for (int i = 0; i < 3; ++i) {
         const uint32_t u = c[i], v = c[(i + 1) % 3];
         const uint32_t lo = std::min(u, v), hi = std::max(u, v);
-        size_t h = slotOf(lo, hi);
+        size_t h = size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
         while (table[h].lo != table[h].hi && (table[h].lo != lo || table[h].hi != hi)) h = (h + 1) & mask;
         if (table[h].lo == table[h].hi) {
           table[h].lo = lo;
@@ -977,7 +966,6 @@ struct PatchCertifier {
         table[h].net += u < v ? 1 : -1;
       }
     }
-    keepAlive(sink);
     bool ok = true;
     for (uint32_t h : used) {
       const patch::Slot sl = table[h];

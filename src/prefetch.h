@@ -45,7 +45,15 @@ inline AheadRange aheadOf(uint32_t i, uint32_t first, uint32_t end, uint32_t lea
 #endif
 }
 
+// Keeps wasm's touch loads alive (their sum goes to an atomic no one reads); natively a
+// prefetch has no value to keep, and this does nothing.
 inline std::atomic<uint32_t> gTouchSink{0};
-inline void keepAlive(uint32_t sink) { gTouchSink.fetch_add(sink, std::memory_order_relaxed); }
+inline void keepAlive(uint32_t sink) {
+#if defined(__EMSCRIPTEN__)
+  gTouchSink.fetch_add(sink, std::memory_order_relaxed);
+#else
+  (void)sink;
+#endif
+}
 
 }  // namespace stltopo::detail
