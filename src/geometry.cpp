@@ -941,7 +941,9 @@ struct PatchCertifier {
   // and `into` (their indices by destination). False when an edge keeps more than one side,
   // when fewer than 3 are left, or when a vertex is left and entered a different number of
   // times.
-  bool boundary(uint32_t first, uint32_t end) {
+  // With `flip` (a sign mask bit), a triangle whose sign mask has that bit counts with its
+  // sides reversed (the chain of the triangles wound to face one way along an axis).
+  bool boundary(uint32_t first, uint32_t end, const uint8_t* signs = nullptr, uint8_t flip = 0) {
     const size_t want = size_t(end - first) * 3;  // about 1.5 sides a triangle are distinct
     size_t cap = 64;
     while (cap < want) cap *= 2;
@@ -953,6 +955,7 @@ struct PatchCertifier {
     if (!used.reserve(3 * size_t(end - first)) || !sides.reserve(3 * size_t(end - first))) return false;
     for (uint32_t q = first; q < end; ++q) {
       const uint32_t* c = &corner[3 * size_t(q)];
+      const int32_t dir = signs && (signs[q] & flip) ? -1 : 1;
       for (int i = 0; i < 3; ++i) {
         const uint32_t u = c[i], v = c[(i + 1) % 3];
         const uint32_t lo = std::min(u, v), hi = std::max(u, v);
@@ -963,7 +966,7 @@ struct PatchCertifier {
           table[h].hi = hi;
           (void)used.push_back(uint32_t(h));  // reserved
         }
-        table[h].net += u < v ? 1 : -1;
+        table[h].net += u < v ? dir : -dir;
       }
     }
     bool ok = true;
@@ -1148,13 +1151,39 @@ struct PatchCertifier {
     return true;
   }
 
-  bool certify(uint32_t first, uint32_t end, uint8_t signs) {
-    if (!boundary(first, end)) return false;
-    for (int k = 0; k < 3; ++k)
-      for (int s = 1; s >= -1; s -= 2)
-        if ((signs >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) return true;
+  // `common`: the sign bits all the node's triangles have; `nonzero`: bit k when none of
+  // them has a zero normal coordinate k. First the triangles as they are wound, along an axis
+  // where they all turn one way; then, along an axis where they turn both ways but the
+  // fewer turn the other way (flipped triangles in a mesh that is otherwise consistent), the
+  // triangles wound to turn the way most do. A triangle's points are the same whichever way
+  // it is wound, so the proof above holds for that chain as it stands, and the certificate
+  // says the same of the node: no two of its triangles intersect.
+  bool certify(uint32_t first, uint32_t end, uint8_t common, uint8_t nonzero, const uint8_t* signs) {
+    if (common) {
+      if (!boundary(first, end)) return false;
+      for (int k = 0; k < 3; ++k)
+        for (int s = 1; s >= -1; s -= 2)
+          if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) return true;
+      return false;
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!(nonzero >> k & 1)) continue;
+      uint32_t negative = 0;
+      for (uint32_t q = first; q < end; ++q) negative += signs[q] >> (2 * k + 1) & 1;
+      const uint32_t size = end - first;
+      // Mostly one way: the few others are worth winding over (a fold, where the node's
+      // triangles turn both ways in numbers, would fail the winding test anyway).
+      const bool mostlyPositive = negative <= size / kMostlyOneWay;
+      if (!mostlyPositive && size - negative > size / kMostlyOneWay) continue;
+      const int s = mostlyPositive ? 1 : -1;
+      const uint8_t flip = uint8_t(1u << (2 * k + (s > 0 ? 1 : 0)));
+      if (boundary(first, end, signs, flip) && certifiedIn(k, s)) return true;
+    }
     return false;
   }
+  // The wound-over certificate is tried when at most 1/kMostlyOneWay of a node's triangles
+  // turn the other way.
+  static constexpr uint32_t kMostlyOneWay = 8;
 };
 
 std::atomic<uint64_t> gPatchPositions{0};
@@ -1191,8 +1220,10 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
       }
     }
   }
-  Array<uint8_t> nodeSigns;
-  if (!nodeSigns.resize(nn)) return oom("the patch certificates");
+  // Per node: the sign bits common to its triangles, and bit k when none has a zero normal
+  // coordinate k.
+  Array<uint8_t> nodeSigns, nodeNonzero;
+  if (!nodeSigns.resize(nn) || !nodeNonzero.resize(nn)) return oom("the patch certificates");
   const uint32_t n = bvh.nodes[0].end;
   const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   std::atomic<uint32_t> next{0};
@@ -1209,10 +1240,16 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         const Node& nd = bvh.nodes[id];
         if (nd.right) {
           nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
+          nodeNonzero[id] = nodeNonzero[id + 1] & nodeNonzero[nd.right];
         } else {
-          uint8_t m = 0x3f;
-          for (uint32_t q = nd.first; q < nd.end; ++q) m &= signs[q];
+          uint8_t m = 0x3f, z = 0x7;
+          for (uint32_t q = nd.first; q < nd.end; ++q) {
+            const uint8_t g = signs[q];
+            m &= g;
+            z &= uint8_t(((g | g >> 1) & 1) | ((g >> 1 | g >> 2) & 2) | ((g >> 2 | g >> 3) & 4));
+          }
           nodeSigns[id] = m;
+          nodeNonzero[id] = z;
         }
       }
       const uint64_t budget = 4 * uint64_t(top.end - top.first);
@@ -1224,8 +1261,9 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         const uint32_t id = todo[--sp];
         const Node& nd = bvh.nodes[id];
         if (nd.end - nd.first < minPatch) continue;
-        if (nodeSigns[id] && tried < budget &&
-            (tried += nd.end - nd.first, pc.certify(nd.first, nd.end, nodeSigns[id]))) {
+        if ((nodeSigns[id] || nodeNonzero[id]) && tried < budget &&
+            (tried += nd.end - nd.first,
+             pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
           free[id] = 1;
           pc.certifiedPositions += nd.end - nd.first;
           continue;

@@ -816,6 +816,16 @@ TEST(Geometry, PatchCertificatesRefuseNodesThatOverlap) {
     t.push_back({P{0, 0, 0}, P{9, 3, 2}, P{3, 9, -2}});
     cases.push_back({"a triangle at a corner", t});
   }
+  // Each case again with its added triangles wound the other way: they are then the few of
+  // their node that turn against the rest, and the certificate wound over them is tried.
+  const size_t nCases = cases.size();
+  for (size_t c = 0; c < nCases; ++c) {
+    auto t = cases[c].second;
+    const size_t field = c == 0 ? 98 : c == 1 ? 0 : 50;
+    if (field == 0) continue;  // the ramp is all added
+    for (size_t i = field; i < t.size(); ++i) std::swap(t[i][1], t[i][2]);
+    cases.push_back({"wound the other way", t});
+  }
   for (auto& [name, t] : cases) {
     Brute want = brute(t);
     ASSERT_FALSE(want.pairs.empty()) << name << ": the case must have pairs";
@@ -824,6 +834,23 @@ TEST(Geometry, PatchCertificatesRefuseNodesThatOverlap) {
     ASSERT_TRUE(run.ok) << name;
     EXPECT_EQ(run.pairs, want.pairs) << name;
   }
+}
+
+// A height field with one triangle in 20 wound the other way (what a mesh with flipped
+// faces looks like): the certificate is tried on the triangles wound to face one way, and
+// the whole field is one patch, as its points are the same.
+TEST(Geometry, PatchCertificatesCoverAFieldWithFlippedTriangles) {
+  std::mt19937 rng(8);
+  auto t = heightField(rng, 12, 5);  // 242 triangles
+  int flipped = 0;
+  for (size_t i = 0; i < t.size(); i += 20, ++flipped) std::swap(t[i][1], t[i][2]);
+  ASSERT_GT(flipped, 10);
+  const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+  Passed run;
+  runPass(t, run);
+  ASSERT_TRUE(run.ok);
+  EXPECT_TRUE(run.pairs.empty());
+  EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before, uint64_t(t.size()));
 }
 
 // Random height fields, damaged (corners dragged across the field, triangles flipped or
