@@ -298,9 +298,13 @@ class EditSession {
     stltopo::RepairOptions o;
     Status s = repairOptions(opts, o);
     stltopo::RepairPlan p;
+    planned_.reset();  // the last plan's result goes first: one scratch mesh at a time
     if (s.ok()) s = stltopo::planRepair(em_, o, p);
     if (s.ok() && p.beforeKnown && p.afterKnown)
       lastPlanned = PlannedFigures{true, p.fingerprint, p.fingerprintAfter, o.intersections, o.maxPairs, p.before, p.after};
+    // The plan's own result (RepairPlan::result) stays with this mesh for applyRepair, which
+    // takes it when the mesh and the options are still the plan's.
+    planned_ = s.ok() ? p.result : nullptr;
     return s.ok() ? val(stltopo::repairPlanJson(p)) : js::status(s);
   }
   val applyRepair(val opts, const std::string& fingerprint) {
@@ -318,6 +322,7 @@ class EditSession {
       p.after = lastPlanned.after;
       p.fingerprintAfter = lastPlanned.fingerprintAfter;
     }
+    p.result = std::move(planned_);
     stltopo::RepairLog log;
     s = stltopo::applyRepair(em_, p, log);
     std::string json = stltopo::repairLogJson(log);
@@ -349,6 +354,7 @@ class EditSession {
   EditableMesh em_;
   Array<uint32_t> faceIds_;               // faceIds()
   std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
+  std::shared_ptr<stltopo::RepairResult> planned_;  // the last plan's result, until applied
 
   static Status repairOptions(val v, stltopo::RepairOptions& o) {
     auto bad = [](const std::string& m) { return Status::error(Code::InvalidArgument, "repair options: " + m); };

@@ -106,6 +106,9 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   s = applyRepair(em, r.plan, r.log);
   EXPECT_TRUE(s.ok()) << what << ": " << s.message;
   if (!s.ok()) return r;
+  // The first application takes the plan's own result (RepairPlan::result); the second one
+  // below runs the steps, and must give the same log and mesh.
+  EXPECT_EQ(r.plan.resultTaken(), o.keepResult) << what;
   EXPECT_EQ(r.log.afterReport, r.plan.afterReport) << what << ": the result differs from the plan's prediction";
   EXPECT_EQ(repairFingerprint(em), r.log.fingerprintAfter) << what;
   const RepairFigures& predicted = r.plan.steps.empty() ? r.plan.before : r.plan.steps.back().after;
@@ -134,6 +137,13 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   RepairLog log;
   EXPECT_TRUE(applyRepair(em, bare, log).ok());
   EXPECT_EQ(log.afterReport, r.log.afterReport) << what << ": a second application differs";
+  EXPECT_EQ(repairLogJson(log), repairLogJson(r.log)) << what << ": the steps' log differs from the plan's";
+  {
+    Mesh second;
+    EXPECT_TRUE(em.toMesh(second, nullptr, nullptr).ok());
+    EXPECT_TRUE(gen::sameMesh(second, r.result)) << what << ": the steps' result differs from the plan's";
+    EXPECT_EQ(stlBytes(second), stlBytes(r.result)) << what;
+  }
   EXPECT_EQ(repairFigures(log.before), repairFigures(r.plan.before)) << what << ": fresh figures of the input";
   EXPECT_EQ(repairFigures(log.after), repairFigures(predicted)) << what << ": fresh figures of the result";
   EXPECT_EQ(repairFigures(log.after), repairFigures(r.log.after)) << what;
@@ -375,6 +385,66 @@ TEST(Repair, ApplyTakesThePlansPassFiguresOnlyForThePredictedMesh) {
   ASSERT_TRUE(applyRepair(em, other, log).ok());
   EXPECT_EQ(log.after.selfIntersections, truth);
   EXPECT_FALSE(log.after.solid);
+}
+
+// applyRepair takes the plan's own result only for the plan's input with the plan's
+// options, and only once; otherwise it runs the steps. Both ways give the same log.
+TEST(Repair, ApplyTakesThePlansResultOnlyForItsInputOnce) {
+  gen::Soup s = gen::cube(0, 0, 0, 10);
+  s.f.pop_back();                   // a hole to fill
+  std::swap(s.f[0][1], s.f[0][2]);  // a face to orient
+  const Mesh m = meshOf(s);
+  RepairOptions keepNothing;
+  keepNothing.keepResult = false;
+  RepairPlan plan, bare;
+  ASSERT_TRUE(planRepair(m, RepairOptions{}, plan).ok());
+  ASSERT_TRUE(planRepair(m, keepNothing, bare).ok());
+  ASSERT_TRUE(plan.result);
+  EXPECT_FALSE(bare.result);
+  EXPECT_EQ(repairPlanJson(plan), repairPlanJson(bare));
+  EditableMesh em;
+  RepairLog ran, taken, again;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(applyRepair(em, bare, ran).ok());
+  Mesh ranMesh;
+  ASSERT_TRUE(em.toMesh(ranMesh, nullptr, nullptr).ok());
+  // Another attribute word on triangle 0: the input is not the plan's (its fingerprint is,
+  // as it covers positions and triangles only), so the steps run, and carry the new word.
+  ASSERT_TRUE(em.init(m).ok());
+  std::vector<uint16_t> words(m.nTriangles(), 0);
+  words[1] = 77;
+  ASSERT_TRUE(em.addAttribute(kAttrWord, Element::Triangle, ValueType::U16, 1, words.data()).ok());
+  RepairLog other;
+  ASSERT_TRUE(applyRepair(em, plan, other).ok());
+  EXPECT_FALSE(plan.resultTaken());
+  Mesh otherMesh;
+  ASSERT_TRUE(em.toMesh(otherMesh, nullptr, nullptr).ok());
+  EXPECT_NE(stlBytes(otherMesh), stlBytes(ranMesh));
+  // Other options: the steps run with them.
+  RepairPlan changed = plan;
+  changed.options.maxHoleEdges = 2;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(applyRepair(em, changed, other).ok());
+  EXPECT_FALSE(plan.resultTaken());
+  // The plan's input and options: taken, the same log and mesh as the run.
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(applyRepair(em, plan, taken).ok());
+  EXPECT_TRUE(plan.resultTaken());
+  EXPECT_EQ(repairLogJson(taken), repairLogJson(ran));
+  Mesh takenMesh;
+  ASSERT_TRUE(em.toMesh(takenMesh, nullptr, nullptr).ok());
+  EXPECT_EQ(stlBytes(takenMesh), stlBytes(ranMesh));
+  EXPECT_TRUE(em.validate().ok());
+  ASSERT_TRUE(undoRepair(em, taken).ok());
+  Mesh back;
+  ASSERT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
+  EXPECT_TRUE(gen::sameMesh(back, m));
+  // Once: a second application of the plan (or a copy) runs the steps.
+  EditableMesh em2;
+  ASSERT_TRUE(em2.init(m).ok());
+  RepairPlan copy = plan;
+  ASSERT_TRUE(applyRepair(em2, copy, again).ok());
+  EXPECT_EQ(repairLogJson(again), repairLogJson(ran));
 }
 
 TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {

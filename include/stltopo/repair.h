@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,10 @@ struct RepairOptions {
     uint32_t item;
   };
   std::vector<Exclusion> exclude;
+  // Keep the plan's own result (RepairPlan::result) for applyRepair, which then takes it
+  // instead of running the steps again. false: the plan holds no mesh, and applyRepair runs
+  // the steps.
+  bool keepResult = true;
   // Called as each step starts (done = false) and ends (done = true), for progress and
   // timing. Optional.
   void (*onStep)(void* user, RepairStepKind step, bool done) = nullptr;
@@ -130,6 +135,8 @@ struct RepairStepPlan {
   uint32_t nSkipped() const;
 };
 
+struct RepairResult;  // what a plan's own run of the steps left (see RepairPlan::result)
+
 struct RepairPlan {
   RepairOptions options;
   uint64_t fingerprint = 0;  // of the input (positions and triangles)
@@ -145,6 +152,19 @@ struct RepairPlan {
   std::vector<RepairStepPlan> steps;  // the chosen steps, in run order
   std::string remaining;              // what the steps leave (self-intersections: advice)
   std::string afterReport;            // infoJson("") of the predicted result
+  // The plan runs the steps on a scratch copy of the mesh. With RepairOptions::keepResult,
+  // it keeps what that run left: the repaired mesh (an EditableMesh, compacted) and the
+  // change log. applyRepair takes them instead of running the steps again when its mesh is
+  // the plan's input as the plan found it (the same positions, triangles, attribute words,
+  // colours, normals, solids and warnings) and its plan's options are the ones the result
+  // was made with (onStep, user, threads and keepResult aside). The steps are
+  // deterministic, so the mesh and the log are the ones a run gives (the tests compare
+  // both ways). The first applyRepair of a plan, or of a copy of it, takes the result;
+  // later ones run the steps. Memory: the repaired mesh with its topology and attributes,
+  // held until it is applied or the plan and its copies are gone (reset() it to let go).
+  std::shared_ptr<RepairResult> result;
+  // Whether an applyRepair took `result` (false without one).
+  bool resultTaken() const;
 };
 
 // What one step changed. Ids: see the header comment.
@@ -197,7 +217,10 @@ Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPl
 // Carries out `plan` on `em`, which must hold the mesh the plan was made for (same
 // fingerprint; InvalidArgument otherwise, and nothing changes). The mesh is compacted first
 // (ids of a mesh with dead slots change then, as compact() says). Edge attributes are not
-// carried through repair: a mesh with any is refused (InvalidArgument).
+// carried through repair: a mesh with any is refused (InvalidArgument). With the plan's
+// result (RepairPlan::result) for this mesh, em takes the repaired mesh and `log` the
+// change log from it (O(n) to check that em holds the plan's input; onStep is called for
+// each step of the log); otherwise the steps run.
 Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log);
 
 // Undoes the last step of `log` on `em` (which must be in the state after it: same

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 
 #include "repair/steps.h"
 #include "report_json.h"
@@ -21,6 +22,21 @@ namespace {
 constexpr const char* kStepNames[kRepairStepCount] = {"duplicates",        "zero-area",  "stitch",      "orient",
                                                       "split-nonmanifold", "fill-holes", "small-shells"};
 constexpr const char* kRepairArrays = "the repair's arrays";
+
+// What a plan's run left (RepairPlan::result): the repaired mesh and the change log, with
+// what they were made from.
+}  // namespace
+
+struct RepairResult {
+  std::mutex lock;
+  bool taken = false;
+  uint64_t inputKey = 0;  // meshKey of the input as the plan found it (compacted)
+  RepairOptions options;  // the plan's (onStep and user cleared)
+  EditableMesh em;
+  RepairLog log;
+};
+
+namespace {
 
 // The attributes repair carries: the file's (the ones init() makes from a Mesh).
 bool fileAttribute(const std::string& n) {
@@ -43,6 +59,58 @@ uint64_t fingerprintOf(const Mesh& m) {
   }
   for (size_t i = 0; i < m.triangles.size(); ++i) h = mix(h, m.triangles[i]);
   return h;
+}
+
+// fingerprintOf (positions, triangles) and everything else of the Mesh that a repair
+// carries into its result and its reports: attribute words, colours, normals, solids,
+// warnings and the format. Two meshes with the same key repair to the same result and log.
+uint64_t meshKey(const Mesh& m, uint64_t fingerprint) {
+  uint64_t h = mix(fingerprint, uint64_t(m.format) << 8 | uint64_t(m.colorConvention));
+  auto bytes = [&h](const void* p, size_t n) {
+    const uint8_t* b = static_cast<const uint8_t*>(p);
+    h = mix(h, n);
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+      uint64_t x;
+      std::memcpy(&x, b + i, 8);
+      h = mix(h, x);
+    }
+    uint64_t x = 0;
+    std::memcpy(&x, b + i, n - i);
+    h = mix(h, x);
+  };
+  bytes(m.attributes.data(), m.attributes.size() * sizeof(uint16_t));
+  bytes(m.normals.data(), m.normals.size() * sizeof(float));
+  bytes(m.colors.data(), m.colors.size());
+  bytes(m.colorValid.data(), m.colorValid.size());
+  h = mix(h, m.solids.size());
+  for (const Solid& sd : m.solids) {
+    bytes(sd.name.data(), sd.name.size());
+    h = mix(h, uint64_t(sd.firstTriangle) << 32 | sd.triangleCount);
+  }
+  h = mix(h, m.warnings.size());
+  for (const Status& w : m.warnings) {
+    h = mix(h, uint64_t(w.code));
+    bytes(w.message.data(), w.message.size());
+    h = mix(h, w.offset);
+    h = mix(h, w.line);
+    h = mix(h, uint64_t(w.triangle) << 32 | w.element);
+  }
+  return h;
+}
+
+// Whether two option sets make the same plan (onStep, user, threads and keepResult aside:
+// they change no plan, log or result).
+bool sameRepair(const RepairOptions& a, const RepairOptions& b) {
+  if (a.steps != b.steps || a.removeOppositeDuplicates != b.removeOppositeDuplicates ||
+      a.stitchTolerance != b.stitchTolerance || a.maxHoleEdges != b.maxHoleEdges || a.maxHoleArea != b.maxHoleArea ||
+      a.maxHolePerimeter != b.maxHolePerimeter || a.fillRefine != b.fillRefine || a.fillFair != b.fillFair ||
+      a.minShellTriangles != b.minShellTriangles || a.minShellVolume != b.minShellVolume ||
+      a.intersections != b.intersections || a.maxPairs != b.maxPairs || a.exclude.size() != b.exclude.size())
+    return false;
+  for (size_t i = 0; i < a.exclude.size(); ++i)
+    if (a.exclude[i].step != b.exclude[i].step || a.exclude[i].item != b.exclude[i].item) return false;
+  return true;
 }
 
 double triangleArea(const float* a, const float* b, const float* c) {
@@ -333,12 +401,13 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   return Status{};
 }
 
-// Runs the chosen steps on em (plan: into `plan`; apply: the log into `log`). For apply,
-// `made` is the plan: its fingerprint is checked before anything changes, and the figures
-// it knows are those of the same meshes (the input, and the result when the result has
-// its predicted fingerprint).
-Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log,
-           const RepairPlan* made = nullptr) {
+// Runs the chosen steps on em: the plan into `plan`, the change log into `log` (a plan
+// that keeps its result makes both). For apply, `made` is the plan: its fingerprint is
+// checked before anything changes, and the figures it knows are those of the same meshes
+// (the input, and the result when the result has its predicted fingerprint). `inputKey`:
+// meshKey of the input as run() finds it.
+Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, const RepairPlan* made = nullptr,
+           uint64_t* inputKey = nullptr) {
   Mesh cur;
   Topology topo;
   // With the intersection pass, the topologies the figures are computed on carry
@@ -346,7 +415,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   Status s = em.toMesh(cur, &topo, nullptr, o.intersections);
   if (!s.ok()) return s;
   const uint64_t fingerprint = fingerprintOf(cur);
-  if (log && (!made || fingerprint != made->fingerprint))
+  if (inputKey) *inputKey = meshKey(cur, fingerprint);
+  if (made && fingerprint != made->fingerprint)
     return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
@@ -459,7 +529,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   }
   if (plan) {
     plan->afterKnown = true;
-    plan->fingerprintAfter = changed ? fingerprintOf(cur) : fingerprint;
+    plan->fingerprintAfter = !changed ? fingerprint : log ? curFingerprint : fingerprintOf(cur);
     plan->after = after;
     plan->afterReport = infoJson("", cur, &topo);
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
@@ -471,7 +541,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->after = after;
     log->fingerprintAfter = curFingerprint;
-    log->afterReport = changed ? infoJson("", cur, &topo) : log->beforeReport;
+    log->afterReport = !changed ? log->beforeReport : plan ? plan->afterReport : infoJson("", cur, &topo);
   }
   return Status{};
 }
@@ -565,10 +635,25 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   to.threads = options.threads;
   s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh, to);
   if (!s.ok()) return s;
-  s = run(scratch, options, &out, nullptr);
+  std::shared_ptr<RepairResult> kept;
+  if (options.keepResult) {
+    STLTOPO_TRY {
+      kept = std::make_shared<RepairResult>();
+      kept->options = options;
+    }
+    STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+    kept->options.onStep = nullptr;
+    kept->options.user = nullptr;
+  }
+  s = run(scratch, options, &out, kept ? &kept->log : nullptr, nullptr, kept ? &kept->inputKey : nullptr);
   if (!s.ok()) {
     RepairPlan empty;
     out = std::move(empty);
+    return s;
+  }
+  if (kept) {
+    kept->em = std::move(scratch);
+    out.result = std::move(kept);
   }
   return s;
 }
@@ -582,12 +667,50 @@ Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPl
   return planRepair(m, &t, options, out);
 }
 
+namespace {
+// applyRepair with the plan's result (RepairPlan::result): em takes the repaired mesh and
+// `log` the change log when em holds the plan's input and the options are the result's.
+// `taken` says whether it did; nothing changes otherwise.
+Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool& taken) {
+  taken = false;
+  RepairResult& r = *plan.result;
+  std::lock_guard<std::mutex> hold(r.lock);
+  if (r.taken || !sameRepair(r.options, plan.options) || r.log.fingerprintBefore != plan.fingerprint)
+    return Status{};
+  Mesh m;
+  Status s = em.toMesh(m, nullptr, nullptr);
+  if (!s.ok()) return s;
+  if (meshKey(m, fingerprintOf(m)) != r.inputKey) return Status{};
+  em = std::move(r.em);
+  log = std::move(r.log);
+  r.taken = true;
+  taken = true;
+  if (plan.options.onStep)
+    for (const RepairStepLog& L : log.steps) {
+      plan.options.onStep(plan.options.user, L.kind, false);
+      plan.options.onStep(plan.options.user, L.kind, true);
+    }
+  return Status{};
+}
+}  // namespace
+
+bool RepairPlan::resultTaken() const {
+  if (!result) return false;
+  std::lock_guard<std::mutex> hold(result->lock);
+  return result->taken;
+}
+
 Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   log = RepairLog{};
   Status s = checkOptions(plan.options);
   if (!s.ok()) return s;
   s = checkAttributes(em);
   if (!s.ok()) return s;
+  if (plan.result) {
+    bool taken = false;
+    s = takeResult(em, plan, log, taken);
+    if (!s.ok() || taken) return s;
+  }
   return run(em, plan.options, nullptr, &log, &plan);
 }
 
