@@ -58,6 +58,11 @@ struct PlannedFigures {
   stltopo::RepairFigures before, after;
 };
 PlannedFigures lastPlanned;
+// The last plan's own result (RepairPlan::result: the repaired mesh and the change log),
+// for applyRepair, which takes it when its mesh and options are still the plan's: one at
+// most in the module, let go when it is taken or as the next plan starts. Module-wide, as
+// planRepair(mesh) of the JS API plans on a temporary EditableMesh and applies on another.
+std::shared_ptr<stltopo::RepairResult> lastPlannedResult;
 
 class EditSession {
  public:
@@ -298,13 +303,11 @@ class EditSession {
     stltopo::RepairOptions o;
     Status s = repairOptions(opts, o);
     stltopo::RepairPlan p;
-    planned_.reset();  // the last plan's result goes first: one scratch mesh at a time
+    lastPlannedResult.reset();  // the last plan's result goes first: one at a time
     if (s.ok()) s = stltopo::planRepair(em_, o, p);
     if (s.ok() && p.beforeKnown && p.afterKnown)
       lastPlanned = PlannedFigures{true, p.fingerprint, p.fingerprintAfter, o.intersections, o.maxPairs, p.before, p.after};
-    // The plan's own result (RepairPlan::result) stays with this mesh for applyRepair, which
-    // takes it when the mesh and the options are still the plan's.
-    planned_ = s.ok() ? p.result : nullptr;
+    if (s.ok()) lastPlannedResult = p.result;
     return s.ok() ? val(stltopo::repairPlanJson(p)) : js::status(s);
   }
   val applyRepair(val opts, const std::string& fingerprint) {
@@ -322,9 +325,10 @@ class EditSession {
       p.after = lastPlanned.after;
       p.fingerprintAfter = lastPlanned.fingerprintAfter;
     }
-    p.result = std::move(planned_);
+    p.result = lastPlannedResult;
     stltopo::RepairLog log;
     s = stltopo::applyRepair(em_, p, log);
+    if (p.resultTaken()) lastPlannedResult.reset();
     std::string json = stltopo::repairLogJson(log);
     if (!log.steps.empty()) logs_.push_back(std::move(log));
     while (!logs_.empty() && logs_.back().steps.empty()) logs_.pop_back();
@@ -354,7 +358,6 @@ class EditSession {
   EditableMesh em_;
   Array<uint32_t> faceIds_;               // faceIds()
   std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
-  std::shared_ptr<stltopo::RepairResult> planned_;  // the last plan's result, until applied
 
   static Status repairOptions(val v, stltopo::RepairOptions& o) {
     auto bad = [](const std::string& m) { return Status::error(Code::InvalidArgument, "repair options: " + m); };

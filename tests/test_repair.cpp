@@ -101,6 +101,19 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   EXPECT_TRUE(s.ok()) << what << ": " << s.message;
   if (!s.ok()) return r;
   EXPECT_EQ(stlBytes(input), inputBytes) << what << ": planning changed the mesh";
+  {
+    // With the topology given, planRepair builds the run's own (without it, it reuses the
+    // one it builds for the scratch copy when every vertex is used): the same plan.
+    Topology t;
+    EXPECT_TRUE(buildTopology(input, t).ok());
+    RepairPlan p2;
+    RepairOptions o2 = o;
+    o2.keepResult = false;
+    EXPECT_TRUE(planRepair(input, &t, o2, p2).ok()) << what;
+    EXPECT_EQ(repairPlanJson(p2), repairPlanJson(r.plan)) << what << ": the plan depends on the topology's origin";
+    EXPECT_EQ(p2.afterReport, r.plan.afterReport) << what;
+    EXPECT_FALSE(p2.result) << what;
+  }
   EditableMesh em;
   EXPECT_TRUE(em.init(input).ok());
   s = applyRepair(em, r.plan, r.log);

@@ -107,7 +107,9 @@ struct Intersections {
 // join), so that no two of them intersect. Such pairs still count toward the work limit. On
 // a clean closed mesh every vertex is certified and the exact tests run only for the pairs
 // that share no corner. Before them, whole nodes of the hierarchy (64 to 8192 triangles) are
-// certified as patches: their triangles all face one strict way along a coordinate axis, and
+// certified as patches: their triangles all face one strict way along a coordinate axis (or
+// all but at most 1 in 8, which are then taken wound the other way: a triangle's points do
+// not depend on its winding), and
 // the sides that do not cancel inside the node, projected along it, form loops that do not
 // cross and cover each point at most once (exact signs; the proof is in geometry.cpp). The
 // join skips the pairs inside a patch without visiting them, so they do not count toward the

@@ -99,6 +99,31 @@ uint64_t meshKey(const Mesh& m, uint64_t fingerprint) {
   return h;
 }
 
+// Whether EditableMesh::init gives the same state from a and b (with one topology): the
+// same positions, triangles, attribute words, colours, normals, solids, warnings and format.
+template <class T>
+bool sameArray(const Array<T>& a, const Array<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+bool sameContent(const Mesh& a, const Mesh& b) {
+  if (a.format != b.format || a.colorConvention != b.colorConvention || !sameArray(a.positions, b.positions) ||
+      !sameArray(a.triangles, b.triangles) || !sameArray(a.attributes, b.attributes) ||
+      !sameArray(a.normals, b.normals) || !sameArray(a.colors, b.colors) || !sameArray(a.colorValid, b.colorValid) ||
+      a.solids.size() != b.solids.size() || a.warnings.size() != b.warnings.size())
+    return false;
+  for (size_t i = 0; i < a.solids.size(); ++i)
+    if (a.solids[i].name != b.solids[i].name || a.solids[i].firstTriangle != b.solids[i].firstTriangle ||
+        a.solids[i].triangleCount != b.solids[i].triangleCount)
+      return false;
+  for (size_t i = 0; i < a.warnings.size(); ++i) {
+    const Status &x = a.warnings[i], &y = b.warnings[i];
+    if (x.code != y.code || x.message != y.message || x.offset != y.offset || x.line != y.line ||
+        x.triangle != y.triangle || x.element != y.element)
+      return false;
+  }
+  return true;
+}
+
 // Whether two option sets make the same plan (onStep, user, threads and keepResult aside:
 // they change no plan, log or result).
 bool sameRepair(const RepairOptions& a, const RepairOptions& b) {
@@ -406,21 +431,26 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 // checked before anything changes, and the figures it knows are those of the same meshes
 // (the input, and the result when the result has its predicted fingerprint). `inputKey`:
 // meshKey of the input as run() finds it.
+// `given`: the topology of em's compacted mesh (with triangleShell when o.intersections),
+// when the caller built it already (planRepair, from a mesh that toMesh gives back as it
+// is); run() takes it. `source`: the mesh em was just made from (init(source, *given)).
 Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, const RepairPlan* made = nullptr,
-           uint64_t* inputKey = nullptr) {
+           uint64_t* inputKey = nullptr, Topology* given = nullptr, const Mesh* source = nullptr) {
   Mesh cur;
   Topology topo;
   // With the intersection pass, the topologies the figures are computed on carry
   // triangleShell (figuresOf): this one, and the rebuild after the last step.
-  Status s = em.toMesh(cur, &topo, nullptr, o.intersections);
+  Status s = given ? em.toMesh(cur, nullptr, nullptr) : em.toMesh(cur, &topo, nullptr, o.intersections);
   if (!s.ok()) return s;
+  if (given) topo = std::move(*given);
   const uint64_t fingerprint = fingerprintOf(cur);
   if (inputKey) *inputKey = meshKey(cur, fingerprint);
   if (made && fingerprint != made->fingerprint)
     return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
-  s = em.init(cur, topo);
+  // (em holds that state already when it was just made from a mesh with cur's content.)
+  if (!(given && source && sameContent(cur, *source))) s = em.init(cur, topo);
   if (!s.ok()) return s;
   // The fingerprint of cur, for the log (a plan needs only the first).
   uint64_t curFingerprint = fingerprint;
@@ -631,9 +661,22 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   STLTOPO_TRY { out.options = options; }
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   EditableMesh scratch;
-  TopologyOptions to;
-  to.threads = options.threads;
-  s = topo ? scratch.init(mesh, *topo) : scratch.init(mesh, to);
+  // Without a topology, the one built here serves both the scratch copy and the run: when
+  // every vertex is used, toMesh() gives the mesh back as it is, and its topology is this
+  // one (the editable mesh's contract), so run() does not build it again.
+  Topology built;
+  bool reuse = false;
+  if (topo) {
+    s = scratch.init(mesh, *topo);
+  } else {
+    TopologyOptions to;
+    to.threads = options.threads;
+    to.prevAndFace = true;
+    to.triangleShell = options.intersections;
+    s = buildTopology(mesh, built, to);
+    if (s.ok()) s = scratch.init(mesh, built);
+    reuse = s.ok() && built.nUsedVertices == mesh.nVertices();
+  }
   if (!s.ok()) return s;
   std::shared_ptr<RepairResult> kept;
   if (options.keepResult) {
@@ -645,7 +688,8 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
     kept->options.onStep = nullptr;
     kept->options.user = nullptr;
   }
-  s = run(scratch, options, &out, kept ? &kept->log : nullptr, nullptr, kept ? &kept->inputKey : nullptr);
+  s = run(scratch, options, &out, kept ? &kept->log : nullptr, nullptr, kept ? &kept->inputKey : nullptr,
+          reuse ? &built : nullptr, reuse ? &mesh : nullptr);
   if (!s.ok()) {
     RepairPlan empty;
     out = std::move(empty);
