@@ -1,6 +1,8 @@
 // Shared helpers for the Node tests (node:test). The package is imported by
 // its own name ('stltopo' resolves to dist/ through package.json "exports").
 import { readdirSync, statSync, existsSync } from 'node:fs';
+import { spawn } from 'node:child_process';
+import { availableParallelism } from 'node:os';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 
@@ -136,4 +138,43 @@ export function meshArrays(m) {
     });
   }
   return out;
+}
+
+/**
+ * Runs cmd with args (stdin: `input`, if given) as spawnSync does, without blocking:
+ * resolves to { status, stdout, stderr } (Buffers).
+ */
+export function runAsync(cmd, args, input, options = {}) {
+  return new Promise((resolve, reject) => {
+    const p = spawn(cmd, args, options);
+    const out = [], err = [];
+    p.stdout.on('data', (d) => out.push(d));
+    p.stderr.on('data', (d) => err.push(d));
+    p.on('error', reject);
+    p.on('close', (status) => resolve({ status, stdout: Buffer.concat(out), stderr: Buffer.concat(err) }));
+    p.stdin.end(input);
+  });
+}
+
+/**
+ * Runs job(item, index) for every item, `width` at a time (default: the machine's cores
+ * plus one, as the jobs are processes that wait on each other's I/O), and resolves to the
+ * results in the items' order. The first rejection rejects it, after the running jobs end.
+ */
+export async function pool(items, job, width = availableParallelism() + 1) {
+  const results = new Array(items.length);
+  let next = 0, failure = null;
+  const worker = async () => {
+    while (next < items.length && !failure) {
+      const i = next++;
+      try {
+        results[i] = await job(items[i], i);
+      } catch (e) {
+        failure = failure || e;
+      }
+    }
+  };
+  await Promise.all(Array.from({ length: Math.min(width, items.length) }, worker));
+  if (failure) throw failure;
+  return results;
 }

@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { loadStl, extractShell, DEFECT_KINDS, StlError, kInvalid } from 'stltopo';
-import { fixtures, fixture, nativeCli, haveNativeCli } from './helpers.mjs';
+import { fixtures, fixture, nativeCli, haveNativeCli, runAsync, pool } from './helpers.mjs';
 
 const skip = !haveNativeCli && `no native CLI at ${nativeCli}`;
 
@@ -134,33 +134,36 @@ import { fileURLToPath } from 'node:url';
 
 const npmCli = fileURLToPath(new URL('../../bin/stltopo.mjs', import.meta.url));
 
+const text = (r) => ({ status: r.status, stdout: r.stdout.toString(), stderr: r.stderr.toString() });
+
 function runSplit(cmd, args) {
   const r = spawnSync(cmd, args, { maxBuffer: 1 << 28 });
   return { status: r.status, stdout: r.stdout.toString(), stderr: r.stderr.toString() };
 }
 
-test('split: native and npm CLIs write the same files and lines on every fixture', { skip }, () => {
+test('split: native and npm CLIs write the same files and lines on every fixture', { skip }, async () => {
   const tmp = mkdtempSync(path.join(tmpdir(), 'stltopo-split-'));
   try {
-    let files = 0;
-    for (const [i, f] of fixtures().entries()) {
+    // Each fixture's pair of processes, a few pairs at a time (each in its own folders).
+    const counts = await pool(fixtures(), async (f, i) => {
       const args = i % 3 === 0 ? ['--ascii'] : i % 3 === 1 ? ['--binary'] : [];
       const a = path.join(tmp, `a${i}`), b = path.join(tmp, `b${i}`);
-      const na = runSplit(nativeCli, ['split', f, a, ...args]);
-      const nb = runSplit(process.execPath, [npmCli, 'split', f, b, ...args]);
+      const na = text(await runAsync(nativeCli, ['split', f, a, ...args]));
+      const nb = text(await runAsync(process.execPath, [npmCli, 'split', f, b, ...args]));
       assert.equal(nb.status, na.status, f);
       assert.equal(nb.stdout.replaceAll(b, a), na.stdout, f);
       assert.equal(nb.stderr, na.stderr, f);
-      if (na.status !== 0) continue;
+      if (na.status !== 0) return 0;
       const names = readdirSync(a).sort();
       assert.deepEqual(readdirSync(b).sort(), names, f);
       const lines = na.stdout.trimEnd().split('\n').filter(Boolean).map((l) => JSON.parse(l));
       assert.equal(lines.length, names.length, f);
       for (const name of names) assert.ok(readFileSync(path.join(a, name)).equals(readFileSync(path.join(b, name))), `${f} ${name}`);
-      files += names.length;
       rmSync(a, { recursive: true });
       rmSync(b, { recursive: true });
-    }
+      return names.length;
+    });
+    const files = counts.reduce((x, y) => x + y, 0);
     assert.ok(files >= 300, `${files} files`);
     // Errors: a bad input, OUTDIR that is a file, usage.
     writeFileSync(path.join(tmp, 'file'), 'x');
