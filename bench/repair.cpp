@@ -2,8 +2,11 @@
 // `info` path), planRepair, EditableMesh::init and applyRepair, with the time of each step
 // in the plan and in the apply (RepairOptions::onStep: a step's time includes the runner's
 // rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
-// whole repair of a loaded mesh. Prints one JSON object.
-//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N]
+// whole repair of a loaded mesh. Prints one JSON object. apply takes the plan's own result
+// (RepairPlan::result), so its steps take no time there: the time of each step is the
+// plan's ("planSteps"); --no-keep (RepairOptions::keepResult = false) makes apply run the
+// steps again, as before plans kept their result.
+//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep]
 // --threads N: RepairOptions::threads, and the load and init on as many.
 #include <algorithm>
 #include <chrono>
@@ -48,7 +51,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   if (argc < 2) {
-    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N]\n");
+    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep]\n");
     return 2;
   }
   int reps = 3;
@@ -60,6 +63,8 @@ int main(int argc, char** argv) {
       ro.threads = unsigned(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--no-intersections"))
       ro.intersections = false;
+    else if (!std::strcmp(argv[i], "--no-keep"))
+      ro.keepResult = false;
     else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
       ro.steps = 0;
       std::string list = argv[++i];
