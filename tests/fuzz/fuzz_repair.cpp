@@ -6,9 +6,10 @@
 //   base % 4 == 3: [length lo][length hi][STL bytes] read with readStl (a read error ends the input)
 // Then up to 16 damage bytes (flip, remove, duplicate a triangle, move a vertex a little)
 // and the options (steps, stitch tolerance, hole limits, fill refine/fair, walls, small
-// shells, intersections). Checks: planning changes nothing; apply's result equals the plan's
-// prediction; the result passes validate(); undo, step by step, gives back the input's
-// arrays exactly.
+// shells, intersections, keepResult). Checks: planning changes nothing; apply's result equals
+// the plan's prediction; when apply took the plan's own result, running the steps gives the
+// same log and mesh; the result passes validate(); undo, step by step, gives back the
+// input's arrays exactly.
 
 #include "../stl_gen.h"
 #include "fuzz_common.h"
@@ -86,6 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   o.maxPairs = 1 + in.byte() * 64;
   o.minShellTriangles = in.byte() % 32;
   if (flags & 16) o.exclude.push_back({RepairStepKind(in.byte() % kRepairStepCount), in.byte() % 4});
+  o.keepResult = !(flags & 32);
 
   Mesh before;
   {
@@ -112,6 +114,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   s = em.validate();
   if (!s.ok()) std::fprintf(stderr, "validate: %s\n", s.message.c_str());
   FUZZ_CHECK(s.ok());
+  if (plan.resultTaken()) {
+    // apply took the plan's own result: running the steps (a second apply of the plan) must
+    // give the same log and mesh.
+    EditableMesh ran;
+    RepairLog ranLog;
+    FUZZ_CHECK(ran.init(m).ok());
+    FUZZ_CHECK(applyRepair(ran, plan, ranLog).ok());
+    if (repairLogJson(ranLog) != repairLogJson(log)) {
+      std::fprintf(stderr, "taken: %s\nran: %s\n", repairLogJson(log).c_str(), repairLogJson(ranLog).c_str());
+      FUZZ_CHECK(false);
+    }
+    Mesh a, b;
+    FUZZ_CHECK(em.toMesh(a, nullptr, nullptr).ok() && ran.toMesh(b, nullptr, nullptr).ok());
+    FUZZ_CHECK(gen::sameMesh(a, b));
+  } else {
+    FUZZ_CHECK(!o.keepResult);
+  }
   while (!log.steps.empty()) {
     s = undoRepairStep(em, log);
     if (!s.ok()) std::fprintf(stderr, "undo: %s\n", s.message.c_str());
