@@ -1461,6 +1461,7 @@ struct ParallelJoin {
   std::atomic<uint64_t> workPublished{0}, foundPublished{0};
   std::atomic<bool> halt{false};
   unsigned nRuns = 0;
+  uint64_t work = 0;  // the tasks' work, summed
   bool limited = false, cancelled = false, outOfMemory = false;
 
   void part(unsigned id) {
@@ -1506,7 +1507,8 @@ struct ParallelJoin {
     for (unsigned i = 0; i < nRuns; ++i) outOfMemory = outOfMemory || runs[i].outOfMemory;
     if (outOfMemory) return oom("the intersection list");
     if (cancelled) return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");
-    uint64_t work = 0, found = 0;
+    uint64_t found = 0;
+    work = 0;
     for (unsigned i = 0; i < nRuns; ++i) work += runs[i].work, found += runs[i].found.size();
     limited = halt.load() || work > maxWork || found >= maxFound;
     return {};
@@ -1573,6 +1575,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
       size_t total = 0;
       for (unsigned i = 0; i < pj.nRuns; ++i) total += pj.runs[i].found.size();
       if (!found.reserve(total)) return oom("the intersection list");
+      out.work = pj.work;
       for (unsigned i = 0; i < pj.nRuns; ++i) {
         for (const Found& f : pj.runs[i].found) (void)found.push_back(f);  // reserved
         gFanSkipped.fetch_add(pj.runs[i].fanSkipped, std::memory_order_relaxed);
@@ -1594,6 +1597,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     if (r.outOfMemory) return oom("the intersection list");
     gFanSkipped.fetch_add(r.fanSkipped, std::memory_order_relaxed);
     complete = !r.stop;
+    out.work = r.work;
     found = std::move(r.found);
   }
   if (cancelled) return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");

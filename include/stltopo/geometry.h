@@ -90,6 +90,7 @@ struct Intersections {
   uint64_t nCrossing = 0, nTouching = 0, nCoplanar = 0;
   uint32_t nIntersectingTriangles = 0;
   bool complete = true;  // false: the work limit stopped the pass
+  uint64_t work = 0;     // the pair tests counted toward the work limit (the same on any number of threads)
 
   uint64_t nPairs() const { return pairs.size() / 2; }
 };

@@ -197,8 +197,9 @@ Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
 // The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
 // too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
 // triangleShell equals a fresh build's), else on a fresh build with it.
+// `keep`: the pass's pairs, kept (with the pass).
 Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
-                 RepairFigures& f) {
+                 RepairFigures& f, Intersections* keep = nullptr) {
   f = RepairFigures{};
   f.stats = em.stats();
   if (!geometry || !o.intersections) {
@@ -229,6 +230,88 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
   f.duplicateTriangles = g.checks.nDuplicateTriangles;
   f.selfIntersections = uint32_t(std::min<uint64_t>(g.intersections.nPairs(), kInvalid - 1));
   f.solid = g.solid;
+  if (keep) *keep = std::move(g.intersections);
+  return Status{};
+}
+
+// The pass's pairs carried through the steps (run()): the pairs of the mesh as it is now,
+// known without a pass when every step since the pass only removed triangles (duplicates,
+// small shells), reversed them (orient) or added triangles that meet no other triangle but
+// in the corners and sides they share (fill-holes checks each new triangle with the pass's
+// exact pair test). A pair's triangles keep their points and the corners they share
+// through those steps, so it intersects, and in the same way, exactly when it did, and the
+// new triangles make no pair. A step that moves, merges, splits or collapses anything
+// (zero-area, stitch, split-nonmanifold, when they did an item) makes them unknown.
+struct KnownPairs {
+  bool valid = false;
+  Intersections found;
+  // Follows a step that changed the mesh: `maps` (toMesh's, of the slots after the step)
+  // and the step's kind.
+  Status follow(RepairStepKind k, const CompactMaps& maps, uint32_t nTriangles) {
+    if (!valid) return Status{};
+    if (k == RepairStepKind::ZeroArea || k == RepairStepKind::Stitch || k == RepairStepKind::SplitNonManifold) {
+      valid = false;
+      found = Intersections{};
+      return Status{};
+    }
+    Intersections next;
+    next.complete = found.complete;
+    next.work = found.work;
+    if (!next.triangleIntersects.assign(nTriangles, 0)) return detail::oom(kRepairArrays);
+    for (size_t i = 0; i < found.nPairs(); ++i) {
+      const uint32_t a = found.pairs[2 * i], b = found.pairs[2 * i + 1];
+      if (a >= maps.triangles.size() || b >= maps.triangles.size()) return bad();
+      const uint32_t x = maps.triangles[a], y = maps.triangles[b];
+      if (x == kInvalid || y == kInvalid) continue;  // a triangle removed: the pair goes
+      if (x >= y || x >= nTriangles || y >= nTriangles) return bad();  // survivors keep their order
+      if (!next.pairs.push_back(x) || !next.pairs.push_back(y) || !next.kinds.push_back(found.kinds[i]) ||
+          !next.points.push_back(found.points[3 * i]) || !next.points.push_back(found.points[3 * i + 1]) ||
+          !next.points.push_back(found.points[3 * i + 2]))
+        return detail::oom(kRepairArrays);
+      switch (IntersectionKind(found.kinds[i])) {
+        case IntersectionKind::Crossing: ++next.nCrossing; break;
+        case IntersectionKind::Touching: ++next.nTouching; break;
+        case IntersectionKind::Coplanar: ++next.nCoplanar; break;
+      }
+      next.nIntersectingTriangles += !next.triangleIntersects[x];
+      next.triangleIntersects[x] = 1;
+      next.nIntersectingTriangles += !next.triangleIntersects[y];
+      next.triangleIntersects[y] = 1;
+    }
+    found = std::move(next);
+    return Status{};
+  }
+  static Status bad() { return Status::error(Code::Invalid, "repair: the pairs do not fit the step's maps"); }
+};
+
+// figuresOf with the pass (o.intersections), on `known` pairs instead of a new pass: the
+// checks, the shells, their nesting and `solid` as analyzeGeometry makes them. Only when the
+// pass that found them was complete and its work well under the limit for this mesh (a
+// pass on the mesh now makes about the same tests; a pass near the limit might not
+// complete): false in `used` otherwise, and nothing is computed.
+Status figuresFromKnown(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o,
+                        const KnownPairs& known, RepairFigures& f, bool& used) {
+  used = false;
+  const uint32_t nt = mesh.nTriangles();
+  const uint64_t minWork = 64 * uint64_t(nt);
+  const uint64_t maxWork = o.maxPairs > (~uint64_t(0) - minWork) / 8 ? ~uint64_t(0) : 8 * o.maxPairs + minWork;
+  if (!known.valid || !known.found.complete || known.found.work > maxWork / 4 ||
+      known.found.triangleIntersects.size() != nt || topo.triangleShell.size() != nt)
+    return Status{};
+  f = RepairFigures{};
+  f.stats = em.stats();
+  TriangleChecks checks;
+  Array<Shell> shells;
+  ShellNesting nesting;
+  Status s = checkTriangles(mesh, &topo, checks, o.threads);
+  if (s.ok()) s = findShellsAndDefects(mesh, topo, &shells, nullptr);
+  if (s.ok()) s = findShellNesting(mesh, topo, shells, known.found, nesting);
+  if (!s.ok()) return s;
+  f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
+  f.duplicateTriangles = checks.nDuplicateTriangles;
+  f.selfIntersections = uint32_t(std::min<uint64_t>(known.found.nPairs(), kInvalid - 1));
+  f.solid = isSolid(topo, checks, known.found, shells, nesting);
+  used = true;
   return Status{};
 }
 
@@ -459,11 +542,14 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   Topology nextTopo;
   CompactMaps maps;
   RepairFigures before;
+  // The pairs of the mesh as it is, carried through the steps for the plan's last figures.
+  KnownPairs known;
   if (made && made->beforeKnown) {
     before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
-    s = figuresOf(em, cur, topo, o, true, before);
+    s = figuresOf(em, cur, topo, o, true, before, plan && o.intersections ? &known.found : nullptr);
     if (!s.ok()) return s;
+    known.valid = plan && o.intersections;
   }
   RepairFigures figures = before;  // of `cur`
   bool changed = false;
@@ -515,10 +601,16 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         L.fingerprintAfter = curFingerprint;
         changed = true;
         // The figures after each step are the plan's; the log needs only the last ones.
-        if (plan) s = figuresOf(em, cur, topo, o, k == lastStep, figures);
+        if (plan) s = known.follow(sp.kind, maps, cur.nTriangles());
+        bool fromKnown = false;
+        if (s.ok() && plan && k == lastStep && o.intersections)
+          s = figuresFromKnown(em, cur, topo, o, known, figures, fromKnown);
+        if (s.ok() && plan && !fromKnown) s = figuresOf(em, cur, topo, o, k == lastStep, figures);
       }
     } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
-      s = figuresOf(em, cur, topo, o, true, figures);
+      bool fromKnown = false;
+      s = figuresFromKnown(em, cur, topo, o, known, figures, fromKnown);
+      if (s.ok() && !fromKnown) s = figuresOf(em, cur, topo, o, true, figures);
     }
     if (!s.ok()) {
       // Back to the mesh as the step found it (init of a mesh already held cannot need more
