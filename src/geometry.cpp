@@ -1613,15 +1613,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
     out.pairs[2 * i + 1] = tj;
     out.kinds[i] = f.kind;
     for (int c = 0; c < 3; ++c) out.points[3 * i + c] = f.point[c];
-    switch (IntersectionKind(f.kind)) {
-      case IntersectionKind::Crossing: ++out.nCrossing; break;
-      case IntersectionKind::Touching: ++out.nTouching; break;
-      case IntersectionKind::Coplanar: ++out.nCoplanar; break;
-    }
-    out.nIntersectingTriangles += !out.triangleIntersects[ti];
-    out.triangleIntersects[ti] = 1;
-    out.nIntersectingTriangles += !out.triangleIntersects[tj];
-    out.triangleIntersects[tj] = 1;
+    geometry_detail::countPair(out, ti, tj, f.kind);
   }
   if (options.progress && !options.progress(options.user, 1.0))
     return Status::error(Code::Aborted, "aborted: the intersection pass was stopped by the caller");

@@ -25,6 +25,20 @@ inline const uint32_t* weldOf(const Topology* topo) {
   return topo && topo->tolerance > 0 ? topo->vertexWeld.data() : nullptr;
 }
 
+// Counts pair (a, b) of `kind`, already appended to out.pairs/kinds, in out's per-kind
+// counts and per-triangle flags (out.triangleIntersects covers both).
+inline void countPair(Intersections& out, uint32_t a, uint32_t b, uint8_t kind) {
+  switch (IntersectionKind(kind)) {
+    case IntersectionKind::Crossing: ++out.nCrossing; break;
+    case IntersectionKind::Touching: ++out.nTouching; break;
+    case IntersectionKind::Coplanar: ++out.nCoplanar; break;
+  }
+  out.nIntersectingTriangles += !out.triangleIntersects[a];
+  out.triangleIntersects[a] = 1;
+  out.nIntersectingTriangles += !out.triangleIntersects[b];
+  out.triangleIntersects[b] = 1;
+}
+
 // A triangle for the exact pair test: its three vertex ids (corners that are one vertex
 // have one id) and positions. Its corners must be distinct and not collinear.
 struct Tri {

@@ -752,16 +752,20 @@ std::vector<std::array<P, 3>> heightField(std::mt19937& rng, int g, int zr) {
   return t;
 }
 
-// A clean height field is one patch: no pair, and the join skips it whole.
-TEST(Geometry, PatchCertificatesCoverAHeightField) {
-  std::mt19937 rng(7);
-  const auto t = heightField(rng, 12, 5);  // 242 triangles
+// The pass over t finds no pair, and every position is in a certified patch.
+void expectOnePatch(const std::vector<std::array<P, 3>>& t) {
   const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
   Passed run;
   runPass(t, run);
   ASSERT_TRUE(run.ok);
   EXPECT_TRUE(run.pairs.empty());
   EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before, uint64_t(t.size()));
+}
+
+// A clean height field is one patch: no pair, and the join skips it whole.
+TEST(Geometry, PatchCertificatesCoverAHeightField) {
+  std::mt19937 rng(7);
+  expectOnePatch(heightField(rng, 12, 5));  // 242 triangles
   // A clean torus of 8192 triangles: every position is in a certified node.
   const uint64_t before2 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
   Result torus;
@@ -845,12 +849,7 @@ TEST(Geometry, PatchCertificatesCoverAFieldWithFlippedTriangles) {
   int flipped = 0;
   for (size_t i = 0; i < t.size(); i += 20, ++flipped) std::swap(t[i][1], t[i][2]);
   ASSERT_GT(flipped, 10);
-  const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
-  Passed run;
-  runPass(t, run);
-  ASSERT_TRUE(run.ok);
-  EXPECT_TRUE(run.pairs.empty());
-  EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before, uint64_t(t.size()));
+  expectOnePatch(t);
 }
 
 // Random height fields, damaged (corners dragged across the field, triangles flipped or

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "geometry_detail.h"
 #include "repair/steps.h"
 #include "report_json.h"
 #include "stltopo/geometry.h"
@@ -268,15 +269,7 @@ struct KnownPairs {
           !next.points.push_back(found.points[3 * i]) || !next.points.push_back(found.points[3 * i + 1]) ||
           !next.points.push_back(found.points[3 * i + 2]))
         return detail::oom(kRepairArrays);
-      switch (IntersectionKind(found.kinds[i])) {
-        case IntersectionKind::Crossing: ++next.nCrossing; break;
-        case IntersectionKind::Touching: ++next.nTouching; break;
-        case IntersectionKind::Coplanar: ++next.nCoplanar; break;
-      }
-      next.nIntersectingTriangles += !next.triangleIntersects[x];
-      next.triangleIntersects[x] = 1;
-      next.nIntersectingTriangles += !next.triangleIntersects[y];
-      next.triangleIntersects[y] = 1;
+      geometry_detail::countPair(next, x, y, found.kinds[i]);
     }
     found = std::move(next);
     return Status{};
