@@ -77,7 +77,7 @@ uint64_t meshKey(const Mesh& m, uint64_t fingerprint) {
       h = mix(h, x);
     }
     uint64_t x = 0;
-    std::memcpy(&x, b + i, n - i);
+    if (n > i) std::memcpy(&x, b + i, n - i);  // (an empty array's data() may be null)
     h = mix(h, x);
   };
   bytes(m.attributes.data(), m.attributes.size() * sizeof(uint16_t));
