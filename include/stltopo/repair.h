@@ -11,7 +11,9 @@
 //     and returns the change log: per step, every removed, added and changed triangle and
 //     vertex, the largest distance a surviving vertex moved, the area removed and added,
 //     and the reports before and after (fresh builds). The steps are deterministic, so the
-//     result equals the plan's prediction.
+//     result equals the plan's prediction. When the plan kept its own run's result
+//     (RepairPlan::result), applyRepair takes that instead of running the steps again: the
+//     same mesh and the same log.
 //   - undoRepair(editable, log) (or undoRepairStep, last step first) restores the mesh
 //     exactly: every position, corner and attribute, in the same slots.
 //
