@@ -1555,10 +1555,7 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   }
   const JoinInput in{w, bvh, corner, fan.data(), free.data()};
   const uint64_t maxFound = options.maxPairs;
-  // 8 * maxPairs + 64 * nt, saturated: a huge maxPairs must not wrap to a small limit.
-  const uint64_t minWork = 64 * uint64_t(nt);
-  const uint64_t maxWork =
-      options.maxPairs > (~uint64_t(0) - minWork) / 8 ? ~uint64_t(0) : 8 * options.maxPairs + minWork;
+  const uint64_t maxWork = geometry_detail::workLimit(options.maxPairs, nt);
 
   // Threads: a part per thread, each taking tasks of about 1/64 of a part's positions.
   const unsigned parts = detail::partsFor(detail::threadCount(options.threads), n, detail::parallelGrain(32768));
@@ -1811,7 +1808,13 @@ Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& o
   out.solid = false;
   Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
   if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
-  if (s.ok()) s = findShellsAndDefects(mesh, topo, &out.shells, nullptr);
+  if (s.ok()) s = geometry_detail::finishGeometry(mesh, topo, out);
+  return s;
+}
+
+Status geometry_detail::finishGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out) {
+  out.solid = false;
+  Status s = findShellsAndDefects(mesh, topo, &out.shells, nullptr);
   if (s.ok()) s = findShellNesting(mesh, topo, out.shells, out.intersections, out.nesting);
   if (s.ok()) out.solid = isSolid(topo, out.checks, out.intersections, out.shells, out.nesting);
   return s;

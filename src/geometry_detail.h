@@ -25,6 +25,17 @@ inline const uint32_t* weldOf(const Topology* topo) {
   return topo && topo->tolerance > 0 ? topo->vertexWeld.data() : nullptr;
 }
 
+// The pass's work limit (IntersectionOptions::maxPairs): 8 * maxPairs + 64 * nTriangles pair
+// tests, saturated (a huge maxPairs must not wrap to a small limit).
+inline uint64_t workLimit(uint64_t maxPairs, uint32_t nTriangles) {
+  const uint64_t minWork = 64 * uint64_t(nTriangles);
+  return maxPairs > (~uint64_t(0) - minWork) / 8 ? ~uint64_t(0) : 8 * maxPairs + minWork;
+}
+
+// analyzeGeometry after its pass: the shells, their nesting and `solid`, from out.checks and
+// out.intersections (of this mesh and topology, which has triangleShell).
+Status finishGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out);
+
 // Counts pair (a, b) of `kind`, already appended to out.pairs/kinds, in out's per-kind
 // counts and per-triangle flags (out.triangleIntersects covers both).
 inline void countPair(Intersections& out, uint32_t a, uint32_t b, uint8_t kind) {

@@ -195,46 +195,6 @@ Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
   return Status::error(Code::InvalidArgument, "no such repair step");
 }
 
-// The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
-// too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
-// triangleShell equals a fresh build's), else on a fresh build with it.
-// `keep`: the pass's pairs, kept (with the pass).
-Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
-                 RepairFigures& f, Intersections* keep = nullptr) {
-  f = RepairFigures{};
-  f.stats = em.stats();
-  if (!geometry || !o.intersections) {
-    TriangleChecks checks;
-    Status s = checkTriangles(mesh, &topo, checks, o.threads);
-    if (!s.ok()) return s;
-    f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
-    f.duplicateTriangles = checks.nDuplicateTriangles;
-    return Status{};
-  }
-  Topology t;
-  const bool shells = topo.triangleShell.size() == mesh.nTriangles();
-  if (!shells) {
-    TopologyOptions to;
-    to.prevAndFace = false;
-    to.triangleShell = true;
-    to.threads = o.threads;
-    Status s = buildTopology(mesh, t, to);
-    if (!s.ok()) return s;
-  }
-  GeometryReport g;
-  IntersectionOptions io;
-  io.maxPairs = o.maxPairs;
-  io.threads = o.threads;
-  Status s = analyzeGeometry(mesh, shells ? topo : t, g, io);
-  if (!s.ok()) return s;
-  f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
-  f.duplicateTriangles = g.checks.nDuplicateTriangles;
-  f.selfIntersections = uint32_t(std::min<uint64_t>(g.intersections.nPairs(), kInvalid - 1));
-  f.solid = g.solid;
-  if (keep) *keep = std::move(g.intersections);
-  return Status{};
-}
-
 // The pass's pairs carried through the steps (run()): the pairs of the mesh as it is now,
 // known without a pass when every step since the pass only removed triangles (duplicates,
 // small shells), reversed them (orient) or added triangles that meet no other triangle but
@@ -275,38 +235,66 @@ struct KnownPairs {
     return Status{};
   }
   static Status bad() { return Status::error(Code::Invalid, "repair: the pairs do not fit the step's maps"); }
+  // Whether figuresOf may take them for a mesh of nTriangles: only when the pass that found
+  // them was complete and its work well under the limit for this mesh (a pass on the mesh
+  // now makes about the same tests; a pass near the limit might not complete).
+  bool usable(const RepairOptions& o, uint32_t nTriangles) const {
+    return valid && found.complete && found.work <= geometry_detail::workLimit(o.maxPairs, nTriangles) / 4 &&
+           found.triangleIntersects.size() == nTriangles;
+  }
 };
 
-// figuresOf with the pass (o.intersections), on `known` pairs instead of a new pass: the
-// checks, the shells, their nesting and `solid` as analyzeGeometry makes them. Only when the
-// pass that found them was complete and its work well under the limit for this mesh (a
-// pass on the mesh now makes about the same tests; a pass near the limit might not
-// complete): false in `used` otherwise, and nothing is computed.
-Status figuresFromKnown(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o,
-                        const KnownPairs& known, RepairFigures& f, bool& used) {
-  used = false;
-  const uint32_t nt = mesh.nTriangles();
-  const uint64_t minWork = 64 * uint64_t(nt);
-  const uint64_t maxWork = o.maxPairs > (~uint64_t(0) - minWork) / 8 ? ~uint64_t(0) : 8 * o.maxPairs + minWork;
-  if (!known.valid || !known.found.complete || known.found.work > maxWork / 4 ||
-      known.found.triangleIntersects.size() != nt || topo.triangleShell.size() != nt)
-    return Status{};
+// The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
+// too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
+// triangleShell equals a fresh build's), else on a fresh build with it. `keep`: the pass's
+// pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
+// when they are usable; the shells, their nesting and `solid` are then made from them as
+// analyzeGeometry makes them.
+Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
+                 RepairFigures& f, Intersections* keep = nullptr, KnownPairs* known = nullptr) {
   f = RepairFigures{};
   f.stats = em.stats();
-  TriangleChecks checks;
-  Array<Shell> shells;
-  ShellNesting nesting;
-  Status s = checkTriangles(mesh, &topo, checks, o.threads);
-  if (s.ok()) s = findShellsAndDefects(mesh, topo, &shells, nullptr);
-  if (s.ok()) s = findShellNesting(mesh, topo, shells, known.found, nesting);
+  if (!geometry || !o.intersections) {
+    TriangleChecks checks;
+    Status s = checkTriangles(mesh, &topo, checks, o.threads);
+    if (!s.ok()) return s;
+    f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
+    f.duplicateTriangles = checks.nDuplicateTriangles;
+    return Status{};
+  }
+  Topology t;
+  const bool shells = topo.triangleShell.size() == mesh.nTriangles();
+  if (!shells) {
+    TopologyOptions to;
+    to.prevAndFace = false;
+    to.triangleShell = true;
+    to.threads = o.threads;
+    Status s = buildTopology(mesh, t, to);
+    if (!s.ok()) return s;
+  }
+  const Topology& T = shells ? topo : t;
+  GeometryReport g;
+  Status s;
+  if (known && known->usable(o, mesh.nTriangles())) {
+    s = checkTriangles(mesh, &T, g.checks, o.threads);
+    g.intersections = std::move(known->found);
+    known->valid = false;
+    if (s.ok()) s = geometry_detail::finishGeometry(mesh, T, g);
+  } else {
+    IntersectionOptions io;
+    io.maxPairs = o.maxPairs;
+    io.threads = o.threads;
+    s = analyzeGeometry(mesh, T, g, io);
+  }
   if (!s.ok()) return s;
-  f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
-  f.duplicateTriangles = checks.nDuplicateTriangles;
-  f.selfIntersections = uint32_t(std::min<uint64_t>(known.found.nPairs(), kInvalid - 1));
-  f.solid = isSolid(topo, checks, known.found, shells, nesting);
-  used = true;
+  f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
+  f.duplicateTriangles = g.checks.nDuplicateTriangles;
+  f.selfIntersections = uint32_t(std::min<uint64_t>(g.intersections.nPairs(), kInvalid - 1));
+  f.solid = g.solid;
+  if (keep) *keep = std::move(g.intersections);
   return Status{};
 }
+
 
 // The attribute values of triangle t of a Mesh, in the order `names` lists them.
 struct AttrLayout {
@@ -595,15 +583,10 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         changed = true;
         // The figures after each step are the plan's; the log needs only the last ones.
         if (plan) s = known.follow(sp.kind, maps, cur.nTriangles());
-        bool fromKnown = false;
-        if (s.ok() && plan && k == lastStep && o.intersections)
-          s = figuresFromKnown(em, cur, topo, o, known, figures, fromKnown);
-        if (s.ok() && plan && !fromKnown) s = figuresOf(em, cur, topo, o, k == lastStep, figures);
+        if (s.ok() && plan) s = figuresOf(em, cur, topo, o, k == lastStep, figures, nullptr, &known);
       }
     } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
-      bool fromKnown = false;
-      s = figuresFromKnown(em, cur, topo, o, known, figures, fromKnown);
-      if (s.ok() && !fromKnown) s = figuresOf(em, cur, topo, o, true, figures);
+      s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known);
     }
     if (!s.ok()) {
       // Back to the mesh as the step found it (init of a mesh already held cannot need more
