@@ -900,27 +900,83 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
 // holds only the pass's triangles.
 // The nodes of kMinPatch to kMaxPatch positions are tried top down; a node whose triangles
 // have a common strict sign along some axis (the AND of their sign masks, bottom up) is
-// tried, and when it fails its children are. Cost: one hash of N's sides and a sweep over
-// its boundary sides per node tried (O(n) on a smooth mesh, as each position is tried about
-// once); memory: 1 byte per triangle for the sign masks and 2 per node.
+// tried, and when it fails its children are. Above those, a node whose two children are
+// certified is tried as their union, from the children's boundaries (certifyUnion): on a
+// clean mesh the patches grow to a large part of a shell, and the join skips the pairs
+// between them too. Cost: one hash of N's sides and a grid over its boundary sides per node
+// tried (O(n) on a smooth mesh, as each position is tried about once), and per union the
+// length of its children's boundaries; memory: 1 byte per triangle for the sign masks, 2 per
+// node, and the boundaries of the certified nodes (16 bytes a side).
 namespace patch {
 constexpr uint32_t kMinPatch = 64;  // smaller nodes are not tried (setPatchMinimumForTesting)
-// Larger nodes are not tried (their children are): the hash stays in cache, and what a
-// larger patch would save is the join across its children's common boundary, which is short.
+// Larger nodes are tried only as unions of certified children: a task (the nodes below one
+// of at most kMaxPatch positions) runs on one thread, and a failed try of a large node from
+// its triangles would cost the hash of all of them (setPatchTaskSizeForTesting).
 constexpr uint32_t kMaxPatch = 8192;
 constexpr size_t kMaxLoops = 32;  // more boundary loops: not tried (the test is quadratic in them)
+constexpr uint32_t kChunk = 256;  // positions per run of the boundary's first level (its table: 24 KiB)
 struct Slot {
   uint32_t lo, hi;  // the side's vertices, lo < hi; lo == hi: empty
   int32_t net;      // sides lo -> hi minus sides hi -> lo
 };
 }  // namespace patch
 
+// Sums per undirected edge (key lo << 32 | hi with lo < hi, so that 0 marks an empty slot)
+// in an open-addressing table of a power-of-two size, and the slots in the order they were
+// filled. Branch-free where it can be: the first visit of an edge and the second (its other
+// side) come in no order a predictor learns.
+struct EdgeSums {
+  Array<uint64_t> key;
+  Array<int32_t> net;
+  Array<uint32_t> filled;
+  size_t mask = 0, nFilled = 0;
+  // Room for `adds` edges at most half full; false when it cannot be allocated.
+  bool prepare(size_t adds) {
+    size_t cap = 64;
+    while (cap < 2 * adds) cap *= 2;
+    if (key.size() < cap && (!key.assign(cap, 0) || !net.assign(cap, 0))) return false;
+    if (filled.size() < adds + 1 && !filled.resize(adds + 1)) return false;
+    mask = cap - 1;
+    nFilled = 0;
+    return true;
+  }
+  void add(uint32_t lo, uint32_t hi, int32_t d) {
+    const uint64_t k = uint64_t(lo) << 32 | hi;
+    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+    while (key[h] != 0 && key[h] != k) h = (h + 1) & mask;
+    const size_t fresh = key[h] == 0;
+    key[h] = k;
+    filled[nFilled] = uint32_t(h);  // kept when fresh
+    nFilled += fresh;
+    net[h] += d;
+  }
+  // The slot of edge (lo, hi), which was added.
+  size_t find(uint32_t lo, uint32_t hi) const {
+    const uint64_t k = uint64_t(lo) << 32 | hi;
+    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+    while (key[h] != k) h = (h + 1) & mask;
+    return h;
+  }
+  // f(lo, hi, sum) for each edge, in the order they came; the table is empty after.
+  template <class F>
+  void drain(F&& f) {
+    for (size_t i = 0; i < nFilled; ++i) {
+      const uint32_t h = filled[i];
+      f(uint32_t(key[h] >> 32), uint32_t(key[h]), net[h]);
+      key[h] = 0;
+      net[h] = 0;
+    }
+    nFilled = 0;
+  }
+};
+
 struct PatchCertifier {
   PatchCertifier(const Welded& w_, const Array<uint32_t>& corner_) : w(w_), corner(corner_) {}
   const Welded& w;
   const Array<uint32_t>& corner;
-  Array<patch::Slot> table;
-  Array<uint32_t> used;   // slots filled in the node being tried
+  EdgeSums small;              // a run's edges (the first level)
+  EdgeSums sums;               // the node's edges (the second level)
+  Array<patch::Slot> partial;  // the runs' edges whose sum is not 0
   Array<uint64_t> sides;  // boundary sides: origin << 32 | destination, sorted
   Array<uint32_t> into;   // the sides by destination
   Array<uint32_t> next;   // per side: the side its loop takes next
@@ -932,7 +988,15 @@ struct PatchCertifier {
   Array<Ray> rays;          // the sides at one corner left more than once, by angle
   Array<uint32_t> loops;    // the loops' sides, loop after loop
   Array<uint32_t> loopEnd;  // per loop: its end in `loops`
-  Array<uint32_t> order;    // sweep order of the sides
+  Array<uint64_t> byDest;     // the sides as destination << 32 | origin, sorted
+  Array<uint8_t> owner;       // after merge(): per side, 0 from the first node, 1 from the second
+  Array<uint32_t> slotSide;   // per slot of `sums`, in merge(): its side's index
+  bool checked[2] = {false, false};  // sidesApart: the pairs of one node's sides passed already
+  int axis = -1;                     // after a certificate: the axis it holds along
+  Array<uint32_t> span;       // per side: its cells' range along i and along j (sidesApart)
+  Array<uint32_t> cellStart;  // per cell: its first entry in cellItems, and one past the last
+  Array<uint32_t> cellFill;
+  Array<uint32_t> cellItems;  // per cell: the sides whose spans cover it
   uint64_t certifiedPositions = 0;
 
   uint32_t origin(size_t s) const { return uint32_t(sides[s] >> 32); }
@@ -944,92 +1008,219 @@ struct PatchCertifier {
   // With `flip` (a sign mask bit), a triangle whose sign mask has that bit counts with its
   // sides reversed (the chain of the triangles wound to face one way along an axis).
   bool boundary(uint32_t first, uint32_t end, const uint8_t* signs = nullptr, uint8_t flip = 0) {
-    const size_t want = size_t(end - first) * 3;  // about 1.5 sides a triangle are distinct
-    size_t cap = 64;
-    while (cap < want) cap *= 2;
-    if (table.size() < cap && !table.assign(cap, patch::Slot{0, 0, 0})) return false;
-    const size_t mask = cap - 1;
-    used.clear();
-    sides.clear();
-    // Reserved first: a push below cannot fail, so that every filled slot is cleared again.
-    if (!used.reserve(3 * size_t(end - first)) || !sides.reserve(3 * size_t(end - first))) return false;
-    for (uint32_t q = first; q < end; ++q) {
-      const uint32_t* c = &corner[3 * size_t(q)];
-      const int32_t dir = signs && (signs[q] & flip) ? -1 : 1;
-      for (int i = 0; i < 3; ++i) {
-        const uint32_t u = c[i], v = c[(i + 1) % 3];
-        const uint32_t lo = std::min(u, v), hi = std::max(u, v);
-        size_t h = size_t(((uint64_t(lo) << 32 | hi) * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-        while (table[h].lo != table[h].hi && (table[h].lo != lo || table[h].hi != hi)) h = (h + 1) & mask;
-        if (table[h].lo == table[h].hi) {
-          table[h].lo = lo;
-          table[h].hi = hi;
-          (void)used.push_back(uint32_t(h));  // reserved
+    // Two levels, so that the table the triangles' sides go to stays in the first-level cache:
+    // the sides of each run of kChunk positions are summed in a small table, and the edges
+    // whose sum is not 0 (the run's boundary, short on a smooth mesh) are summed again over
+    // the node in a table sized to them. The sums, and so the sides kept, are the same as
+    // one table's.
+    partial.clear();
+    if (!small.prepare(3 * size_t(patch::kChunk)) || !partial.reserve(3 * size_t(end - first))) return false;
+    for (uint32_t c = first; c < end; c += patch::kChunk) {
+      const uint32_t ce = std::min(end, c + patch::kChunk);
+      for (uint32_t q = c; q < ce; ++q) {
+        const uint32_t* cq = &corner[3 * size_t(q)];
+        const int32_t dir = signs && (signs[q] & flip) ? -1 : 1;
+        for (int i = 0; i < 3; ++i) {
+          const uint32_t u = cq[i], v = cq[(i + 1) % 3];
+          small.add(std::min(u, v), std::max(u, v), u < v ? dir : -dir);
         }
-        table[h].net += u < v ? dir : -dir;
       }
+      small.drain([&](uint32_t lo, uint32_t hi, int32_t net) {
+        if (net != 0) (void)partial.push_back(patch::Slot{lo, hi, net});  // reserved
+      });
     }
+    if (!sums.prepare(partial.size())) return false;
+    for (const patch::Slot& sl : partial) sums.add(sl.lo, sl.hi, sl.net);
+    return finishBoundary();
+  }
+
+  // The boundary of two certified nodes' union, from their boundaries (a and b: their
+  // sides, origin << 32 | destination, sorted, then the same as destination << 32 | origin,
+  // sorted; chains wound the same way): an edge's sum over the union is the sum of its sums
+  // over the two, so the sides kept are those the triangles' own sides would give
+  // (boundary() on the union's positions). Each side is kept from a or b, so `sides` and
+  // `byDest` are merges of theirs, and `owner` says which of the two each side is from.
+  bool merge(const uint64_t* a, size_t na, const uint64_t* b, size_t nb) {
+    if (!sums.prepare(na + nb) || !sides.reserve(na + nb) || !byDest.reserve(na + nb) || !owner.reserve(na + nb) ||
+        !into.reserve(na + nb) || (slotSide.size() < sums.key.size() && !slotSide.resize(sums.key.size())))
+      return false;
+    auto undirected = [](uint64_t x, uint32_t& lo, uint32_t& hi) {
+      const uint32_t u = uint32_t(x >> 32), v = uint32_t(x);
+      lo = std::min(u, v), hi = std::max(u, v);
+      return u < v ? 1 : -1;
+    };
+    for (const uint64_t* x : {a, b})
+      for (size_t i = 0, m = x == a ? na : nb; i < m; ++i) {
+        uint32_t lo, hi;
+        const int d = undirected(x[i], lo, hi);
+        sums.add(lo, hi, d);
+      }
     bool ok = true;
-    for (uint32_t h : used) {
-      const patch::Slot sl = table[h];
-      table[h] = patch::Slot{0, 0, 0};
-      if (sl.net == 0) continue;
-      if (sl.net > 1 || sl.net < -1) ok = false;
-      const uint32_t lo = sl.lo, hi = sl.hi;
-      (void)sides.push_back(sl.net > 0 ? uint64_t(lo) << 32 | hi : uint64_t(hi) << 32 | lo);  // reserved
+    for (size_t i = 0; i < sums.nFilled; ++i) {
+      const int32_t net = sums.net[sums.filled[i]];
+      if (net > 1 || net < -1) ok = false;  // a side in both: not a chain
     }
+    // The sides left, in order: a merge of a's and b's (no side is in both now).
+    sides.clear(), byDest.clear(), owner.clear(), into.clear();
+    size_t i = 0, j = 0;
+    while (ok && (i < na || j < nb)) {
+      const bool fromA = j == nb || (i < na && a[i] < b[j]);
+      const uint64_t x = fromA ? a[i++] : b[j++];
+      uint32_t lo, hi;
+      (void)undirected(x, lo, hi);
+      const size_t h = sums.find(lo, hi);
+      if (sums.net[h] == 0) continue;
+      slotSide[h] = uint32_t(sides.size());
+      (void)sides.push_back(x);  // reserved
+      (void)owner.push_back(fromA ? 0 : 1);
+    }
+    const uint64_t *ad = a + na, *bd = b + nb;
+    i = j = 0;
+    while (ok && (i < na || j < nb)) {
+      const bool fromA = j == nb || (i < na && ad[i] < bd[j]);
+      const uint64_t x = fromA ? ad[i++] : bd[j++];
+      uint32_t lo, hi;
+      (void)undirected(x, lo, hi);
+      const size_t h = sums.find(lo, hi);
+      if (sums.net[h] == 0) continue;
+      (void)byDest.push_back(x);
+      (void)into.push_back(slotSide[h]);
+    }
+    sums.drain([](uint32_t, uint32_t, int32_t) {});
+    const size_t n = sides.size();
+    if (!ok || n < 3 || !next.resize(n) || !taken.resize(n) || !loops.reserve(n) || !loopEnd.reserve(n) ||
+        !rays.reserve(n))
+      return false;
+    // Entered as often as left: the destinations, sorted, are the origins.
+    for (size_t s = 0; s < n; ++s)
+      if (uint32_t(byDest[s] >> 32) != origin(s)) return false;
+    return true;
+  }
+
+  // From the edges in `sums`: the sides that do not cancel, into `sides` and `into`, and the
+  // checks boundary() describes. Empties `sums`.
+  bool finishBoundary() {
+    checked[0] = checked[1] = false;
+    bool ok = true;
+    sides.clear();
+    if (!sides.reserve(sums.nFilled)) {
+      sums.drain([](uint32_t, uint32_t, int32_t) {});
+      return false;
+    }
+    sums.drain([&](uint32_t lo, uint32_t hi, int32_t net) {
+      if (net == 0) return;
+      if (net > 1 || net < -1) ok = false;
+      (void)sides.push_back(net > 0 ? uint64_t(lo) << 32 | hi : uint64_t(hi) << 32 | lo);  // reserved
+    });
     const size_t nb = sides.size();
     if (!ok || nb < 3) return false;
     std::sort(sides.begin(), sides.end());
-    // Entered as often as left: the destinations, sorted, are the origins.
-    if (!order.resize(nb) || !next.resize(nb) || !taken.resize(nb) || !loops.reserve(nb) || !loopEnd.reserve(nb) ||
-        !rays.reserve(nb))
+    if (!byDest.resize(nb) || !next.resize(nb) || !taken.resize(nb) || !loops.reserve(nb) || !loopEnd.reserve(nb) ||
+        !rays.reserve(nb) || !into.resize(nb))
       return false;
-    for (size_t s = 0; s < nb; ++s) order[s] = dest(s);
-    std::sort(order.begin(), order.end());
+    for (size_t s = 0; s < nb; ++s) byDest[s] = sides[s] << 32 | sides[s] >> 32;
+    std::sort(byDest.begin(), byDest.end());
+    // Entered as often as left: the destinations, sorted, are the origins.
     for (size_t s = 0; s < nb; ++s)
-      if (order[s] != origin(s)) return false;
+      if (uint32_t(byDest[s] >> 32) != origin(s)) return false;
     // The sides by destination (ties by origin), for the corners left more than once.
-    if (!into.resize(nb)) return false;
-    for (size_t s = 0; s < nb; ++s) into[s] = uint32_t(s);
-    std::sort(into.begin(), into.end(),
-              [&](uint32_t x, uint32_t y) { return dest(x) != dest(y) ? dest(x) < dest(y) : origin(x) < origin(y); });
+    for (size_t s = 0; s < nb; ++s) {
+      const uint64_t side = byDest[s] << 32 | byDest[s] >> 32;
+      into[s] = uint32_t(std::lower_bound(sides.begin(), sides.end(), side) - sides.begin());
+    }
     return true;
+  }
+
+  // (2a) above: whether, projected along axis k, no two boundary sides meet other than in
+  // a corner they share, and no two sides leaving or entering one corner overlap. The sides
+  // go to the cells of a grid over the boundary's box (about one side a cell) that their
+  // spans cover, and a pair is tested in the one cell where the overlap of their spans
+  // begins: each pair whose spans overlap is tested once, whatever the boundary's shape (a
+  // sweep along one axis meets every pair of sides along a line across it). False too past
+  // a budget of cells and pairs (many sides in few cells): the node is then not certified.
+  bool sidesApart(int k) {
+    const size_t nb = sides.size();
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    float lo[2] = {w.p(origin(0))[i], w.p(origin(0))[j]}, hi[2] = {lo[0], lo[1]};
+    for (size_t a = 1; a < nb; ++a) {  // every corner of the boundary is an origin
+      const float* p = w.p(origin(a));
+      lo[0] = std::min(lo[0], p[i]), hi[0] = std::max(hi[0], p[i]);
+      lo[1] = std::min(lo[1], p[j]), hi[1] = std::max(hi[1], p[j]);
+    }
+    uint32_t g = 1;
+    while (g < 1024 && size_t(g) * g < nb) ++g;
+    double scale[2];
+    for (int d = 0; d < 2; ++d) scale[d] = hi[d] > lo[d] ? g / (double(hi[d]) - lo[d]) : 0;
+    // Monotone in x, so that overlapping spans share a cell.
+    auto cell = [&](float x, int d) {
+      const double q = (double(x) - lo[d]) * scale[d];
+      return q <= 0 ? 0u : q >= g - 1 ? g - 1 : uint32_t(q);
+    };
+    if (!span.resize(4 * nb) || !cellStart.assign(size_t(g) * g + 1, 0)) return false;
+    uint64_t entries = 0;
+    for (size_t a = 0; a < nb; ++a) {
+      const float *p = w.p(origin(a)), *q = w.p(dest(a));
+      uint32_t* c = &span[4 * a];
+      c[0] = cell(std::min(p[i], q[i]), 0), c[1] = cell(std::max(p[i], q[i]), 0);
+      c[2] = cell(std::min(p[j], q[j]), 1), c[3] = cell(std::max(p[j], q[j]), 1);
+      entries += uint64_t(c[1] - c[0] + 1) * (c[3] - c[2] + 1);
+      if (entries > 16 * uint64_t(nb) + 4096) return false;
+      for (uint32_t x = c[0]; x <= c[1]; ++x)
+        for (uint32_t y = c[2]; y <= c[3]; ++y) ++cellStart[size_t(x) * g + y + 1];
+    }
+    for (size_t c = 0; c < size_t(g) * g; ++c) cellStart[c + 1] += cellStart[c];
+    if (!cellItems.resize(entries) || !cellFill.resize(size_t(g) * g)) return false;
+    for (size_t c = 0; c < size_t(g) * g; ++c) cellFill[c] = cellStart[c];
+    for (size_t a = 0; a < nb; ++a) {
+      const uint32_t* c = &span[4 * a];
+      for (uint32_t x = c[0]; x <= c[1]; ++x)
+        for (uint32_t y = c[2]; y <= c[3]; ++y) cellItems[cellFill[size_t(x) * g + y]++] = uint32_t(a);
+    }
+    uint64_t budget = 64 * uint64_t(nb) + 4096;
+    for (uint32_t x = 0; x < g; ++x)
+      for (uint32_t y = 0; y < g; ++y) {
+        const uint32_t b0 = cellStart[size_t(x) * g + y], e0 = cellStart[size_t(x) * g + y + 1];
+        for (uint32_t u = b0; u < e0; ++u) {
+          const uint32_t a = cellItems[u];
+          const uint32_t* ca = &span[4 * a];
+          for (uint32_t v = u + 1; v < e0; ++v) {
+            const uint32_t b = cellItems[v];
+            const uint32_t* cb = &span[4 * b];
+            // Tested here only when this is where their spans' overlap begins.
+            if (std::max(ca[0], cb[0]) != x || std::max(ca[2], cb[2]) != y) continue;
+            if ((checked[0] || checked[1]) && owner[a] == owner[b] && checked[owner[a]]) continue;
+            if (--budget == 0) return false;
+            if (!sidesApartPair(k, a, b)) return false;
+          }
+        }
+      }
+    return true;
+  }
+
+  // Whether sides a and b, projected along k, meet only in a corner they share, without
+  // overlapping there (their spans need not overlap).
+  bool sidesApartPair(int k, uint32_t a, uint32_t b) const {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const uint32_t au = origin(a), av = dest(a), bu = origin(b), bv = dest(b);
+    const float *a0 = w.p(au), *a1 = w.p(av), *b0 = w.p(bu), *b1 = w.p(bv);
+    if (std::max(a0[i], a1[i]) < std::min(b0[i], b1[i]) || std::max(b0[i], b1[i]) < std::min(a0[i], a1[i])) return true;
+    if (std::max(a0[j], a1[j]) < std::min(b0[j], b1[j]) || std::max(b0[j], b1[j]) < std::min(a0[j], a1[j])) return true;
+    // A shared corner c, with x and y the other ends: they overlap only along one ray.
+    const uint32_t c = au == bu || au == bv ? au : av == bu || av == bv ? av : kInvalid;
+    if (c == kInvalid) return !segSeg2d(k, a0, a1, b0, b1);
+    const float* pc = w.p(c);
+    const float* px = w.p(c == au ? av : au);
+    const float* py = w.p(c == bu ? bv : bu);
+    if (orient2dIn(k, pc, px, py) != 0) return true;
+    const int m = pc[i] != px[i] ? i : j;  // c != x in projection (a side of a strict triangle)
+    return !((px[m] < pc[m]) == (py[m] < pc[m]) && py[m] != pc[m]);
   }
 
   // Whether, projected along axis k, the boundary meets (2a), (2b) and (2c) above for
   // triangles that turn the way s.
   bool certifiedIn(int k, int s) {
-    const size_t nb = sides.size();
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    for (size_t x = 0; x < nb; ++x) order[x] = uint32_t(x);
-    auto lo = [&](uint32_t a) { return std::min(w.p(origin(a))[i], w.p(dest(a))[i]); };
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return lo(a) < lo(b); });
-    for (size_t x = 0; x < nb; ++x) {
-      const uint32_t a = order[x];
-      const uint32_t au = origin(a), av = dest(a);
-      const float *a0 = w.p(au), *a1 = w.p(av);
-      const float ahi = std::max(a0[i], a1[i]), ajlo = std::min(a0[j], a1[j]), ajhi = std::max(a0[j], a1[j]);
-      for (size_t y = x + 1; y < nb; ++y) {
-        const uint32_t b = order[y];
-        const uint32_t bu = origin(b), bv = dest(b);
-        const float *b0 = w.p(bu), *b1 = w.p(bv);
-        if (std::min(b0[i], b1[i]) > ahi) break;
-        if (std::max(b0[j], b1[j]) < ajlo || std::min(b0[j], b1[j]) > ajhi) continue;
-        // A shared corner c, with x and y the other ends: they overlap only along one ray.
-        const uint32_t c = au == bu || au == bv ? au : av == bu || av == bv ? av : kInvalid;
-        if (c == kInvalid) {
-          if (segSeg2d(k, a0, a1, b0, b1)) return false;
-          continue;
-        }
-        const float* pc = w.p(c);
-        const float* px = w.p(c == au ? av : au);
-        const float* py = w.p(c == bu ? bv : bu);
-        if (orient2dIn(k, pc, px, py) != 0) continue;
-        const int m = pc[i] != px[i] ? i : j;  // c != x in projection (a side of a strict triangle)
-        if ((px[m] < pc[m]) == (py[m] < pc[m]) && py[m] != pc[m]) return false;
-      }
-    }
+    if (!sidesApart(k)) return false;
     if (!linkLoops(k, s)) return false;
     // The loops do not cross: each is a (weakly) simple polygon, and its winding number is
     // 0 or its turn t (+1 counter-clockwise) off it. The triangles' count over a point is the
@@ -1159,11 +1350,15 @@ struct PatchCertifier {
   // it is wound, so the proof above holds for that chain as it stands, and the certificate
   // says the same of the node: no two of its triangles intersect.
   bool certify(uint32_t first, uint32_t end, uint8_t common, uint8_t nonzero, const uint8_t* signs) {
+    flipped = 0;
     if (common) {
       if (!boundary(first, end)) return false;
       for (int k = 0; k < 3; ++k)
         for (int s = 1; s >= -1; s -= 2)
-          if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) return true;
+          if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) {
+            axis = k;
+            return true;
+          }
       return false;
     }
     for (int k = 0; k < 3; ++k) {
@@ -1177,8 +1372,41 @@ struct PatchCertifier {
       if (!mostlyPositive && size - negative > size / kMostlyOneWay) continue;
       const int s = mostlyPositive ? 1 : -1;
       const uint8_t flip = uint8_t(1u << (2 * k + (s > 0 ? 1 : 0)));
-      if (boundary(first, end, signs, flip) && certifiedIn(k, s)) return true;
+      if (boundary(first, end, signs, flip) && certifiedIn(k, s)) {
+        flipped = flip;
+        axis = k;
+        return true;
+      }
     }
+    return false;
+  }
+  uint8_t flipped = 0;  // after certify() returned true: the flip it used (0: none)
+
+  // Whether the union of two certified sibling nodes is certified, from their boundaries
+  // (`a`, `b`: as merge() takes them), the axis each was certified along, and the flip each
+  // was certified with (`flip`, the same for both): without a flip, along the axes and ways
+  // all its triangles turn (`common`); with one, along its axis and way (the triangles turn
+  // the other way only where that flip winds them over). Along a child's axis, the pairs of
+  // its own sides passed sidesApart when it was certified, and are not tested again.
+  bool certifyUnion(const uint64_t* a, size_t na, int axisA, const uint64_t* b, size_t nb, int axisB, uint8_t common,
+                    uint8_t flip) {
+    flipped = flip;
+    if (!merge(a, na, b, nb)) return false;
+    auto tryAxis = [&](int k, int s) {
+      checked[0] = axisA == k;
+      checked[1] = axisB == k;
+      const bool ok = certifiedIn(k, s);
+      checked[0] = checked[1] = false;
+      if (ok) axis = k;
+      return ok;
+    };
+    if (flip) {
+      const int bit = lowestBit(flip);
+      return tryAxis(bit / 2, bit & 1 ? 1 : -1);
+    }
+    for (int k = 0; k < 3; ++k)
+      for (int s = 1; s >= -1; s -= 2)
+        if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && tryAxis(k, s)) return true;
     return false;
   }
   // The wound-over certificate is tried when at most 1/kMostlyOneWay of a node's triangles
@@ -1188,7 +1416,10 @@ struct PatchCertifier {
 
 std::atomic<uint64_t> gPatchPositions{0};
 std::atomic<bool> gPatchesOff{false};
-std::atomic<uint32_t> gPatchMinimum{0};  // 0: patch::kMinPatch
+std::atomic<uint32_t> gPatchMinimum{0};   // 0: patch::kMinPatch
+std::atomic<uint32_t> gPatchTaskSize{0};  // 0: patch::kMaxPatch
+std::atomic<uint64_t> gPatchUnions{0};
+std::atomic<bool> gPatchUnionsOff{false};
 
 // Per node: 1 when no two of its triangles intersect (the certificate above); `signs`: per
 // sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes.
@@ -1203,6 +1434,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   if (!free.assign(nn, 0)) return oom("the patch certificates");
   if (nn == 0 || gPatchesOff.load(std::memory_order_relaxed)) return {};
   const uint32_t minPatch = gPatchMinimum.load(std::memory_order_relaxed) ? gPatchMinimum.load() : patch::kMinPatch;
+  const uint32_t maxPatch = gPatchTaskSize.load(std::memory_order_relaxed) ? gPatchTaskSize.load() : patch::kMaxPatch;
   Array<uint32_t> tasks;  // subtree roots
   {
     uint32_t todo[128];
@@ -1212,7 +1444,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
       const uint32_t id = todo[--sp];
       const Node& nd = bvh.nodes[id];
       if (nd.end - nd.first < minPatch) continue;
-      if (nd.end - nd.first <= patch::kMaxPatch) {
+      if (nd.end - nd.first <= maxPatch || !nd.right) {
         if (!tasks.push_back(id)) return oom("the patch certificates");
       } else {
         todo[sp++] = nd.right;
@@ -1228,7 +1460,22 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   std::atomic<uint32_t> next{0};
   std::atomic<uint64_t> certified{0};
-  detail::runParts(parts, [&](unsigned) {
+  // Per part: the boundaries of the nodes it certified, for the unions above the tasks.
+  struct Kept {
+    uint32_t node;
+    uint8_t flip;
+    int8_t axis;
+    size_t first, count;  // its sides in the part's `keptSides`, then as many by destination
+  };
+  Array<Kept> kept[detail::kMaxThreads];
+  Array<uint64_t> keptSides[detail::kMaxThreads];
+  auto keep = [](const PatchCertifier& pc, uint32_t id, Array<Kept>& k, Array<uint64_t>& ks) {
+    const size_t at = ks.size(), n = pc.sides.size();
+    if (!ks.reserve(at + 2 * n) || !k.push_back(Kept{id, pc.flipped, int8_t(pc.axis), at, n})) return;
+    for (uint64_t x : pc.sides) (void)ks.push_back(x);   // reserved
+    for (uint64_t x : pc.byDest) (void)ks.push_back(x);  // reserved
+  };
+  detail::runParts(parts, [&](unsigned part) {
     PatchCertifier pc(w, corner);
     for (;;) {
       const uint32_t t = next.fetch_add(1, std::memory_order_relaxed);
@@ -1266,6 +1513,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
              pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
           free[id] = 1;
           pc.certifiedPositions += nd.end - nd.first;
+          keep(pc, id, kept[part], keptSides[part]);
           continue;
         }
         if (nd.right) {
@@ -1278,6 +1526,39 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   });
   inPatches = certified.load();
   gPatchPositions.fetch_add(inPatches, std::memory_order_relaxed);
+  // Above the tasks, bottom up: a node whose two children are certified (with the same flip)
+  // is tried as their union, from their boundaries, so that the join skips the pairs
+  // between them too. A clean mesh's tasks then join into patches of a large part of a
+  // shell (the 1M-triangle torus: 8 of 131,072 positions). The children stay certified;
+  // their positions are counted once.
+  if (gPatchUnionsOff.load(std::memory_order_relaxed)) return {};
+  Array<uint32_t> at;  // per node: its entry in `kept` (part << 24 | index), or kInvalid
+  if (!at.assign(nn, kInvalid)) return {};  // only the unions are lost
+  for (unsigned part = 0; part < parts; ++part)
+    for (size_t i = 0; i < kept[part].size() && i < (1u << 24); ++i)
+      at[kept[part][i].node] = uint32_t(part) << 24 | uint32_t(i);
+  PatchCertifier pc(w, corner);
+  Array<Kept>& mine = kept[0];  // the unions' boundaries go to part 0's lists
+  Array<uint64_t>& mineSides = keptSides[0];
+  for (uint32_t id = nn; id-- > 0;) {
+    const Node& nd = bvh.nodes[id];
+    if (!nd.right || nd.end - nd.first <= maxPatch) continue;  // a leaf, or in a task
+    const uint32_t l = at[id + 1], r = at[nd.right];
+    if (l == kInvalid || r == kInvalid) continue;
+    const Kept &kl = kept[l >> 24][l & 0xffffff], &kr = kept[r >> 24][r & 0xffffff];
+    if (kl.flip != kr.flip) continue;
+    nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
+    if (!kl.flip && !nodeSigns[id]) continue;
+    if (!pc.certifyUnion(keptSides[l >> 24].data() + kl.first, kl.count, kl.axis, keptSides[r >> 24].data() + kr.first,
+                         kr.count, kr.axis, nodeSigns[id], kl.flip))
+      continue;
+    free[id] = 1;
+    gPatchUnions.fetch_add(1, std::memory_order_relaxed);
+    if (mine.size() >= (1u << 24)) continue;
+    const uint32_t index = uint32_t(mine.size());
+    keep(pc, id, mine, mineSides);
+    if (mine.size() > index) at[id] = index;  // part 0
+  }
   return {};
 }
 }  // namespace
@@ -1310,6 +1591,11 @@ void geometry_detail::setPatchCertificatesForTesting(bool on) { gPatchesOff.stor
 void geometry_detail::setPatchMinimumForTesting(uint32_t positions) {
   gPatchMinimum.store(positions, std::memory_order_relaxed);
 }
+void geometry_detail::setPatchTaskSizeForTesting(uint32_t positions) {
+  gPatchTaskSize.store(positions, std::memory_order_relaxed);
+}
+uint64_t geometry_detail::patchUnionsForTesting() { return gPatchUnions.load(std::memory_order_relaxed); }
+void geometry_detail::setPatchUnionsForTesting(bool on) { gPatchUnionsOff.store(!on, std::memory_order_relaxed); }
 
 namespace {
 

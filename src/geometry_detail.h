@@ -78,6 +78,12 @@ void setPatchCertificatesForTesting(bool on);
 // The smallest node the patch certificates try (0: the default, 64 positions); tests set 2
 // so that small meshes exercise them.
 void setPatchMinimumForTesting(uint32_t positions);
+// The largest node tried from its triangles (0: the default, 8192 positions); above it, nodes
+// are tried as unions of certified children. Tests set a few so that small meshes exercise
+// the unions; the unions certified so far; and a switch that turns the unions off.
+void setPatchTaskSizeForTesting(uint32_t positions);
+uint64_t patchUnionsForTesting();
+void setPatchUnionsForTesting(bool on);
 
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||

@@ -730,6 +730,12 @@ struct PatchMinimum {
   explicit PatchMinimum(uint32_t n) { stltopo::geometry_detail::setPatchMinimumForTesting(n); }
   ~PatchMinimum() { stltopo::geometry_detail::setPatchMinimumForTesting(0); }
 };
+// The largest node tried from its triangles; larger ones are tried as unions of certified
+// children (0: the default).
+struct PatchTaskSize {
+  explicit PatchTaskSize(uint32_t n) { stltopo::geometry_detail::setPatchTaskSizeForTesting(n); }
+  ~PatchTaskSize() { stltopo::geometry_detail::setPatchTaskSizeForTesting(0); }
+};
 
 // A height field over a g x g grid of points 3 apart (z random in [0, zr]), each cell cut by
 // a random diagonal, every triangle counter-clockwise seen from above.
@@ -772,6 +778,27 @@ TEST(Geometry, PatchCertificatesCoverAHeightField) {
   analyze(gen::torus(128, 32), torus);
   EXPECT_EQ(torus.geo.intersections.nPairs(), 0u);
   EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before2, uint64_t(torus.mesh.nTriangles()));
+}
+
+// A clean torus of 32,768 triangles: four tasks of 8192 positions, each certified, and two
+// unions above them (each half of the torus along its axis projects once; the whole torus
+// does not), so that the join no longer tests the pairs between the quarters of a half.
+TEST(Geometry, PatchUnionsCoverACleanTorus) {
+  const auto soup = gen::torus(256, 64);
+  uint64_t work[2];
+  for (int unions = 0; unions < 2; ++unions) {
+    stltopo::geometry_detail::setPatchUnionsForTesting(unions == 1);
+    const uint64_t positions0 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+    const uint64_t unions0 = stltopo::geometry_detail::patchUnionsForTesting();
+    Result r;
+    analyze(soup, r);
+    EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
+    EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - positions0,
+              uint64_t(r.mesh.nTriangles()));
+    work[unions] = r.geo.intersections.work;
+    EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions0, unions ? 2u : 0u);
+  }
+  EXPECT_LT(work[1], work[0]);
 }
 
 // Nodes that must not be certified, each hiding pairs inside one node: a sheet crossing a
@@ -830,13 +857,17 @@ TEST(Geometry, PatchCertificatesRefuseNodesThatOverlap) {
     for (size_t i = field; i < t.size(); ++i) std::swap(t[i][1], t[i][2]);
     cases.push_back({"wound the other way", t});
   }
-  for (auto& [name, t] : cases) {
-    Brute want = brute(t);
-    ASSERT_FALSE(want.pairs.empty()) << name << ": the case must have pairs";
-    Passed run;
-    runPass(t, run);
-    ASSERT_TRUE(run.ok) << name;
-    EXPECT_EQ(run.pairs, want.pairs) << name;
+  // With every node of more than 4 positions tried only as a union of its children.
+  for (uint32_t taskSize : {0u, 4u}) {
+    PatchTaskSize tasks(taskSize);
+    for (auto& [name, t] : cases) {
+      Brute want = brute(t);
+      ASSERT_FALSE(want.pairs.empty()) << name << ": the case must have pairs";
+      Passed run;
+      runPass(t, run);
+      ASSERT_TRUE(run.ok) << name;
+      EXPECT_EQ(run.pairs, want.pairs) << name << ", tasks of " << taskSize;
+    }
   }
 }
 
@@ -855,10 +886,13 @@ TEST(Geometry, PatchCertificatesCoverAFieldWithFlippedTriangles) {
 // Random height fields, damaged (corners dragged across the field, triangles flipped or
 // removed, stray triangles added), against the integer brute force, with every node of two
 // or more positions tried: the certificates never hide a pair.
-TEST(Geometry, PatchCertificatesAgainstIntegerBruteForce) {
+// The same with the nodes of more than 8 positions tried only as unions of their children:
+// the unions never hide a pair either.
+void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
   PatchMinimum small(2);
-  std::mt19937 rng(2026);
-  int withPairs = 0, certifiedRounds = 0, rounds = 0;
+  PatchTaskSize tasks(taskSize);
+  std::mt19937 rng(2026 + taskSize);
+  int withPairs = 0, certifiedRounds = 0, rounds = 0, unionRounds = 0;
   for (int round = 0; round < 1500; ++round) {
     const int g = 3 + int(rng() % 5);
     auto t = heightField(rng, g, int(rng() % 4));
@@ -886,17 +920,22 @@ TEST(Geometry, PatchCertificatesAgainstIntegerBruteForce) {
     }
     Brute want = brute(t);
     const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+    const uint64_t unionsBefore = stltopo::geometry_detail::patchUnionsForTesting();
     Passed run;
     runPass(t, run);
     ASSERT_TRUE(run.ok) << "round " << round;
-    ASSERT_EQ(run.pairs, want.pairs) << "round " << round;
+    ASSERT_EQ(run.pairs, want.pairs) << "round " << round << ", tasks of " << taskSize;
     certifiedRounds += stltopo::geometry_detail::patchCertifiedPositionsForTesting() > before;
+    unionRounds += stltopo::geometry_detail::patchUnionsForTesting() > unionsBefore;
     withPairs += !want.pairs.empty();
     ++rounds;
   }
   EXPECT_GT(certifiedRounds, rounds / 4);
   EXPECT_GT(withPairs, rounds / 4);
+  if (taskSize) EXPECT_GT(unionRounds, rounds / 4);
 }
+TEST(Geometry, PatchCertificatesAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(0); }
+TEST(Geometry, PatchUnionsAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(8); }
 
 // Every fixture, and a torus, as read and with corners dragged at random (folds and
 // crossings inside what would be patches), with the patches tried at their usual sizes:
