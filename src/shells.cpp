@@ -212,12 +212,17 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
     S.area += fig.area;
     S.volume += fig.volume;
-    // The triangle's box first, then the shell's: std::min and std::max keep the first of
-    // equal values, so the result is the one corner by corner would give (down to the sign
-    // of a zero).
+    // The triangle's box first, then the shell's, on values (std::min and std::max on
+    // references keep the box in memory): each keeps the first of equal values, as they do,
+    // so the result is the one corner by corner would give (down to the sign of a zero).
     for (int k = 0; k < 3; ++k) {
-      S.bboxMin[k] = std::min(S.bboxMin[k], std::min(std::min(A[k], B[k]), C[k]));
-      S.bboxMax[k] = std::max(S.bboxMax[k], std::max(std::max(A[k], B[k]), C[k]));
+      const float a = A[k], b = B[k], c = C[k];
+      float lo = b < a ? b : a, hi = a < b ? b : a;
+      lo = c < lo ? c : lo;
+      hi = hi < c ? c : hi;
+      const float smin = S.bboxMin[k], smax = S.bboxMax[k];
+      S.bboxMin[k] = lo < smin ? lo : smin;
+      S.bboxMax[k] = smax < hi ? hi : smax;
     }
     for (int c = 0; c < 3; ++c) {
       uint32_t v = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
