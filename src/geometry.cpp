@@ -940,15 +940,19 @@ struct EdgeSums {
     nFilled = 0;
     return true;
   }
-  void add(uint32_t lo, uint32_t hi, int32_t d) {
+  void add(uint32_t lo, uint32_t hi, int32_t d) { nFilled = add(key.data(), net.data(), filled.data(), mask, nFilled, lo, hi, d); }
+  // The same on the arrays, for a loop that keeps them and the count in registers (a store
+  // through key.data() could be a store to nFilled, as far as the compiler knows).
+  static size_t add(uint64_t* key, int32_t* net, uint32_t* filled, size_t mask, size_t nFilled, uint32_t lo,
+                    uint32_t hi, int32_t d) {
     const uint64_t k = uint64_t(lo) << 32 | hi;
     size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-    while (key[h] != 0 && key[h] != k) h = (h + 1) & mask;
-    const size_t fresh = key[h] == 0;
+    uint64_t x = key[h];
+    while (x != 0 && x != k) h = (h + 1) & mask, x = key[h];
     key[h] = k;
-    filled[nFilled] = uint32_t(h);  // kept when fresh
-    nFilled += fresh;
+    filled[nFilled] = uint32_t(h);  // kept when the slot was empty
     net[h] += d;
+    return nFilled + (x == 0);
   }
   // The slot of edge (lo, hi), which was added.
   size_t find(uint32_t lo, uint32_t hi) const {
@@ -1015,16 +1019,22 @@ struct PatchCertifier {
     // one table's.
     partial.clear();
     if (!small.prepare(3 * size_t(patch::kChunk)) || !partial.reserve(3 * size_t(end - first))) return false;
+    uint64_t* key = small.key.data();
+    int32_t* net = small.net.data();
+    uint32_t* filled = small.filled.data();
+    const size_t mask = small.mask;
     for (uint32_t c = first; c < end; c += patch::kChunk) {
       const uint32_t ce = std::min(end, c + patch::kChunk);
+      size_t nFilled = 0;
       for (uint32_t q = c; q < ce; ++q) {
         const uint32_t* cq = &corner[3 * size_t(q)];
         const int32_t dir = signs && (signs[q] & flip) ? -1 : 1;
         for (int i = 0; i < 3; ++i) {
           const uint32_t u = cq[i], v = cq[(i + 1) % 3];
-          small.add(std::min(u, v), std::max(u, v), u < v ? dir : -dir);
+          nFilled = EdgeSums::add(key, net, filled, mask, nFilled, std::min(u, v), std::max(u, v), u < v ? dir : -dir);
         }
       }
+      small.nFilled = nFilled;
       small.drain([&](uint32_t lo, uint32_t hi, int32_t net) {
         if (net != 0) (void)partial.push_back(patch::Slot{lo, hi, net});  // reserved
       });
