@@ -1490,8 +1490,9 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
     int8_t axis;
     size_t first, count;  // its sides in the part's `keptSides`, then as many by destination
   };
-  Array<Kept> kept[detail::kMaxThreads];
-  Array<uint64_t> keptSides[detail::kMaxThreads];
+  // The tasks' in [part], the unions' in [kMaxThreads + part].
+  Array<Kept> kept[2 * detail::kMaxThreads];
+  Array<uint64_t> keptSides[2 * detail::kMaxThreads];
   auto keep = [](const PatchCertifier& pc, uint32_t id, Array<Kept>& k, Array<uint64_t>& ks) {
     const size_t at = ks.size(), n = pc.sides.size();
     if (!ks.reserve(at + 2 * n) || !k.push_back(Kept{id, pc.flipped, int8_t(pc.axis), at, n})) return;
@@ -1555,33 +1556,69 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   // shell (the 1M-triangle torus: 8 of 131,072 positions). The children stay certified;
   // their positions are counted once.
   if (gPatchUnionsOff.load(std::memory_order_relaxed)) return {};
-  Array<uint32_t> at;  // per node: its entry in `kept` (part << 24 | index), or kInvalid
+  Array<uint32_t> at;  // per node: its entry in `kept` (list << 24 | index), or kInvalid
   if (!at.assign(nn, kInvalid)) return {};  // only the unions are lost
   for (unsigned part = 0; part < parts; ++part)
     for (size_t i = 0; i < kept[part].size() && i < (1u << 24); ++i)
       at[kept[part][i].node] = uint32_t(part) << 24 | uint32_t(i);
-  PatchCertifier pc(w, corner);
-  Array<Kept>& mine = kept[0];  // the unions' boundaries go to part 0's lists
-  Array<uint64_t>& mineSides = keptSides[0];
-  for (uint32_t id = nn; id-- > 0;) {
+  // Node id as the union of its children, when both are certified; its boundary goes to list
+  // kMaxThreads + part. Reads only its children's entries.
+  auto tryUnion = [&](PatchCertifier& pc, uint32_t id, unsigned part) {
     const Node& nd = bvh.nodes[id];
-    if (!nd.right || nd.end - nd.first <= maxPatch) continue;  // a leaf, or in a task
+    if (!nd.right || nd.end - nd.first <= maxPatch) return;  // a leaf, or in a task
     const uint32_t l = at[id + 1], r = at[nd.right];
-    if (l == kInvalid || r == kInvalid) continue;
+    if (l == kInvalid || r == kInvalid) return;
     const Kept &kl = kept[l >> 24][l & 0xffffff], &kr = kept[r >> 24][r & 0xffffff];
-    if (kl.flip != kr.flip) continue;
+    if (kl.flip != kr.flip) return;
     nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
-    if (!kl.flip && !nodeSigns[id]) continue;
+    if (!kl.flip && !nodeSigns[id]) return;
     if (!pc.certifyUnion(keptSides[l >> 24].data() + kl.first, kl.count, kl.axis, keptSides[r >> 24].data() + kr.first,
                          kr.count, kr.axis, nodeSigns[id], kl.flip))
-      continue;
+      return;
     free[id] = 1;
     gPatchUnions.fetch_add(1, std::memory_order_relaxed);
-    if (mine.size() >= (1u << 24)) continue;
-    const uint32_t index = uint32_t(mine.size());
-    keep(pc, id, mine, mineSides);
-    if (mine.size() > index) at[id] = index;  // part 0
+    const unsigned list = detail::kMaxThreads + part;
+    const uint32_t index = uint32_t(kept[list].size());
+    if (index >= (1u << 24)) return;
+    keep(pc, id, kept[list], keptSides[list]);
+    if (kept[list].size() > index) at[id] = uint32_t(list) << 24 | index;
+  };
+  // The subtrees of at most `most` positions above the tasks are independent: the parts take
+  // them in turn, each bottom up; then this thread the nodes above them. Each union depends
+  // only on its children, so the result is the same on any number of threads.
+  const uint32_t most = std::max(2 * maxPatch, n / (4 * parts));
+  Array<uint32_t> subtrees;
+  {
+    uint32_t todo[128];
+    int sp = 0;
+    todo[sp++] = 0;
+    while (sp > 0) {
+      const uint32_t id = todo[--sp];
+      const Node& nd = bvh.nodes[id];
+      if (!nd.right || nd.end - nd.first <= maxPatch) continue;
+      if (nd.end - nd.first <= most) {
+        if (!subtrees.push_back(id)) return {};
+      } else {
+        todo[sp++] = nd.right;
+        todo[sp++] = id + 1;
+      }
+    }
   }
+  std::atomic<uint32_t> nextSubtree{0};
+  detail::runParts(parts, [&](unsigned part) {
+    PatchCertifier pc(w, corner);
+    for (;;) {
+      const uint32_t t = nextSubtree.fetch_add(1, std::memory_order_relaxed);
+      if (t >= subtrees.size()) break;
+      const uint32_t root = subtrees[t];
+      const Node& top = bvh.nodes[root];
+      const uint32_t nodes = 2 * ((top.end - top.first + kLeaf - 1) / kLeaf) - 1;  // a subtree's ids follow its root
+      for (uint32_t id = root + nodes; id-- > root;) tryUnion(pc, id, part);
+    }
+  });
+  PatchCertifier pc(w, corner);
+  for (uint32_t id = nn; id-- > 0;)
+    if (bvh.nodes[id].end - bvh.nodes[id].first > most) tryUnion(pc, id, 0);
   return {};
 }
 }  // namespace

@@ -373,7 +373,7 @@ struct Passed {
   stltopo::TriangleChecks checks;
   std::set<std::tuple<uint32_t, uint32_t, std::string>> pairs;
 };
-void runPass(const std::vector<std::array<P, 3>>& t, Passed& out) {
+void runPass(const std::vector<std::array<P, 3>>& t, Passed& out, unsigned threads = 1) {
   Soup soup;
   for (const auto& x : t) {
     uint32_t b = uint32_t(soup.v.size());
@@ -385,7 +385,9 @@ void runPass(const std::vector<std::array<P, 3>>& t, Passed& out) {
   ASSERT_TRUE(stltopo::buildTopology(out.mesh, topo).ok());
   ASSERT_TRUE(stltopo::checkTriangles(out.mesh, &topo, out.checks).ok());
   stltopo::Intersections x;
-  ASSERT_TRUE(stltopo::findIntersections(out.mesh, topo, out.checks, x).ok());
+  stltopo::IntersectionOptions o;
+  o.threads = threads;
+  ASSERT_TRUE(stltopo::findIntersections(out.mesh, topo, out.checks, x, o).ok());
   for (size_t i = 0; i < x.nPairs(); ++i)
     out.pairs.insert(
         {x.pairs[2 * i], x.pairs[2 * i + 1], stltopo::intersectionKindName(stltopo::IntersectionKind(x.kinds[i]))});
@@ -799,6 +801,18 @@ TEST(Geometry, PatchUnionsCoverACleanTorus) {
     EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions0, unions ? 2u : 0u);
   }
   EXPECT_LT(work[1], work[0]);
+  // On 4 threads, with the parts split down to single items (so that the unions below the top
+  // run on several threads): the same unions and the same work.
+  stltopo::setParallelGrainForTesting(1);
+  const uint64_t unions1 = stltopo::geometry_detail::patchUnionsForTesting();
+  stltopo::IntersectionOptions o;
+  o.threads = 4;
+  Result r;
+  analyze(soup, r, o);
+  stltopo::setParallelGrainForTesting(0);
+  EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions1, 2u);
+  EXPECT_EQ(r.geo.intersections.work, work[1]);
 }
 
 // Nodes that must not be certified, each hiding pairs inside one node: a sheet crossing a
@@ -886,11 +900,13 @@ TEST(Geometry, PatchCertificatesCoverAFieldWithFlippedTriangles) {
 // Random height fields, damaged (corners dragged across the field, triangles flipped or
 // removed, stray triangles added), against the integer brute force, with every node of two
 // or more positions tried: the certificates never hide a pair.
-// The same with the nodes of more than 8 positions tried only as unions of their children:
-// the unions never hide a pair either.
+// The same with the nodes of more than 8 positions tried only as unions of their children,
+// every other round on 3 threads with the parts split down to single items: the unions never
+// hide a pair either.
 void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
   PatchMinimum small(2);
   PatchTaskSize tasks(taskSize);
+  stltopo::setParallelGrainForTesting(taskSize ? 1 : 0);
   std::mt19937 rng(2026 + taskSize);
   int withPairs = 0, certifiedRounds = 0, rounds = 0, unionRounds = 0;
   for (int round = 0; round < 1500; ++round) {
@@ -922,7 +938,7 @@ void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
     const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
     const uint64_t unionsBefore = stltopo::geometry_detail::patchUnionsForTesting();
     Passed run;
-    runPass(t, run);
+    runPass(t, run, taskSize && round % 2 ? 3 : 1);
     ASSERT_TRUE(run.ok) << "round " << round;
     ASSERT_EQ(run.pairs, want.pairs) << "round " << round << ", tasks of " << taskSize;
     certifiedRounds += stltopo::geometry_detail::patchCertifiedPositionsForTesting() > before;
@@ -930,6 +946,7 @@ void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
     withPairs += !want.pairs.empty();
     ++rounds;
   }
+  stltopo::setParallelGrainForTesting(0);
   EXPECT_GT(certifiedRounds, rounds / 4);
   EXPECT_GT(withPairs, rounds / 4);
   if (taskSize) EXPECT_GT(unionRounds, rounds / 4);
