@@ -18,6 +18,7 @@ const BIN = {
   cli: path.join(BUILD, 'stltopo'),
   procstat: path.join(BUILD, 'bench/procstat'),
   genmesh: path.join(BUILD, 'bench/genmesh'),
+  stages: path.join(BUILD, 'bench/stltopo_stages'),
   // bench/CMakeLists.txt builds it into bench/judge, unless the tests (STLTOPO_BUILD_TESTS)
   // defined the target first, in tests/judge.
   cgal: ['bench/judge', 'tests/judge'].map((d) => path.join(BUILD, d, 'stltopo_cgal_pmp')).find((f) => fs.existsSync(f))
@@ -92,6 +93,13 @@ for (const c of cases) {
   const passWasm = m('npm intersections') - m('npm info');
   const threaded = CORES > 1;
   const passThreads = threaded ? m('intersections threads') - m('info threads') : null;
+  // The pass alone in process, as CGAL's figure is its search alone: stltopo_stages times
+  // findIntersections on one thread (median of opt.reps after a warm-up; CGAL's is one call).
+  let passInProcess = null;
+  if (fs.existsSync(BIN.stages)) {
+    const st = spawnSync(BIN.stages, [c.file, '--intersections', '1', String(Math.max(3, opt.reps))], { encoding: 'utf8' });
+    if (st.status === 0) passInProcess = JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs;
+  }
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
@@ -101,6 +109,8 @@ for (const c of cases) {
     cgalSearchMs: haveCgal ? m('cgal', 'searchMs') : null, cgalWallMs: haveCgal ? m('cgal') : null,
     cgalPairs: haveCgal ? runs.cgal[0].pairs : null,
     cgalToStltopoPass: haveCgal ? m('cgal', 'searchMs') / passNative : null,
+    passInProcessMs: passInProcess,
+    cgalToStltopoPassInProcess: haveCgal && passInProcess ? m('cgal', 'searchMs') / passInProcess : null,
     threads: threaded ? CORES : null,
     infoThreadsMs: threaded ? m('info threads') : null,
     intersectionsThreadsMs: threaded ? m('intersections threads') : null,
@@ -117,12 +127,13 @@ fs.mkdirSync(path.dirname(opt.out), { recursive: true });
 fs.writeFileSync(opt.out, JSON.stringify({ date: new Date().toISOString(), reps: opt.reps, results }, null, 1));
 const f1 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(1));
 const f2 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(2));
-console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass |');
-console.log('|---|---|---|---|---|---|---|---|---|---|');
+console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass | pass in process ms | CGAL/pass in process |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
 const table2 = [];
 for (const r of results) {
   console.log(`| ${r.case} | ${f1(r.infoMs)} | ${f1(r.intersectionsMs)} | ${f2(r.ratioToInfo)} | ${f1(r.passNativeMs)} | ${f1(r.passWasmMs)} | ` +
-    `${f2(r.wasmToNative)} | ${f1(r.extraBytesPerTriangle)} | ${f1(r.cgalSearchMs)} | ${f2(r.cgalToStltopoPass)} |`);
+    `${f2(r.wasmToNative)} | ${f1(r.extraBytesPerTriangle)} | ${f1(r.cgalSearchMs)} | ${f2(r.cgalToStltopoPass)} | ` +
+    `${f1(r.passInProcessMs)} | ${f2(r.cgalToStltopoPassInProcess)} |`);
   if (r.threads) {
     table2.push(`| ${r.case} | ${r.threads} | ${f1(r.infoThreadsMs)} | ${f1(r.intersectionsThreadsMs)} | ${f2(r.ratioThreadsToInfo)} | ` +
       `${f2(r.ratioThreadsToInfoThreads)} | ${f1(r.passThreadsMs)} | ${f2(r.cgalToStltopoPassThreads)} |`);
