@@ -1014,7 +1014,6 @@ struct PatchCertifier {
   Array<uint32_t> cellStart;  // per cell: its first entry in cellItems, and one past the last
   Array<uint32_t> cellFill;
   Array<uint32_t> cellItems;  // per cell: the sides whose spans cover it
-  uint64_t certifiedPositions = 0;
 
   uint32_t origin(size_t s) const { return uint32_t(sides[s] >> 32); }
   uint32_t dest(size_t s) const { return uint32_t(sides[s]); }
@@ -1083,32 +1082,28 @@ struct PatchCertifier {
       const int32_t net = sums.net[sums.filled[i]];
       if (net > 1 || net < -1) ok = false;  // a side in both: not a chain
     }
-    // The sides left, in order: a merge of a's and b's (no side is in both now).
+    // The sides left, in order: a merge of a's and b's (no side is in both now), and the same
+    // by destination. f(side, from a, its edge's slot) for each.
+    auto mergeLeft = [&](const uint64_t* x, const uint64_t* y, auto&& f) {
+      for (size_t i = 0, j = 0; ok && (i < na || j < nb);) {
+        const bool fromA = j == nb || (i < na && x[i] < y[j]);
+        const uint64_t side = fromA ? x[i++] : y[j++];
+        uint32_t lo, hi;
+        (void)undirected(side, lo, hi);
+        const size_t h = sums.find(lo, hi);
+        if (sums.net[h] != 0) f(side, fromA, h);
+      }
+    };
     sides.clear(), byDest.clear(), owner.clear(), into.clear();
-    size_t i = 0, j = 0;
-    while (ok && (i < na || j < nb)) {
-      const bool fromA = j == nb || (i < na && a[i] < b[j]);
-      const uint64_t x = fromA ? a[i++] : b[j++];
-      uint32_t lo, hi;
-      (void)undirected(x, lo, hi);
-      const size_t h = sums.find(lo, hi);
-      if (sums.net[h] == 0) continue;
+    mergeLeft(a, b, [&](uint64_t side, bool fromA, size_t h) {
       slotSide[h] = uint32_t(sides.size());
-      (void)sides.push_back(x);  // reserved
+      (void)sides.push_back(side);  // reserved
       (void)owner.push_back(fromA ? 0 : 1);
-    }
-    const uint64_t *ad = a + na, *bd = b + nb;
-    i = j = 0;
-    while (ok && (i < na || j < nb)) {
-      const bool fromA = j == nb || (i < na && ad[i] < bd[j]);
-      const uint64_t x = fromA ? ad[i++] : bd[j++];
-      uint32_t lo, hi;
-      (void)undirected(x, lo, hi);
-      const size_t h = sums.find(lo, hi);
-      if (sums.net[h] == 0) continue;
-      (void)byDest.push_back(x);
+    });
+    mergeLeft(a + na, b + nb, [&](uint64_t side, bool, size_t h) {
+      (void)byDest.push_back(side);  // reserved
       (void)into.push_back(slotSide[h]);
-    }
+    });
     sums.drain([](uint32_t, uint32_t, int32_t) {});
     const size_t n = sides.size();
     if (!ok || n < 3 || !next.resize(n) || !taken.resize(n) || !loops.reserve(n) || !loopEnd.reserve(n) ||
@@ -1444,6 +1439,45 @@ std::atomic<uint32_t> gPatchTaskSize{0};  // 0: patch::kMaxPatch
 std::atomic<uint64_t> gPatchUnions{0};
 std::atomic<bool> gPatchUnionsOff{false};
 
+// The roots of the subtrees that certifyPatches hands out: from the root down, a node
+// skip(node) rules out is passed over, and a node of at most `most` positions (or a leaf) is a
+// root; larger ones are split. False when out of memory.
+template <class Skip>
+bool subtreeRoots(const Bvh& bvh, uint32_t most, Skip&& skip, Array<uint32_t>& roots) {
+  uint32_t todo[128];
+  int sp = 0;
+  todo[sp++] = 0;
+  while (sp > 0) {
+    const uint32_t id = todo[--sp];
+    const Node& nd = bvh.nodes[id];
+    if (skip(nd)) continue;
+    if (nd.end - nd.first <= most || !nd.right) {
+      if (!roots.push_back(id)) return false;
+    } else {
+      todo[sp++] = nd.right;
+      todo[sp++] = id + 1;
+    }
+  }
+  return true;
+}
+
+// f(certifier, part, root, nodes) for each of `roots` (a subtree's node ids are root to
+// root + nodes - 1), the parts taking them in turn, each with a certifier of its own.
+template <class F>
+void eachSubtree(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, unsigned parts,
+                 const Array<uint32_t>& roots, F&& f) {
+  std::atomic<uint32_t> next{0};
+  detail::runParts(parts, [&](unsigned part) {
+    PatchCertifier pc(w, corner);
+    for (;;) {
+      const uint32_t t = next.fetch_add(1, std::memory_order_relaxed);
+      if (t >= roots.size()) break;
+      const Node& top = bvh.nodes[roots[t]];
+      f(pc, part, roots[t], 2 * ((top.end - top.first + kLeaf - 1) / kLeaf) - 1);
+    }
+  });
+}
+
 // Per node: 1 when no two of its triangles intersect (the certificate above); `signs`: per
 // sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes.
 // The nodes of at most kMaxPatch positions below larger ones are independent tasks: each
@@ -1459,29 +1493,14 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   const uint32_t minPatch = gPatchMinimum.load(std::memory_order_relaxed) ? gPatchMinimum.load() : patch::kMinPatch;
   const uint32_t maxPatch = gPatchTaskSize.load(std::memory_order_relaxed) ? gPatchTaskSize.load() : patch::kMaxPatch;
   Array<uint32_t> tasks;  // subtree roots
-  {
-    uint32_t todo[128];
-    int sp = 0;
-    todo[sp++] = 0;
-    while (sp > 0) {
-      const uint32_t id = todo[--sp];
-      const Node& nd = bvh.nodes[id];
-      if (nd.end - nd.first < minPatch) continue;
-      if (nd.end - nd.first <= maxPatch || !nd.right) {
-        if (!tasks.push_back(id)) return oom("the patch certificates");
-      } else {
-        todo[sp++] = nd.right;
-        todo[sp++] = id + 1;
-      }
-    }
-  }
+  if (!subtreeRoots(bvh, maxPatch, [&](const Node& nd) { return nd.end - nd.first < minPatch; }, tasks))
+    return oom("the patch certificates");
   // Per node: the sign bits common to its triangles, and bit k when none has a zero normal
   // coordinate k.
   Array<uint8_t> nodeSigns, nodeNonzero;
   if (!nodeSigns.resize(nn) || !nodeNonzero.resize(nn)) return oom("the patch certificates");
   const uint32_t n = bvh.nodes[0].end;
   const unsigned parts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
-  std::atomic<uint32_t> next{0};
   std::atomic<uint64_t> certified{0};
   // Per part: the boundaries of the nodes it certified, for the unions above the tasks.
   struct Kept {
@@ -1499,54 +1518,47 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
     for (uint64_t x : pc.sides) (void)ks.push_back(x);   // reserved
     for (uint64_t x : pc.byDest) (void)ks.push_back(x);  // reserved
   };
-  detail::runParts(parts, [&](unsigned part) {
-    PatchCertifier pc(w, corner);
-    for (;;) {
-      const uint32_t t = next.fetch_add(1, std::memory_order_relaxed);
-      if (t >= tasks.size()) break;
-      const uint32_t root = tasks[t];
-      const Node& top = bvh.nodes[root];
-      const uint32_t nodes = 2 * ((top.end - top.first + kLeaf - 1) / kLeaf) - 1;  // a subtree's ids follow its root
-      for (uint32_t id = root + nodes; id-- > root;) {
-        const Node& nd = bvh.nodes[id];
-        if (nd.right) {
-          nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
-          nodeNonzero[id] = nodeNonzero[id + 1] & nodeNonzero[nd.right];
-        } else {
-          uint8_t m = 0x3f, z = 0x7;
-          for (uint32_t q = nd.first; q < nd.end; ++q) {
-            const uint8_t g = signs[q];
-            m &= g;
-            z &= uint8_t(((g | g >> 1) & 1) | ((g >> 1 | g >> 2) & 2) | ((g >> 2 | g >> 3) & 4));
-          }
-          nodeSigns[id] = m;
-          nodeNonzero[id] = z;
+  eachSubtree(w, bvh, corner, parts, tasks, [&](PatchCertifier& pc, unsigned part, uint32_t root, uint32_t nodes) {
+    const Node& top = bvh.nodes[root];
+    for (uint32_t id = root + nodes; id-- > root;) {
+      const Node& nd = bvh.nodes[id];
+      if (nd.right) {
+        nodeSigns[id] = nodeSigns[id + 1] & nodeSigns[nd.right];
+        nodeNonzero[id] = nodeNonzero[id + 1] & nodeNonzero[nd.right];
+      } else {
+        uint8_t m = 0x3f, z = 0x7;
+        for (uint32_t q = nd.first; q < nd.end; ++q) {
+          const uint8_t g = signs[q];
+          m &= g;
+          z &= uint8_t(((g | g >> 1) & 1) | ((g >> 1 | g >> 2) & 2) | ((g >> 2 | g >> 3) & 4));
         }
-      }
-      const uint64_t budget = 4 * uint64_t(top.end - top.first);
-      uint64_t tried = 0;
-      uint32_t todo[64];
-      int sp = 0;
-      todo[sp++] = root;
-      while (sp > 0) {
-        const uint32_t id = todo[--sp];
-        const Node& nd = bvh.nodes[id];
-        if (nd.end - nd.first < minPatch) continue;
-        if ((nodeSigns[id] || nodeNonzero[id]) && tried < budget &&
-            (tried += nd.end - nd.first,
-             pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
-          free[id] = 1;
-          pc.certifiedPositions += nd.end - nd.first;
-          keep(pc, id, kept[part], keptSides[part]);
-          continue;
-        }
-        if (nd.right) {
-          todo[sp++] = nd.right;
-          todo[sp++] = id + 1;
-        }
+        nodeSigns[id] = m;
+        nodeNonzero[id] = z;
       }
     }
-    certified.fetch_add(pc.certifiedPositions, std::memory_order_relaxed);
+    const uint64_t budget = 4 * uint64_t(top.end - top.first);
+    uint64_t tried = 0, positions = 0;
+    uint32_t todo[64];
+    int sp = 0;
+    todo[sp++] = root;
+    while (sp > 0) {
+      const uint32_t id = todo[--sp];
+      const Node& nd = bvh.nodes[id];
+      if (nd.end - nd.first < minPatch) continue;
+      if ((nodeSigns[id] || nodeNonzero[id]) && tried < budget &&
+          (tried += nd.end - nd.first,
+           pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
+        free[id] = 1;
+        positions += nd.end - nd.first;
+        keep(pc, id, kept[part], keptSides[part]);
+        continue;
+      }
+      if (nd.right) {
+        todo[sp++] = nd.right;
+        todo[sp++] = id + 1;
+      }
+    }
+    certified.fetch_add(positions, std::memory_order_relaxed);
   });
   inPatches = certified.load();
   gPatchPositions.fetch_add(inPatches, std::memory_order_relaxed);
@@ -1588,33 +1600,10 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   // only on its children, so the result is the same on any number of threads.
   const uint32_t most = std::max(2 * maxPatch, n / (4 * parts));
   Array<uint32_t> subtrees;
-  {
-    uint32_t todo[128];
-    int sp = 0;
-    todo[sp++] = 0;
-    while (sp > 0) {
-      const uint32_t id = todo[--sp];
-      const Node& nd = bvh.nodes[id];
-      if (!nd.right || nd.end - nd.first <= maxPatch) continue;
-      if (nd.end - nd.first <= most) {
-        if (!subtrees.push_back(id)) return {};
-      } else {
-        todo[sp++] = nd.right;
-        todo[sp++] = id + 1;
-      }
-    }
-  }
-  std::atomic<uint32_t> nextSubtree{0};
-  detail::runParts(parts, [&](unsigned part) {
-    PatchCertifier pc(w, corner);
-    for (;;) {
-      const uint32_t t = nextSubtree.fetch_add(1, std::memory_order_relaxed);
-      if (t >= subtrees.size()) break;
-      const uint32_t root = subtrees[t];
-      const Node& top = bvh.nodes[root];
-      const uint32_t nodes = 2 * ((top.end - top.first + kLeaf - 1) / kLeaf) - 1;  // a subtree's ids follow its root
-      for (uint32_t id = root + nodes; id-- > root;) tryUnion(pc, id, part);
-    }
+  auto inTask = [&](const Node& nd) { return !nd.right || nd.end - nd.first <= maxPatch; };
+  if (!subtreeRoots(bvh, most, inTask, subtrees)) return {};
+  eachSubtree(w, bvh, corner, parts, subtrees, [&](PatchCertifier& pc, unsigned part, uint32_t root, uint32_t nodes) {
+    for (uint32_t id = root + nodes; id-- > root;) tryUnion(pc, id, part);
   });
   PatchCertifier pc(w, corner);
   for (uint32_t id = nn; id-- > 0;)
