@@ -167,11 +167,6 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   uint32_t nextShell = 0;
   const bool exactWeld = !(topo.tolerance > 0);
   uint32_t sink = 0;
-  // The shell at hand is worked on in a copy, written back when the next triangle is in
-  // another shell (a shell's triangles mostly follow each other in a file), so that its
-  // figures stay in registers: the same operations in the same order, the same bits.
-  Shell S;
-  uint32_t current = kInvalid;
   for (uint32_t t = 0; t < nt; ++t) {
     const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
     // The corners of a triangle a few ahead: in a file whose triangles are not in spatial
@@ -190,11 +185,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       continue;
     }
     if (s >= nShells) return bad("triangleShell: a shell id out of range");
-    if (s != current) {
-      if (current != kInvalid) shells[current] = S;
-      S = shells[s];
-      current = s;
-    }
+    Shell& S = shells[s];
     while (solid < solids.size() && t >= uint64_t(solids[solid].firstTriangle) + solids[solid].triangleCount) ++solid;
     uint32_t solidOfT = solid < solids.size() && t >= solids[solid].firstTriangle ? uint32_t(solid) : kInvalid;
     if (S.triangles == 0) {
@@ -212,18 +203,11 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
     S.area += fig.area;
     S.volume += fig.volume;
-    // The triangle's box first, then the shell's, on values (std::min and std::max on
-    // references keep the box in memory): each keeps the first of equal values, as they do,
-    // so the result is the one corner by corner would give (down to the sign of a zero).
-    for (int k = 0; k < 3; ++k) {
-      const float a = A[k], b = B[k], c = C[k];
-      float lo = b < a ? b : a, hi = a < b ? b : a;
-      lo = c < lo ? c : lo;
-      hi = hi < c ? c : hi;
-      const float smin = S.bboxMin[k], smax = S.bboxMax[k];
-      S.bboxMin[k] = lo < smin ? lo : smin;
-      S.bboxMax[k] = smax < hi ? hi : smax;
-    }
+    for (const float* Q : {A, B, C})
+      for (int k = 0; k < 3; ++k) {
+        S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);
+        S.bboxMax[k] = std::max(S.bboxMax[k], Q[k]);
+      }
     for (int c = 0; c < 3; ++c) {
       uint32_t v = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
       if (!topo.vertexNonManifold[v] && !testBit(seen, v)) {
@@ -238,7 +222,6 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
     }
   }
   detail::keepAlive(sink);
-  if (current != kInvalid) shells[current] = S;
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
   seen.release();
   probes.release();
