@@ -928,8 +928,8 @@ constexpr uint32_t kMinPatch = 64;  // smaller nodes are not tried (setPatchMini
 constexpr uint32_t kMaxPatch = 8192;
 constexpr size_t kMaxLoops = 32;  // more boundary loops: not tried (the test is quadratic in them)
 constexpr uint32_t kChunk = 256;  // positions per run of the boundary's first level (its table: 24 KiB)
-struct Slot {
-  uint32_t lo, hi;  // the side's vertices, lo < hi; lo == hi: empty
+struct Slot {  // an edge's sum over a run of positions (PatchCertifier::partial)
+  uint32_t lo, hi;  // the side's vertices, lo < hi
   int32_t net;      // sides lo -> hi minus sides hi -> lo
 };
 }  // namespace patch
@@ -943,6 +943,8 @@ struct EdgeSums {
   Array<int32_t> net;
   Array<uint32_t> filled;
   size_t mask = 0, nFilled = 0;
+  // Where key k's probe starts.
+  static size_t home(uint64_t k, size_t mask) { return size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask; }
   // Room for `adds` edges at most half full; false when it cannot be allocated.
   bool prepare(size_t adds) {
     size_t cap = 64;
@@ -959,7 +961,7 @@ struct EdgeSums {
   static size_t add(uint64_t* key, int32_t* net, uint32_t* filled, size_t mask, size_t nFilled, uint32_t lo,
                     uint32_t hi, int32_t d) {
     const uint64_t k = uint64_t(lo) << 32 | hi;
-    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+    size_t h = home(k, mask);
     uint64_t x = key[h];
     while (x != 0 && x != k) h = (h + 1) & mask, x = key[h];
     key[h] = k;
@@ -970,7 +972,7 @@ struct EdgeSums {
   // The slot of edge (lo, hi), which was added.
   size_t find(uint32_t lo, uint32_t hi) const {
     const uint64_t k = uint64_t(lo) << 32 | hi;
-    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+    size_t h = home(k, mask);
     while (key[h] != k) h = (h + 1) & mask;
     return h;
   }
@@ -1105,11 +1107,15 @@ struct PatchCertifier {
       (void)into.push_back(slotSide[h]);
     });
     sums.drain([](uint32_t, uint32_t, int32_t) {});
+    return ok && sides.size() >= 3 && readyForLoops();
+  }
+
+  // With `sides` and `byDest` made: room for linkLoops, and whether every corner is entered as
+  // often as it is left (the destinations, sorted, are the origins).
+  bool readyForLoops() {
     const size_t n = sides.size();
-    if (!ok || n < 3 || !next.resize(n) || !taken.resize(n) || !loops.reserve(n) || !loopEnd.reserve(n) ||
-        !rays.reserve(n))
+    if (!next.resize(n) || !taken.resize(n) || !loops.reserve(n) || !loopEnd.reserve(n) || !rays.reserve(n))
       return false;
-    // Entered as often as left: the destinations, sorted, are the origins.
     for (size_t s = 0; s < n; ++s)
       if (uint32_t(byDest[s] >> 32) != origin(s)) return false;
     return true;
@@ -1133,14 +1139,10 @@ struct PatchCertifier {
     const size_t nb = sides.size();
     if (!ok || nb < 3) return false;
     std::sort(sides.begin(), sides.end());
-    if (!byDest.resize(nb) || !next.resize(nb) || !taken.resize(nb) || !loops.reserve(nb) || !loopEnd.reserve(nb) ||
-        !rays.reserve(nb) || !into.resize(nb))
-      return false;
+    if (!byDest.resize(nb) || !into.resize(nb)) return false;
     for (size_t s = 0; s < nb; ++s) byDest[s] = sides[s] << 32 | sides[s] >> 32;
     std::sort(byDest.begin(), byDest.end());
-    // Entered as often as left: the destinations, sorted, are the origins.
-    for (size_t s = 0; s < nb; ++s)
-      if (uint32_t(byDest[s] >> 32) != origin(s)) return false;
+    if (!readyForLoops()) return false;
     // The sides by destination (ties by origin), for the corners left more than once.
     for (size_t s = 0; s < nb; ++s) {
       const uint64_t side = byDest[s] << 32 | byDest[s] >> 32;
@@ -1370,14 +1372,11 @@ struct PatchCertifier {
   bool certify(uint32_t first, uint32_t end, uint8_t common, uint8_t nonzero, const uint8_t* signs) {
     flipped = 0;
     if (common) {
-      if (!boundary(first, end)) return false;
-      for (int k = 0; k < 3; ++k)
-        for (int s = 1; s >= -1; s -= 2)
-          if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && certifiedIn(k, s)) {
-            axis = k;
-            return true;
-          }
-      return false;
+      return boundary(first, end) && alongCommon(common, [&](int k, int s) {
+        if (!certifiedIn(k, s)) return false;
+        axis = k;
+        return true;
+      });
     }
     for (int k = 0; k < 3; ++k) {
       if (!(nonzero >> k & 1)) continue;
@@ -1422,9 +1421,15 @@ struct PatchCertifier {
       const int bit = lowestBit(flip);
       return tryAxis(bit / 2, bit & 1 ? 1 : -1);
     }
+    return alongCommon(common, tryAxis);
+  }
+  // Whether f(k, s) holds for one of the axes k and ways s (+1, -1) whose bit 2k (s > 0) or
+  // 2k + 1 (s < 0) is set in sign mask `common`, tried in that order.
+  template <class F>
+  static bool alongCommon(uint8_t common, F&& f) {
     for (int k = 0; k < 3; ++k)
       for (int s = 1; s >= -1; s -= 2)
-        if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && tryAxis(k, s)) return true;
+        if ((common >> (2 * k + (s > 0 ? 0 : 1)) & 1) && f(k, s)) return true;
     return false;
   }
   // The wound-over certificate is tried when at most 1/kMostlyOneWay of a node's triangles
@@ -1565,7 +1570,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   // Above the tasks, bottom up: a node whose two children are certified (with the same flip)
   // is tried as their union, from their boundaries, so that the join skips the pairs
   // between them too. A clean mesh's tasks then join into patches of a large part of a
-  // shell (the 1M-triangle torus: 8 of 131,072 positions). The children stay certified;
+  // shell (the 1M-triangle torus: 126 unions, up to its two halves). The children stay certified;
   // their positions are counted once.
   if (gPatchUnionsOff.load(std::memory_order_relaxed)) return {};
   Array<uint32_t> at;  // per node: its entry in `kept` (list << 24 | index), or kInvalid

@@ -295,7 +295,6 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
   return Status{};
 }
 
-
 // The attribute values of triangle t of a Mesh, in the order `names` lists them.
 struct AttrLayout {
   std::vector<std::string> names;
