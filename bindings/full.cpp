@@ -13,6 +13,12 @@
 using emscripten::typed_memory_view;
 using emscripten::val;
 
+// buildTopology with its once-over-the-mesh loops in chunks (src/topology.cpp): the same
+// result, for the full module's loads (Session::topologyOf).
+namespace stltopo::detail {
+Status buildTopologyInChunks(const Mesh& mesh, Topology& out, const TopologyOptions& options);
+}
+
 namespace stltopo::js {
 
 const JsArray kJsArrays[] = {STLTOPO_JS_ARRAYS(STLTOPO_JS_ROW, STLTOPO_JS_ROW)};
@@ -151,6 +157,9 @@ class FullSession : public Session {
 
  protected:
   Status findShells() override { return findShellsAndDefects(mesh_, topo_, &shells_, &defects_); }
+  Status topologyOf(const TopologyOptions& to) override {
+    return stltopo::detail::buildTopologyInChunks(mesh_, topo_, to);
+  }
 
  private:
   ReportExtras extras(bool shells, bool defects, double maxDefects) const {

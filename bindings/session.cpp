@@ -179,6 +179,8 @@ Status Session::findShells() {
   return Status::error(Code::InvalidArgument, "shells and defects are in the full module (stltopo-full)");
 }
 
+Status Session::topologyOf(const TopologyOptions& to) { return stltopo::buildTopology(mesh_, topo_, to); }
+
 val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells) {
   if (!topology) return val::null();
   TopologyOptions to;
@@ -186,7 +188,7 @@ val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bo
   to.tolerance = tolerance > 0 ? tolerance : 0;
   to.prevAndFace = prevAndFace;
   to.triangleShell = shells;
-  Status s = stltopo::buildTopology(mesh_, topo_, to);
+  Status s = topologyOf(to);
   if (!s.ok()) return remember(s);
   hasTopology_ = true;
   if (shells) {

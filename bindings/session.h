@@ -71,6 +71,10 @@ class Session {
   // The shell list and the defect lists of a topology built with triangleShell; the core
   // module has none (an invalid-argument status that says where they are).
   virtual Status findShells();
+  // stltopo::buildTopology of mesh_ into topo_. The full module builds it with the loops that
+  // run once over the mesh in chunks, which its first load runs in V8's optimized code
+  // (src/topology.cpp, detail::buildTopologyInChunks); the core keeps the smaller one-call code.
+  virtual Status topologyOf(const TopologyOptions& to);
   // The topology of mesh_ when asked (prevAndFace false: without prev and face, see
   // TopologyOptions), and with `shells` also triangleShell and findShells(); null or the
   // failure's status.

@@ -623,22 +623,26 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
     const uint32_t begin = uint32_t(detail::partBegin(nt, parts, id));
-    uint32_t i = firstOf[id], sink = 0;
-    for (uint32_t t = begin; t < end; ++t) {
-      for (auto [u, ue] = aheadOf(t, begin, end, kAhead); u < ue; ++u)
-        for (int j = 0; j < 3; ++j) touch(w.p(w.v(u, j)), sink);
-      if (!valid[t]) continue;
-      uint32_t code = 0;
-      for (int k = 0; k < 3; ++k) {
-        double c = 0;
-        for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
-        double q = (c / 3 - lo[k]) * scale[k];
-        uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
-        code |= spread10(qi) << k;
+    uint32_t next = firstOf[id];
+    detail::forChunks(begin, end, [&](size_t cb, size_t ce) {
+      uint32_t i = next, sink = 0;
+      for (uint32_t t = uint32_t(cb); t < ce; ++t) {
+        for (auto [u, ue] = aheadOf(t, begin, end, kAhead); u < ue; ++u)
+          for (int j = 0; j < 3; ++j) touch(w.p(w.v(u, j)), sink);
+        if (!valid[t]) continue;
+        uint32_t code = 0;
+        for (int k = 0; k < 3; ++k) {
+          double c = 0;
+          for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
+          double q = (c / 3 - lo[k]) * scale[k];
+          uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
+          code |= spread10(qi) << k;
+        }
+        keys[i++] = uint64_t(code) << 32 | t;
       }
-      keys[i++] = uint64_t(code) << 32 | t;
-    }
-    keepAlive(sink);
+      next = i;
+      keepAlive(sink);
+    });
   });
   // Radix sort on the 30-bit code, stable (ties by triangle id): the keys go to buckets by
   // their top 10 bits, then each bucket is sorted by its low 20 bits in two passes of 10
@@ -646,16 +650,21 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   // gives, with one pass over the whole array instead of three.
   uint32_t top[1025];
   std::memset(top, 0, sizeof top);
-  for (uint32_t j = 0; j < n; ++j) ++top[(keys[j] >> 52) + 1];
+  detail::forChunks(0, n, [&](size_t b, size_t e) {
+    for (size_t j = b; j < e; ++j) ++top[(keys[j] >> 52) + 1];
+  });
   for (int d = 0; d < 1024; ++d) top[d + 1] += top[d];
   {
     uint32_t at[1024];
     std::memcpy(at, top, sizeof at);
-    for (uint32_t j = 0; j < n; ++j) tmp[at[keys[j] >> 52]++] = keys[j];
+    detail::forChunks(0, n, [&](size_t b, size_t e) {
+      for (size_t j = b; j < e; ++j) tmp[at[keys[j] >> 52]++] = keys[j];
+    });
   }
-  for (int d = 0; d < 1024; ++d) {
+  // A call per bucket (see forChunks).
+  detail::forEachCall(0, 1024, [&](size_t d) {
     const uint32_t b = top[d], e = top[d + 1];
-    if (e - b < 2) continue;
+    if (e - b < 2) return;
     uint32_t count[2][1024];
     std::memset(count, 0, sizeof count);
     for (uint32_t j = b; j < e; ++j) {
@@ -672,45 +681,47 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
     }
     for (uint32_t j = b; j < e; ++j) keys[count[0][(tmp[j] >> 32) & 1023]++] = tmp[j];
     for (uint32_t j = b; j < e; ++j) tmp[count[1][(keys[j] >> 42) & 1023]++] = keys[j];
-  }
+  });
   std::swap(keys, tmp);  // the sorted keys
   tmp.release();
   const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   detail::runParts(boxParts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
     const uint32_t begin = uint32_t(detail::partBegin(n, boxParts, id));
-    uint32_t sink = 0;
-    for (uint32_t j = begin; j < end; ++j) {
-      // A chain of two: a triangle's record, then its corners' positions.
-      for (auto [u, ue] = aheadOf(j, begin, end, 2 * kAhead); u < ue; ++u)
-        touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[u]))], sink);
-      for (auto [u, ue] = aheadOf(j, begin, end, kAhead); u < ue; ++u) {
-        const uint32_t tu = uint32_t(keys[u]);
-        for (int c = 0; c < 3; ++c) touch(w.p(w.v(tu, c)), sink);
-      }
-      const uint32_t t = uint32_t(keys[j]);
-      bvh.tri[j] = t;
-      const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
-      const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
-      Box b;
-      for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
-        b.hi[k] = std::max({p[0][k], p[1][k], p[2][k]});
-      }
-      if (corner) {
-        for (int c = 0; c < 3; ++c) (*corner)[3 * size_t(j) + c] = id[c];
-        (*signs)[j] = signMask(p[0], p[1], p[2]);
-      }
-      if (columnar) {
-        for (int k = 0; k < 3; ++k) {
-          bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
-          bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+    detail::forChunks(begin, end, [&](size_t cb, size_t ce) {
+      uint32_t sink = 0;
+      for (uint32_t j = uint32_t(cb); j < ce; ++j) {
+        // A chain of two: a triangle's record, then its corners' positions.
+        for (auto [u, ue] = aheadOf(j, begin, end, 2 * kAhead); u < ue; ++u)
+          touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[u]))], sink);
+        for (auto [u, ue] = aheadOf(j, begin, end, kAhead); u < ue; ++u) {
+          const uint32_t tu = uint32_t(keys[u]);
+          for (int c = 0; c < 3; ++c) touch(w.p(w.v(tu, c)), sink);
         }
-      } else {
-        bvh.box[j] = b;
+        const uint32_t t = uint32_t(keys[j]);
+        bvh.tri[j] = t;
+        const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
+        const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
+        Box b;
+        for (int k = 0; k < 3; ++k) {
+          b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
+          b.hi[k] = std::max({p[0][k], p[1][k], p[2][k]});
+        }
+        if (corner) {
+          for (int c = 0; c < 3; ++c) (*corner)[3 * size_t(j) + c] = id[c];
+          (*signs)[j] = signMask(p[0], p[1], p[2]);
+        }
+        if (columnar) {
+          for (int k = 0; k < 3; ++k) {
+            bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
+            bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+          }
+        } else {
+          bvh.box[j] = b;
+        }
       }
-    }
-    keepAlive(sink);
+      keepAlive(sink);
+    });
   });
   keys.release();
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
@@ -1865,10 +1876,12 @@ Status findIntersections(const Mesh& mesh, const Topology& topo, const TriangleC
   const Welded w{mesh, weldOf(&topo)};
   Array<uint8_t> valid;
   if (!valid.assign(nt, 1) || !out.triangleIntersects.assign(nt, 0)) return oom("the intersection flags");
-  for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
-    if (a == b || b == c || a == c) valid[t] = 0;
-  }
+  detail::forChunks(0, nt, [&](size_t t0, size_t t1) {
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+      if (a == b || b == c || a == c) valid[t] = 0;
+    }
+  });
   for (uint32_t t : checks.zeroArea) {
     if (t >= nt) return Status::error(Code::InvalidArgument, "the triangle checks are not this mesh's");
     valid[t] = 0;

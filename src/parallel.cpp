@@ -20,9 +20,13 @@ namespace stltopo::detail {
 namespace {
 std::atomic<size_t> gGrainForTesting{0};
 std::atomic<uint64_t> gSplits{0};
+std::atomic<size_t> gChunkForTesting{0};
 }  // namespace
 
 void setParallelGrainForTesting(size_t items) { gGrainForTesting.store(items, std::memory_order_relaxed); }
+
+void setChunkItemsForTesting(size_t items) { gChunkForTesting.store(items, std::memory_order_relaxed); }
+size_t chunkItemsForTesting() { return gChunkForTesting.load(std::memory_order_relaxed); }
 
 size_t parallelGrain(size_t dflt) {
   size_t g = gGrainForTesting.load(std::memory_order_relaxed);
@@ -179,5 +183,6 @@ void runPartsImpl(unsigned n, PartFn fn, void* ctx) {
 
 namespace stltopo {
 void setParallelGrainForTesting(size_t items) { detail::setParallelGrainForTesting(items); }
+void setChunkItemsForTesting(size_t items) { detail::setChunkItemsForTesting(items); }
 uint64_t parallelSplitsForTesting() { return detail::parallelSplitsForTesting(); }
 }  // namespace stltopo

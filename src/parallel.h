@@ -71,4 +71,63 @@ void runParts(unsigned n, F&& fn) {
       n, [](void* ctx, unsigned part) { (*static_cast<F*>(ctx))(part); }, &fn);
 }
 
+// Runs fn(b, e) over consecutive ranges [b, e) that cover [begin, end) in order, for loops
+// that run once over a whole mesh. In wasm the ranges have at most `chunk` items and each is
+// a call of a function that is never inlined: V8 runs a function in the baseline code it
+// compiled first (Liftoff) until the call returns, as it has no on-stack replacement for
+// wasm, and compiles optimized code for the calls that come after the function got hot. A
+// loop over a million items in one call would run unoptimized to its end (2-3x slower); in
+// chunks, the first few run in the baseline code and the rest in the optimized code
+// (bench/PROFILE.md, *Chunked loops*). Natively there is no such tiering, and the whole
+// range is one call (inlined): calls per chunk made the topology 20% slower. Tests set a
+// chunk size natively too (setChunkItemsForTesting), so that the chunked paths run there.
+// fn(b, e) must do for [b, e) exactly what the loop does there: the result is the loop's.
+inline constexpr size_t kChunkItems = 16384;
+// The native chunk size (0: none, one call); test-only, as setParallelGrainForTesting.
+void setChunkItemsForTesting(size_t items);
+size_t chunkItemsForTesting();
+template <class F>
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+void chunkBody(F&& fn, size_t b, size_t e) {
+  fn(b, e);
+}
+template <class F>
+void inChunks(size_t begin, size_t end, size_t chunk, F&& fn) {
+  // Two call sites: binaryen (Emscripten's optimizer after LLVM) inlines a function that
+  // has a single caller, whatever its size and its noinline attribute.
+  if (begin >= end) return;
+  size_t e = end - begin > chunk ? begin + chunk : end;
+  chunkBody(fn, begin, e);
+  for (begin = e; begin < end; begin = e) {
+    e = end - begin > chunk ? begin + chunk : end;
+    chunkBody(fn, begin, e);
+  }
+}
+template <class F>
+void forChunks(size_t begin, size_t end, F&& fn, size_t chunk = kChunkItems) {
+#if defined(__EMSCRIPTEN__)
+  inChunks(begin, end, chunk, fn);
+#else
+  if (const size_t c = chunkItemsForTesting(); c > 0) {
+    inChunks(begin, end, c, fn);
+  } else if (begin < end) {
+    (void)chunk;
+    fn(begin, end);
+  }
+#endif
+}
+
+// fn(i) for every i in [begin, end), in order; in wasm one out-of-line call each (see
+// forChunks): for a loop whose iterations are big.
+template <class F>
+void forEachCall(size_t begin, size_t end, F&& fn) {
+#if defined(__EMSCRIPTEN__)
+  inChunks(begin, end, 1, [&](size_t i, size_t) { fn(i); });
+#else
+  for (size_t i = begin; i < end; ++i) fn(i);
+#endif
+}
+
 }  // namespace stltopo::detail

@@ -8,6 +8,7 @@
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
+#include "parallel.h"
 #include "prefetch.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
@@ -166,62 +167,85 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   size_t solid = 0;
   uint32_t nextShell = 0;
   const bool exactWeld = !(topo.tolerance > 0);
-  uint32_t sink = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
-    // The corners of a triangle a few ahead: in a file whose triangles are not in spatial
-    // order, these reads miss the cache.
-    for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
-      for (int c = 0; c < 3; ++c) detail::touch(P + size_t(mesh.triangles[3 * size_t(u) + c]) * 3, sink);
-    uint32_t s = triangleShell[t];
-    if (topo.triangleDegenerate[t]) {
-      if (s != kInvalid) return bad("triangleShell: a degenerate triangle has a shell");
-      if (defectsOut) {
-        const uint32_t* w = topo.vertexWeld.data();
-        if (!d.degenerateTriangles.push_back(t) ||
-            !d.degenerateCorners.push_back(cornerMask(w[corner[0]], w[corner[1]], w[corner[2]])))
-          return detail::oom(kLists);
+  // (in chunks: detail::forChunks; an error stops them, in `failed`)
+  Status failed;
+  detail::forChunks(0, nt, [&](size_t t0, size_t t1) {
+    if (!failed.ok()) return;
+    uint32_t sink = 0, nextShellHere = nextShell;
+    size_t solidHere = solid;
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
+      // The corners of a triangle a few ahead: in a file whose triangles are not in spatial
+      // order, these reads miss the cache.
+      for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
+        for (int c = 0; c < 3; ++c) detail::touch(P + size_t(mesh.triangles[3 * size_t(u) + c]) * 3, sink);
+      uint32_t s = triangleShell[t];
+      if (topo.triangleDegenerate[t]) {
+        if (s != kInvalid) {
+          failed = bad("triangleShell: a degenerate triangle has a shell");
+          return;
+        }
+        if (defectsOut) {
+          const uint32_t* w = topo.vertexWeld.data();
+          if (!d.degenerateTriangles.push_back(t) ||
+              !d.degenerateCorners.push_back(cornerMask(w[corner[0]], w[corner[1]], w[corner[2]]))) {
+            failed = detail::oom(kLists);
+            return;
+          }
+        }
+        continue;
       }
-      continue;
-    }
-    if (s >= nShells) return bad("triangleShell: a shell id out of range");
-    Shell& S = shells[s];
-    while (solid < solids.size() && t >= uint64_t(solids[solid].firstTriangle) + solids[solid].triangleCount) ++solid;
-    uint32_t solidOfT = solid < solids.size() && t >= solids[solid].firstTriangle ? uint32_t(solid) : kInvalid;
-    if (S.triangles == 0) {
-      if (s != nextShell++) return bad("triangleShell: shells are not numbered by their lowest triangle id");
-      S.firstTriangle = t;
-      S.solid = solidOfT;
-      for (int k = 0; k < 3; ++k) S.bboxMin[k] = S.bboxMax[k] = P[size_t(corner[0]) * 3 + k];
-    } else if (S.solid != solidOfT) {
-      S.solid = kMixedSolid;
-    }
-    ++S.triangles;
-    const float* A = P + size_t(corner[0]) * 3;
-    const float* B = P + size_t(corner[1]) * 3;
-    const float* C = P + size_t(corner[2]) * 3;
-    detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
-    S.area += fig.area;
-    S.volume += fig.volume;
-    for (const float* Q : {A, B, C})
-      for (int k = 0; k < 3; ++k) {
-        S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);
-        S.bboxMax[k] = std::max(S.bboxMax[k], Q[k]);
+      if (s >= nShells) {
+        failed = bad("triangleShell: a shell id out of range");
+        return;
       }
-    for (int c = 0; c < 3; ++c) {
-      uint32_t v = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
-      if (!topo.vertexNonManifold[v] && !testBit(seen, v)) {
-        setBit(seen, v);
-        ++S.vertices;
+      Shell& S = shells[s];
+      while (solidHere < solids.size() &&
+             t >= uint64_t(solids[solidHere].firstTriangle) + solids[solidHere].triangleCount)
+        ++solidHere;
+      uint32_t solidOfT =
+          solidHere < solids.size() && t >= solids[solidHere].firstTriangle ? uint32_t(solidHere) : kInvalid;
+      if (S.triangles == 0) {
+        if (s != nextShellHere++) {
+          failed = bad("triangleShell: shells are not numbered by their lowest triangle id");
+          return;
+        }
+        S.firstTriangle = t;
+        S.solid = solidOfT;
+        for (int k = 0; k < 3; ++k) S.bboxMin[k] = S.bboxMax[k] = P[size_t(corner[0]) * 3 + k];
+      } else if (S.solid != solidOfT) {
+        S.solid = kMixedSolid;
+      }
+      ++S.triangles;
+      const float* A = P + size_t(corner[0]) * 3;
+      const float* B = P + size_t(corner[1]) * 3;
+      const float* C = P + size_t(corner[2]) * 3;
+      detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
+      S.area += fig.area;
+      S.volume += fig.volume;
+      for (const float* Q : {A, B, C})
+        for (int k = 0; k < 3; ++k) {
+          S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);
+          S.bboxMax[k] = std::max(S.bboxMax[k], Q[k]);
+        }
+      for (int c = 0; c < 3; ++c) {
+        uint32_t v = exactWeld ? corner[c] : topo.vertexWeld[corner[c]];
+        if (!topo.vertexNonManifold[v] && !testBit(seen, v)) {
+          setBit(seen, v);
+          ++S.vertices;
+        }
+      }
+      uint32_t h0 = topo.triangleHalfedge[t];
+      if (h0 < nh && testBit(probeBit, h0)) {
+        const Probe* it = std::lower_bound(probes.begin(), probes.end(), Probe{h0, 0});
+        for (; it != probes.end() && it->halfedge == h0; ++it) triangleOf[it->wanted] = t;
       }
     }
-    uint32_t h0 = topo.triangleHalfedge[t];
-    if (h0 < nh && testBit(probeBit, h0)) {
-      const Probe* it = std::lower_bound(probes.begin(), probes.end(), Probe{h0, 0});
-      for (; it != probes.end() && it->halfedge == h0; ++it) triangleOf[it->wanted] = t;
-    }
-  }
-  detail::keepAlive(sink);
+    nextShell = nextShellHere;
+    solid = solidHere;
+    detail::keepAlive(sink);
+  });
+  if (!failed.ok()) return failed;
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
   seen.release();
   probes.release();

@@ -149,11 +149,24 @@ Status weldCorners(const Mesh& mesh, const TopologyOptions& options, Topology& o
   return Status{};
 }
 
+// The loops of the passes that run once over the whole mesh: with kChunked, in chunks
+// (detail::forChunks: for the full wasm module, whose first load would otherwise run them in
+// V8's baseline code), else in one call. Separate instantiations, so that the core wasm module
+// holds only the one-call code (its download budget; buildTopology).
+template <bool kChunked, class F>
+void overRange(size_t begin, size_t end, F&& fn, size_t chunk = detail::kChunkItems) {
+  if constexpr (kChunked)
+    detail::forChunks(begin, end, fn, chunk);
+  else if (begin < end)
+    fn(begin, end);
+}
+
 // Pass groupSidesByEdge. Needs w.C. Leaves out.triangleDegenerate (two corners on one
 // vertex), out.nDegenerate, w.nLive and the CSR w.offsets/w.keys: the live sides bucketed
 // by their smaller vertex, entry (larger vertex << 31 | side << 1 | runs-low-to-high), in
 // file order within a bucket. Sorting a bucket thus groups its undirected edges with their
 // sides in file order.
+template <bool kChunked>
 Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work& w) {
   const uint32_t* C = w.C;
   if (!out.triangleDegenerate.resize(nt) || !w.offsets.assign(size_t(nv) + 1, 0)) return detail::oom(kArrays);
@@ -235,40 +248,50 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
     });
     return Status{};
   }
-  uint32_t nLive = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
-    bool d = a == b || b == c || a == c;
-    degen[t] = d;
-    if (d) {
-      ++out.nDegenerate;
-      continue;
+  uint32_t nLive = 0, nDegenerate = 0;
+  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+    uint32_t* o = offsets.data();
+    uint32_t live = nLive, degenerate = nDegenerate;
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+      bool d = a == b || b == c || a == c;
+      degen[t] = d;
+      if (d) {
+        ++degenerate;
+        continue;
+      }
+      ++o[std::min(a, b) + 1];
+      ++o[std::min(b, c) + 1];
+      ++o[std::min(c, a) + 1];
+      live += 3;
     }
-    ++offsets[std::min(a, b) + 1];
-    ++offsets[std::min(b, c) + 1];
-    ++offsets[std::min(c, a) + 1];
-    nLive += 3;
-  }
+    nLive = live;
+    nDegenerate = degenerate;
+  });
+  out.nDegenerate += nDegenerate;
   for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
   w.nLive = nLive;
   if (!w.keys.resize(nLive)) return detail::oom(kArrays);
   Array<uint32_t> cursor;
   if (!cursor.resize(nv)) return detail::oom(kArrays);
   if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
-  uint64_t* K = w.keys.data();
-  auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
-    if (a < b)
-      K[cursor[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
-    else
-      K[cursor[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
-  };
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (degen[t]) continue;
-    uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
-    put(3 * t, a, b);
-    put(3 * t + 1, b, c);
-    put(3 * t + 2, c, a);
-  }
+  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+    uint64_t* K = w.keys.data();
+    uint32_t* cur = cursor.data();
+    auto put = [K, cur](uint32_t s, uint32_t a, uint32_t b) {
+      if (a < b)
+        K[cur[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
+      else
+        K[cur[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
+    };
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      if (degen[t]) continue;
+      uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
+      put(3 * t, a, b);
+      put(3 * t + 1, b, c);
+      put(3 * t + 2, c, a);
+    }
+  });
   return Status{};
 }
 
@@ -334,7 +357,12 @@ struct SharedUnionFind {
 
 // pairSides over the buckets of vertices [v0, v1): sorts them, writes the partner words of
 // their sides, queues the unions in `uf`, adds to `c`. False when a queue cannot grow.
+// (Always inlined: GCC left it out of line once it was called from a lambda, which cost
+// the topology 2% natively.)
 template <class UF>
+#if defined(__GNUC__)
+__attribute__((always_inline)) inline
+#endif
 bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys, uint32_t* P, UF& uf,
                PairCounts& counts, Array<uint32_t> (&queue)[2]) {
   PairCounts c = counts;  // a local copy: stores through P could alias `counts`
@@ -401,6 +429,7 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
   return true;
 }
 
+template <bool kChunked>
 Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work& w) {
   if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
   UnionFind& uf = w.uf;
@@ -434,7 +463,12 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
   } else {
     // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
     Array<uint32_t> queue[2];
-    if (!pairRange(0, nv, offsets, keys, P, uf, c, queue)) return detail::oom(kArrays);
+    bool ok = true;
+    // (in chunks: vertex ranges of about kChunkItems sides each, in order)
+    overRange<kChunked>(0, nv, [&](size_t v0, size_t v1) {
+      ok = ok && pairRange(uint32_t(v0), uint32_t(v1), offsets, keys, P, uf, c, queue);
+    }, detail::kChunkItems / 6);
+    if (!ok) return detail::oom(kArrays);
   }
   uf.flush();
   w.nCouples = c.nCouples;
@@ -488,6 +522,7 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
 // w.vinfo: per vertex its lowest-id outgoing boundary half-edge (with kBoundaryBit), else
 // its lowest-id outgoing half-edge, and its out-degree. Frees the partner words and w.C's
 // storage.
+template <bool kChunked>
 Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work& w) {
   const uint32_t nLive = w.nLive, nCouples = w.nCouples;
   const uint32_t nPairs = nLive - nCouples;
@@ -510,55 +545,60 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
   Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
-  uint32_t k = 0, nb = 0, sink = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
-    // are not in spatial order. (Not its partner entries: a later side's holds nothing until
-    // its partner's triangle is numbered, and in wasm a touch is a real load.)
-    for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
-      for (uint32_t c = 0; c < 3; ++c) detail::touch(&vi[C[3 * size_t(u) + c]], sink);
-    if (degen[t]) {
-      out.triangleHalfedge[t] = kInvalid;
-      continue;
-    }
-    uint32_t h[3];
-    for (uint32_t c = 0; c < 3; ++c) {
-      uint32_t s = 3 * t + c, x = P[s], p = partner::payload(x);
-      if (partner::isPushed(x)) {
-        h[c] = 2 * p + 1;  // closes the pair whose id its partner pushed into p
+  uint32_t nextPair = 0, nextBoundary = 0;
+  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+    uint32_t k = nextPair, nb = nextBoundary, sink = 0;
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
+      // are not in spatial order. (Not its partner entries: a later side's holds nothing until
+      // its partner's triangle is numbered, and in wasm a touch is a real load.)
+      for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
+        for (uint32_t c = 0; c < 3; ++c) detail::touch(&vi[C[3 * size_t(u) + c]], sink);
+      if (degen[t]) {
+        out.triangleHalfedge[t] = kInvalid;
         continue;
       }
-      uint32_t he = 2 * k;
-      pairKind[k] = uint8_t(partner::tag(x));
-      uint32_t v = C[dstSide(s)];
-      vert[he + 1] = v;
-      if (p == kNone) {
-        ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
-        bnd[nb++] = he + 1;
-        if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
+      uint32_t h[3];
+      for (uint32_t c = 0; c < 3; ++c) {
+        uint32_t s = 3 * t + c, x = P[s], p = partner::payload(x);
+        if (partner::isPushed(x)) {
+          h[c] = 2 * p + 1;  // closes the pair whose id its partner pushed into p
+          continue;
+        }
+        uint32_t he = 2 * k;
+        pairKind[k] = uint8_t(partner::tag(x));
+        uint32_t v = C[dstSide(s)];
+        vert[he + 1] = v;
+        if (p == kNone) {
+          ubits[(he + 1) >> 6] |= uint64_t(1) << ((he + 1) & 63);
+          bnd[nb++] = he + 1;
+          if (!(vi[v].he & kBoundaryBit) || vi[v].he == kInvalid) vi[v].he = (he + 1) | kBoundaryBit;
+          ++vi[v].deg;
+        } else {
+          P[p] = partner::pushed(k);  // p > s: a partner earlier in file order would have pushed
+          if (full) face[he + 1] = p / 3;
+        }
+        ++k;
+        h[c] = he;
+      }
+      out.triangleHalfedge[t] = h[0];
+      for (uint32_t c = 0; c < 3; ++c) {
+        uint32_t e = h[c], v = C[3 * t + c];
+        next[e] = h[c == 2 ? 0 : c + 1];
+        if (full) prev[e] = h[c == 0 ? 2 : c - 1];
+        if (!(e & 1u)) {  // opening: the closing side's entries were written by its partner
+          vert[e] = v;
+          if (full) face[e] = t;
+        }
+        uint32_t cur = vi[v].he;
+        if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vi[v].he = e;
         ++vi[v].deg;
-      } else {
-        P[p] = partner::pushed(k);  // p > s: a partner earlier in file order would have pushed
-        if (full) face[he + 1] = p / 3;
       }
-      ++k;
-      h[c] = he;
     }
-    out.triangleHalfedge[t] = h[0];
-    for (uint32_t c = 0; c < 3; ++c) {
-      uint32_t e = h[c], v = C[3 * t + c];
-      next[e] = h[c == 2 ? 0 : c + 1];
-      if (full) prev[e] = h[c == 0 ? 2 : c - 1];
-      if (!(e & 1u)) {  // opening: the closing side's entries were written by its partner
-        vert[e] = v;
-        if (full) face[e] = t;
-      }
-      uint32_t cur = vi[v].he;
-      if (cur == kInvalid || (!(cur & kBoundaryBit) && e < cur)) vi[v].he = e;
-      ++vi[v].deg;
-    }
-  }
-  detail::keepAlive(sink);
+    nextPair = k;
+    nextBoundary = nb;
+    detail::keepAlive(sink);
+  });
   w.partner.release();
   w.remapped.release();
   w.C = nullptr;
@@ -710,9 +750,8 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   return Status{};
 }
 
-}  // namespace
-
-Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
+template <bool kChunked>
+Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
   out = Topology{};
   const uint32_t nt = mesh.nTriangles();
   const uint32_t nv = mesh.nVertices();
@@ -728,13 +767,29 @@ Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& opt
   Work w;
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
-  if (!(s = groupSidesByEdge(nt, nv, threads, out, w)).ok()) return s;
-  if (!(s = pairSides(nt, nv, threads, out, w)).ok()) return s;
+  if (!(s = groupSidesByEdge<kChunked>(nt, nv, threads, out, w)).ok()) return s;
+  if (!(s = pairSides<kChunked>(nt, nv, threads, out, w)).ok()) return s;
   numberShells(nt, options.triangleShell, out, w);
-  if (!(s = numberHalfedges(nt, nv, full, out, w)).ok()) return s;
+  if (!(s = numberHalfedges<kChunked>(nt, nv, full, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
   return classifyVertices(nv, threads, out, w);
 }
+
+}  // namespace
+
+Status buildTopology(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
+#if !defined(__EMSCRIPTEN__)
+  // (the tests' chunk size runs the chunked passes natively: setChunkItemsForTesting)
+  if (detail::chunkItemsForTesting() > 0) return buildTopologyIn<true>(mesh, out, options);
+#endif
+  return buildTopologyIn<false>(mesh, out, options);
+}
+
+namespace detail {
+Status buildTopologyInChunks(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
+  return buildTopologyIn<true>(mesh, out, options);
+}
+}  // namespace detail
 
 }  // namespace stltopo

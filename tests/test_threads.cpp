@@ -207,6 +207,33 @@ TEST(Threads, FixturesAreTheSameForEveryThreadCount) {
   if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits + 100) << "the threaded paths did not run";
 }
 
+// The loops that wasm runs in chunks (detail::forChunks) give the whole loop's result: every
+// fixture and a shuffled torus with holes, with chunks of 1, 7 and 64 items against none.
+TEST(Threads, ChunkedLoopsGiveTheWholeLoopsResult) {
+  struct Chunk {
+    explicit Chunk(size_t n) { stltopo::setChunkItemsForTesting(n); }
+    ~Chunk() { stltopo::setChunkItemsForTesting(0); }
+  };
+  std::vector<std::pair<std::string, std::string>> inputs;
+  for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
+    if (!(path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0))
+      inputs.emplace_back(path, gen::readFile(path));
+  gen::Soup t = gen::torus(60, 40, {7, 500, 501, 2000});
+  std::mt19937 rng(11);
+  std::shuffle(t.f.begin(), t.f.end(), rng);
+  inputs.emplace_back("shuffled torus", gen::binary(t));
+  size_t n = 0;
+  for (const auto& [name, bytes] : inputs) {
+    const std::string whole = run(bytes, 1, 0, true);
+    for (size_t c : {size_t(1), size_t(7), size_t(64)}) {
+      Chunk chunk(c);
+      EXPECT_TRUE(run(bytes, 1, 0, true) == whole) << name << ": chunks of " << c;
+    }
+    ++n;
+  }
+  EXPECT_GT(n, 50u);
+}
+
 TEST(Threads, FuzzSeedsAreTheSameForEveryThreadCount) {
   SmallGrain grain(1);
   size_t n = 0;

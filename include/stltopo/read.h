@@ -65,6 +65,11 @@ Status readStl(const uint8_t* data, size_t size, Mesh& out, const ReadOptions& o
 // tests set 1, so that the threaded paths run on small inputs too. Process-wide; set it
 // while no read, topology or geometry call runs.
 void setParallelGrainForTesting(size_t items);
+// Test-only: natively, the loops that run once over a whole mesh (the topology's passes, the
+// shells' triangle pass, the triangle checks, the intersection hierarchy) run in pieces of
+// this many items, as they always do in wasm (0, the default: one piece), so that the tests
+// can check that the pieces give the whole loop's result. Process-wide, as above.
+void setChunkItemsForTesting(size_t items);
 // Test-only: how many times a stage has split its work over two or more threads since the
 // process started (so that a test can tell that the threaded paths ran).
 uint64_t parallelSplitsForTesting();
