@@ -17,6 +17,8 @@ using emscripten::val;
 // result, for the full module's loads (Session::topologyOf).
 namespace stltopo::detail {
 Status buildTopologyInChunks(const Mesh& mesh, Topology& out, const TopologyOptions& options);
+// checkTriangles, likewise (src/triangle_checks.cpp).
+Status checkTrianglesInChunks(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads);
 }
 
 namespace stltopo::js {
@@ -131,7 +133,7 @@ class FullSession : public Session {
     IntersectionOptions o;
     o.threads = threads();
     if (maxPairs >= 1 && maxPairs <= 1099511627776.0) o.maxPairs = uint64_t(maxPairs);
-    Status s = checkTriangles(mesh_, &topo_, checks_, o.threads);
+    Status s = stltopo::detail::checkTrianglesInChunks(mesh_, &topo_, checks_, o.threads);
     if (s.ok()) s = findIntersections(mesh_, topo_, checks_, intersections_, o);
     if (s.ok()) s = findShellNesting(mesh_, topo_, shells_, intersections_, nesting_);
     if (!s.ok()) return remember(s);

@@ -487,6 +487,7 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
 // lowest triangle id, kInvalid for a degenerate triangle. The numbers are written over the
 // union-find's parent array, which becomes triangleShell; without `keep` it is freed (so
 // that it is gone before the half-edge arrays are allocated).
+template <bool kChunked>
 void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   const uint8_t* degen = out.triangleDegenerate.data();
   if (!keep) {
@@ -501,12 +502,16 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   // t already hold shell numbers: a non-root takes its parent's.
   uint32_t* p = w.uf.parent.data();
   uint32_t n = 0;
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (degen[t])
-      p[t] = kInvalid;
-    else
-      p[t] = p[t] == t ? n++ : p[p[t]];
-  }
+  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+    uint32_t m = n;
+    for (uint32_t t = uint32_t(t0); t < t1; ++t) {
+      if (degen[t])
+        p[t] = kInvalid;
+      else
+        p[t] = p[t] == t ? m++ : p[p[t]];
+    }
+    n = m;
+  });
   out.nShells = n;
   out.triangleShell = std::move(w.uf.parent);
 }
@@ -694,6 +699,7 @@ Status labelLoops(const Mesh& mesh, bool full, Topology& out, Work& w) {
 // hold all of its outgoing half-edges (more than one cycle). Leaves vertexHalfedge (the
 // chosen one, kInvalid if unused), vertexNonManifold, nUsedVertices and
 // nNonManifoldVertices. Returns invalid only if a cycle does not close.
+template <bool kChunked>
 Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   if (!out.vertexNonManifold.resize(nv)) return detail::oom(kArrays);
   const uint32_t* next = out.next.data();
@@ -729,7 +735,9 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   // Threaded: vertex ranges, each on its own entries; the counts are sums.
   const unsigned n = detail::partsFor(threads, nv, detail::parallelGrain(65536));
   if (n <= 1) {
-    closed = classify(0, nv, nUsed, nNonManifold);
+    overRange<kChunked>(0, nv, [&](size_t v0, size_t v1) {
+      closed = closed && classify(uint32_t(v0), uint32_t(v1), nUsed, nNonManifold);
+    });
   } else {
     uint32_t used[detail::kMaxThreads] = {}, nonManifold[detail::kMaxThreads] = {};
     bool ok[detail::kMaxThreads] = {};
@@ -769,11 +777,11 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
   if (!(s = groupSidesByEdge<kChunked>(nt, nv, threads, out, w)).ok()) return s;
   if (!(s = pairSides<kChunked>(nt, nv, threads, out, w)).ok()) return s;
-  numberShells(nt, options.triangleShell, out, w);
+  numberShells<kChunked>(nt, options.triangleShell, out, w);
   if (!(s = numberHalfedges<kChunked>(nt, nv, full, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
-  return classifyVertices(nv, threads, out, w);
+  return classifyVertices<kChunked>(nv, threads, out, w);
 }
 
 }  // namespace

@@ -70,7 +70,13 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
   return checkTriangles(mesh, topo, out, 1);
 }
 
-Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
+namespace {
+
+// checkTriangles; with kChunked, its pass over the triangles in chunks (detail::forChunks: for
+// the full wasm module's intersection pass; a separate instantiation, so that the core module
+// holds only the one-call code).
+template <bool kChunked>
+Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
   out = TriangleChecks{};
   if (Status s = checkWeld(mesh, topo); !s.ok()) return s;
   const Welded w{mesh, weldOf(topo)};
@@ -112,7 +118,15 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
   };
   const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
   if (n <= 1) {
-    if (Status s = pass1(0, nt, out.zeroArea, cand); !s.ok()) return s;
+    Status s;
+    if constexpr (kChunked) {
+      detail::forChunks(0, nt, [&](size_t t0, size_t t1) {
+        if (s.ok()) s = pass1(uint32_t(t0), uint32_t(t1), out.zeroArea, cand);
+      });
+    } else {
+      s = pass1(0, nt, out.zeroArea, cand);
+    }
+    if (!s.ok()) return s;
   } else {
     struct PartLists {
       Array<uint32_t> zeroArea, cand;
@@ -209,5 +223,21 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
   out.nDuplicateTriangles = dupMembers;
   return {};
 }
+
+}  // namespace
+
+Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
+#if !defined(__EMSCRIPTEN__)
+  // (the tests' chunk size runs the chunked pass natively: setChunkItemsForTesting)
+  if (detail::chunkItemsForTesting() > 0) return checkTrianglesIn<true>(mesh, topo, out, threads);
+#endif
+  return checkTrianglesIn<false>(mesh, topo, out, threads);
+}
+
+namespace detail {
+Status checkTrianglesInChunks(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
+  return checkTrianglesIn<true>(mesh, topo, out, threads);
+}
+}  // namespace detail
 
 }  // namespace stltopo
