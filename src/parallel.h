@@ -79,8 +79,8 @@ void runParts(unsigned n, F&& fn) {
 // loop over a million items in one call would run unoptimized to its end (2-3x slower); in
 // chunks, the first few run in the baseline code and the rest in the optimized code
 // (bench/PROFILE.md, *Chunked loops*). Natively there is no such tiering, and the whole
-// range is one call (inlined): calls per chunk made the topology 20% slower. Tests set a
-// chunk size natively too (setChunkItemsForTesting), so that the chunked paths run there.
+// range is one call (inlined): calls per chunk made the topology up to 20% slower. Tests
+// set a chunk size natively too (setChunkItemsForTesting), so that the chunked paths run.
 // fn(b, e) must do for [b, e) exactly what the loop does there: the result is the loop's.
 inline constexpr size_t kChunkItems = 16384;
 // The native chunk size (0: none, one call); test-only, as setParallelGrainForTesting.

@@ -230,7 +230,31 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
              d.degenerateTriangles.size() == full.nDegenerate);
   std::string j = infoJson("f", m, &t, ReportExtras{&shells, &d, 3});
   FUZZ_CHECK(!j.empty() && j.front() == '{' && j.back() == '}');
-  checkGeometry(m, t, shells, d);
+  const std::string whole = checkGeometry(m, t, shells, d);
+  // The loops that wasm runs in chunks (detail::forChunks) give the whole loops' result, here
+  // in chunks of 3 items: the topology, the shells and defects, the checks and the pass.
+  {
+    setChunkItemsForTesting(3);
+    Topology tc;
+    Array<Shell> sc;
+    Defects dc;
+    GeometryReport gc;
+    IntersectionOptions io;
+    io.maxPairs = 1u << 16;  // as checkGeometry's
+    const bool ok = buildTopology(m, tc, to).ok() && findShellsAndDefects(m, tc, &sc, &dc).ok() &&
+                    analyzeGeometry(m, tc, gc, io).ok();
+    setChunkItemsForTesting(0);
+    FUZZ_CHECK(ok);
+    FUZZ_CHECK(sameArray(tc.next, t.next) && sameArray(tc.vert, t.vert) && sameArray(tc.pairKind, t.pairKind) &&
+               sameArray(tc.triangleShell, t.triangleShell) && sameArray(tc.vertexNonManifold, t.vertexNonManifold) &&
+               sameArray(tc.loopHalfedges, t.loopHalfedges));
+    ReportExtras e{&gc.shells, &dc, 3};
+    e.checks = &gc.checks;
+    e.intersections = &gc.intersections;
+    e.nesting = &gc.nesting;
+    e.solid = gc.solid;
+    FUZZ_CHECK(infoJson("f", m, &tc, e) == whole);
+  }
   for (uint32_t i = 0; i < shells.size() && i < 4; ++i) {
     Mesh part;
     FUZZ_CHECK(extractShell(m, t, i, part).ok());
