@@ -69,6 +69,13 @@ const contenders = {
   } : {}),
   'npm info': (f) => [node, npmCli, 'info', '--json', f],
   'npm intersections': (f) => [node, npmCli, 'info', '--json', '--intersections', f],
+  // With --shells on both sides, the npm CLI runs the full module for both (plain info runs the
+  // core module, whose topology is not chunked: bench/PROFILE.md, *Chunked loops*), so their
+  // difference is the pass itself (the hierarchy, the certificates, the join, the nesting).
+  shells: (f) => [BIN.cli, 'info', '--json', '--shells', f],
+  'intersections shells': (f) => [BIN.cli, 'info', '--json', '--shells', '--intersections', f],
+  'npm shells': (f) => [node, npmCli, 'info', '--json', '--shells', f],
+  'npm intersections shells': (f) => [node, npmCli, 'info', '--json', '--shells', '--intersections', f],
   ...(haveCgal ? { cgal: (f) => [BIN.cgal, f] } : {}),
 };
 const results = [];
@@ -82,7 +89,7 @@ for (const c of cases) {
         const head = JSON.parse(p.stdout.split('\n')[0]);
         row.searchMs = head.seconds * 1000;
         row.pairs = head.pairs;
-      } else if (k.endsWith('intersections')) {
+      } else if (k.includes('intersections')) {
         row.pairs = JSON.parse(p.stdout).selfIntersections;
       }
       runs[k].push(row);
@@ -91,6 +98,8 @@ for (const c of cases) {
   const m = (k, f = 'wallMs') => median(runs[k]?.map((r) => r[f]) ?? []);
   const passNative = m('intersections') - m('info');
   const passWasm = m('npm intersections') - m('npm info');
+  const passOverShellsNative = m('intersections shells') - m('shells');
+  const passOverShellsWasm = m('npm intersections shells') - m('npm shells');
   const threaded = CORES > 1;
   const passThreads = threaded ? m('intersections threads') - m('info threads') : null;
   // The pass alone in process, as CGAL's figure is its search alone: stltopo_stages times
@@ -104,6 +113,8 @@ for (const c of cases) {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
     passNativeMs: passNative, passWasmMs: passWasm, wasmToNative: passWasm / passNative,
+    passOverShellsNativeMs: passOverShellsNative, passOverShellsWasmMs: passOverShellsWasm,
+    wasmToNativeOverShells: passOverShellsWasm / passOverShellsNative,
     extraBytesPerTriangle: ((m('intersections', 'maxRssKiB') - m('info', 'maxRssKiB')) * 1024) / c.triangles,
     pairs: runs.intersections[0].pairs,
     cgalSearchMs: haveCgal ? m('cgal', 'searchMs') : null, cgalWallMs: haveCgal ? m('cgal') : null,
@@ -138,6 +149,11 @@ for (const r of results) {
     table2.push(`| ${r.case} | ${r.threads} | ${f1(r.infoThreadsMs)} | ${f1(r.intersectionsThreadsMs)} | ${f2(r.ratioThreadsToInfo)} | ` +
       `${f2(r.ratioThreadsToInfoThreads)} | ${f1(r.passThreadsMs)} | ${f2(r.cgalToStltopoPassThreads)} |`);
   }
+}
+console.log('\n| case | pass over --shells, native ms | wasm ms | wasm/native |');
+console.log('|---|---|---|---|');
+for (const r of results) {
+  console.log(`| ${r.case} | ${f1(r.passOverShellsNativeMs)} | ${f1(r.passOverShellsWasmMs)} | ${f2(r.wasmToNativeOverShells)} |`);
 }
 if (table2.length) {
   console.log('\n| case | threads | info ms | info --intersections ms | / info (1 thread) | / info (same threads) | pass ms | CGAL/stltopo pass |');
