@@ -249,9 +249,11 @@ struct KnownPairs {
 // triangleShell equals a fresh build's), else on a fresh build with it. `keep`: the pass's
 // pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
 // when they are usable; the shells, their nesting and `solid` are then made from them as
-// analyzeGeometry makes them.
+// analyzeGeometry makes them. `checksOut`: the triangle checks the figures came from, kept
+// (for the report of the same mesh: reportOf).
 Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
-                 RepairFigures& f, Intersections* keep = nullptr, KnownPairs* known = nullptr) {
+                 RepairFigures& f, Intersections* keep = nullptr, KnownPairs* known = nullptr,
+                 TriangleChecks* checksOut = nullptr) {
   f = RepairFigures{};
   f.stats = em.stats();
   if (!geometry || !o.intersections) {
@@ -260,6 +262,7 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
     if (!s.ok()) return s;
     f.zeroAreaTriangles = uint32_t(checks.zeroArea.size());
     f.duplicateTriangles = checks.nDuplicateTriangles;
+    if (checksOut) *checksOut = std::move(checks);
     return Status{};
   }
   Topology t;
@@ -292,7 +295,17 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
   f.selfIntersections = uint32_t(std::min<uint64_t>(g.intersections.nPairs(), kInvalid - 1));
   f.solid = g.solid;
   if (keep) *keep = std::move(g.intersections);
+  if (checksOut) *checksOut = std::move(g.checks);
   return Status{};
+}
+
+// infoJson of mesh (with topo), given its triangle checks when they are known (the same
+// report: infoJson runs them itself otherwise).
+std::string reportOf(const Mesh& mesh, const Topology& topo, const TriangleChecks* checks) {
+  if (!checks) return infoJson("", mesh, &topo);
+  ReportExtras e;
+  e.checks = checks;
+  return infoJson("", mesh, &topo, e);
 }
 
 // The attribute values of triangle t of a Mesh, in the order `names` lists them.
@@ -524,11 +537,16 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   RepairFigures before;
   // The pairs of the mesh as it is, carried through the steps for the plan's last figures.
   KnownPairs known;
+  // The triangle checks of `cur`, when the figures of cur made them (for its report).
+  TriangleChecks curChecks;
+  bool curChecksKnown = false;
   if (made && made->beforeKnown) {
     before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
-    s = figuresOf(em, cur, topo, o, true, before, plan && o.intersections ? &known.found : nullptr);
+    s = figuresOf(em, cur, topo, o, true, before, plan && o.intersections ? &known.found : nullptr, nullptr,
+                  &curChecks);
     if (!s.ok()) return s;
+    curChecksKnown = true;
     known.valid = plan && o.intersections;
   }
   RepairFigures figures = before;  // of `cur`
@@ -541,7 +559,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->before = before;
     log->fingerprintBefore = fingerprint;
-    log->beforeReport = infoJson("", cur, &topo);  // what em.infoJson gives: cur is its toMesh
+    // what em.infoJson gives: cur is its toMesh
+    log->beforeReport = reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
   }
   int lastStep = -1;
   for (int k = 0; k < kRepairStepCount; ++k)
@@ -577,15 +596,20 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         // The state before the step becomes the memory of the next step's rebuild.
         std::swap(cur, next);
         std::swap(topo, nextTopo);
+        curChecksKnown = false;
         if (log) curFingerprint = fingerprintOf(cur);
         L.fingerprintAfter = curFingerprint;
         changed = true;
         // The figures after each step are the plan's; the log needs only the last ones.
         if (plan) s = known.follow(sp.kind, maps, cur.nTriangles());
-        if (s.ok() && plan) s = figuresOf(em, cur, topo, o, k == lastStep, figures, nullptr, &known);
+        if (s.ok() && plan) {
+          s = figuresOf(em, cur, topo, o, k == lastStep, figures, nullptr, &known, &curChecks);
+          curChecksKnown = s.ok();
+        }
       }
     } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
-      s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known);
+      s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known, &curChecks);
+      curChecksKnown = s.ok();
     }
     if (!s.ok()) {
       // Back to the mesh as the step found it (init of a mesh already held cannot need more
@@ -617,8 +641,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     // result is the mesh the plan predicted (same fingerprint, same pass options).
     const bool predicted = made && made->afterKnown && curFingerprint == made->fingerprintAfter &&
                            made->after.selfIntersections != kInvalid;
-    s = figuresOf(em, cur, topo, o, !predicted, after);
+    s = figuresOf(em, cur, topo, o, !predicted, after, nullptr, nullptr, &curChecks);
     if (!s.ok()) return s;
+    curChecksKnown = true;
     if (predicted && o.intersections) {
       after.selfIntersections = made->after.selfIntersections;
       after.solid = made->after.solid;
@@ -628,7 +653,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     plan->afterKnown = true;
     plan->fingerprintAfter = !changed ? fingerprint : log ? curFingerprint : fingerprintOf(cur);
     plan->after = after;
-    plan->afterReport = infoJson("", cur, &topo);
+    plan->afterReport = reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
       plan->remaining = detail::format(
           "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
@@ -638,7 +663,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->after = after;
     log->fingerprintAfter = curFingerprint;
-    log->afterReport = !changed ? log->beforeReport : plan ? plan->afterReport : infoJson("", cur, &topo);
+    log->afterReport = !changed ? log->beforeReport
+                       : plan   ? plan->afterReport
+                                : reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
   }
   return Status{};
 }
