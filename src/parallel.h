@@ -119,6 +119,17 @@ void forChunks(size_t begin, size_t end, F&& fn, size_t chunk = kChunkItems) {
 #endif
 }
 
+// forChunks when kChunked, else fn(begin, end) in one call: for code that has both versions
+// as separate instantiations, so that a wasm module that calls only the one-call version
+// holds no chunked code (the core module's download budget: src/topology.cpp, buildTopology).
+template <bool kChunked, class F>
+void forChunksIf(size_t begin, size_t end, F&& fn, size_t chunk = kChunkItems) {
+  if constexpr (kChunked)
+    forChunks(begin, end, fn, chunk);
+  else if (begin < end)
+    fn(begin, end);
+}
+
 // fn(i) for every i in [begin, end), in order; in wasm one out-of-line call each (see
 // forChunks): for a loop whose iterations are big.
 template <class F>

@@ -149,18 +149,6 @@ Status weldCorners(const Mesh& mesh, const TopologyOptions& options, Topology& o
   return Status{};
 }
 
-// The loops of the passes that run once over the whole mesh: with kChunked, in chunks
-// (detail::forChunks: for the full wasm module, whose first load would otherwise run them in
-// V8's baseline code), else in one call. Separate instantiations, so that the core wasm module
-// holds only the one-call code (its download budget; buildTopology).
-template <bool kChunked, class F>
-void overRange(size_t begin, size_t end, F&& fn, size_t chunk = detail::kChunkItems) {
-  if constexpr (kChunked)
-    detail::forChunks(begin, end, fn, chunk);
-  else if (begin < end)
-    fn(begin, end);
-}
-
 // Pass groupSidesByEdge. Needs w.C. Leaves out.triangleDegenerate (two corners on one
 // vertex), out.nDegenerate, w.nLive and the CSR w.offsets/w.keys: the live sides bucketed
 // by their smaller vertex, entry (larger vertex << 31 | side << 1 | runs-low-to-high), in
@@ -249,7 +237,7 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
     return Status{};
   }
   uint32_t nLive = 0, nDegenerate = 0;
-  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+  detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t* o = offsets.data();
     uint32_t live = nLive, degenerate = nDegenerate;
     for (uint32_t t = uint32_t(t0); t < t1; ++t) {
@@ -275,7 +263,7 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
   Array<uint32_t> cursor;
   if (!cursor.resize(nv)) return detail::oom(kArrays);
   if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
-  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+  detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint64_t* K = w.keys.data();
     uint32_t* cur = cursor.data();
     auto put = [K, cur](uint32_t s, uint32_t a, uint32_t b) {
@@ -465,7 +453,7 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
     Array<uint32_t> queue[2];
     bool ok = true;
     // (in chunks: vertex ranges of about kChunkItems sides each, in order)
-    overRange<kChunked>(0, nv, [&](size_t v0, size_t v1) {
+    detail::forChunksIf<kChunked>(0, nv, [&](size_t v0, size_t v1) {
       ok = ok && pairRange(uint32_t(v0), uint32_t(v1), offsets, keys, P, uf, c, queue);
     }, detail::kChunkItems / 6);
     if (!ok) return detail::oom(kArrays);
@@ -502,7 +490,7 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   // t already hold shell numbers: a non-root takes its parent's.
   uint32_t* p = w.uf.parent.data();
   uint32_t n = 0;
-  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+  detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t m = n;
     for (uint32_t t = uint32_t(t0); t < t1; ++t) {
       if (degen[t])
@@ -551,7 +539,7 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
   uint32_t nextPair = 0, nextBoundary = 0;
-  overRange<kChunked>(0, nt, [&](size_t t0, size_t t1) {
+  detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t k = nextPair, nb = nextBoundary, sink = 0;
     for (uint32_t t = uint32_t(t0); t < t1; ++t) {
       // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
@@ -735,7 +723,7 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   // Threaded: vertex ranges, each on its own entries; the counts are sums.
   const unsigned n = detail::partsFor(threads, nv, detail::parallelGrain(65536));
   if (n <= 1) {
-    overRange<kChunked>(0, nv, [&](size_t v0, size_t v1) {
+    detail::forChunksIf<kChunked>(0, nv, [&](size_t v0, size_t v1) {
       closed = closed && classify(uint32_t(v0), uint32_t(v1), nUsed, nNonManifold);
     });
   } else {
@@ -758,6 +746,10 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   return Status{};
 }
 
+// buildTopology; with kChunked, the loops of its passes that run once over the whole mesh
+// in chunks (detail::forChunksIf: for the full wasm module, whose first load would otherwise
+// run them in V8's baseline code). Only the full module calls that instantiation
+// (detail::buildTopologyInChunks), so the core holds only the one-call code.
 template <bool kChunked>
 Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& options) {
   out = Topology{};

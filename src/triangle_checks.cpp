@@ -73,8 +73,8 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
 namespace {
 
 // checkTriangles; with kChunked, its pass over the triangles in chunks (detail::forChunks: for
-// the full wasm module's intersection pass; a separate instantiation, so that the core module
-// holds only the one-call code).
+// the full wasm module's intersection pass, detail::checkTrianglesInChunks; a separate
+// instantiation, so that the core module holds only the one-call code).
 template <bool kChunked>
 Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& out, unsigned threads) {
   out = TriangleChecks{};
@@ -119,6 +119,8 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
   const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
   if (n <= 1) {
     Status s;
+    // (Not detail::forChunksIf: compiled at -Oz in wasm, as this file is, the one-call
+    // version keeps its lambda out of line, 75 B gzipped more in the core module.)
     if constexpr (kChunked) {
       detail::forChunks(0, nt, [&](size_t t0, size_t t1) {
         if (s.ok()) s = pass1(uint32_t(t0), uint32_t(t1), out.zeroArea, cand);

@@ -540,6 +540,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // The triangle checks of `cur`, when the figures of cur made them (for its report).
   TriangleChecks curChecks;
   bool curChecksKnown = false;
+  auto curReport = [&] { return reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr); };
   if (made && made->beforeKnown) {
     before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
@@ -560,7 +561,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     log->before = before;
     log->fingerprintBefore = fingerprint;
     // what em.infoJson gives: cur is its toMesh
-    log->beforeReport = reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
+    log->beforeReport = curReport();
   }
   int lastStep = -1;
   for (int k = 0; k < kRepairStepCount; ++k)
@@ -653,7 +654,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     plan->afterKnown = true;
     plan->fingerprintAfter = !changed ? fingerprint : log ? curFingerprint : fingerprintOf(cur);
     plan->after = after;
-    plan->afterReport = reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
+    plan->afterReport = curReport();
     if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
       plan->remaining = detail::format(
           "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
@@ -663,9 +664,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (log) {
     log->after = after;
     log->fingerprintAfter = curFingerprint;
-    log->afterReport = !changed ? log->beforeReport
-                       : plan   ? plan->afterReport
-                                : reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr);
+    log->afterReport = !changed ? log->beforeReport : plan ? plan->afterReport : curReport();
   }
   return Status{};
 }

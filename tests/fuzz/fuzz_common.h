@@ -105,12 +105,16 @@ inline void checkTopology(const Mesh& m, const TopologyOptions& to, Topology& t)
 
 using gen::sameArray;
 
+// The intersection pass's work limit in the checks: a fuzz input may be a coplanar soup, so
+// each run is kept short.
+constexpr uint64_t kFuzzMaxPairs = 1u << 16;
+
 // The exact geometry (issue 21) of a topology with triangleShell: the invariants of every
 // list, the work limit, and the report with every extra. Returns that report.
 inline std::string checkGeometry(const Mesh& m, const Topology& t, const Array<Shell>& shells, const Defects& d) {
   GeometryReport g;
   IntersectionOptions io;
-  io.maxPairs = 1u << 16;  // a fuzz input may be a coplanar soup: keep each run short
+  io.maxPairs = kFuzzMaxPairs;
   Status s = analyzeGeometry(m, t, g, io);
   if (!s.ok()) {
     std::fprintf(stderr, "analyzeGeometry: %s\n", s.message.c_str());
@@ -240,7 +244,7 @@ inline void checkShells(const Mesh& m, TopologyOptions to, const Topology& full)
     Defects dc;
     GeometryReport gc;
     IntersectionOptions io;
-    io.maxPairs = 1u << 16;  // as checkGeometry's
+    io.maxPairs = kFuzzMaxPairs;
     const bool ok = buildTopology(m, tc, to).ok() && findShellsAndDefects(m, tc, &sc, &dc).ok() &&
                     analyzeGeometry(m, tc, gc, io).ok();
     setChunkItemsForTesting(0);

@@ -109,6 +109,28 @@ export function damagedTorus(n, m, seed) {
   return { positions: new Float32Array(positions), triangles: new Uint32Array(tris) };
 }
 
+/**
+ * The triangles in an order drawn from `seed` (a Fisher-Yates shuffle), each with its corners
+ * rotated once (b, c, a): a file whose triangles are not in spatial order.
+ */
+export function shuffleTriangles(triangles, seed) {
+  const nt = triangles.length / 3;
+  let s = seed;
+  const rnd = (k) => ((s = (s * 1103515245 + 12345) >>> 0) % k);
+  const order = [...Array(nt).keys()];
+  for (let i = nt - 1; i > 0; --i) {
+    const j = rnd(i + 1);
+    [order[i], order[j]] = [order[j], order[i]];
+  }
+  const out = new Uint32Array(triangles.length);
+  order.forEach((t, i) => {
+    out[3 * i] = triangles[3 * t + 1];
+    out[3 * i + 1] = triangles[3 * t + 2];
+    out[3 * i + 2] = triangles[3 * t];
+  });
+  return out;
+}
+
 /** Indexed positions and triangles as a binary STL (a Buffer; normals and attribute words 0). */
 export function indexedStl(positions, triangles, header = '') {
   const nt = triangles.length / 3;

@@ -10,7 +10,7 @@ import { execFileSync, spawnSync } from 'node:child_process';
 import path from 'node:path';
 import { loadStl } from 'stltopo';
 import { api } from '../../dist/instance.node.js';
-import { fixtures, root, nativeCli, haveNativeCli, damagedTorus, indexedStl } from './helpers.mjs';
+import { fixtures, root, nativeCli, haveNativeCli, damagedTorus, indexedStl, shuffleTriangles } from './helpers.mjs';
 
 const COUNTS = [4, 2, 1]; // 4 first: the threaded module's pool is sized by its first load
 
@@ -114,21 +114,7 @@ test('threads: the fuzz seeds give the same results for 1, 2 and 4 threads', asy
 function generated() {
   const { positions, triangles } = damagedTorus(120, 90, 7);
   const grid = indexedStl(positions, triangles, 'grid');
-  const nt = triangles.length / 3;
-  let s = 5;
-  const rnd = (k) => ((s = (s * 1103515245 + 12345) >>> 0) % k);
-  const order = [...Array(nt).keys()];
-  for (let i = nt - 1; i > 0; --i) {
-    const j = rnd(i + 1);
-    [order[i], order[j]] = [order[j], order[i]];
-  }
-  const sh = new Uint32Array(triangles.length);
-  order.forEach((t, i) => {
-    sh[3 * i] = triangles[3 * t + 1];
-    sh[3 * i + 1] = triangles[3 * t + 2];
-    sh[3 * i + 2] = triangles[3 * t];
-  });
-  const shuffled = indexedStl(positions, sh, 'shuffled');
+  const shuffled = indexedStl(positions, shuffleTriangles(triangles, 5), 'shuffled');
   const cube = new Float32Array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1]);
   const cubeTris = new Uint32Array([0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7]);
   const negZero = cube.map((x) => (x === 0 ? -0 : x));
