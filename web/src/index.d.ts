@@ -660,6 +660,50 @@ export declare function planRepair(mesh: Mesh | EditableMesh, options?: RepairOp
 export declare const REPAIR_STEPS: readonly RepairStep[];
 export declare const REPAIR_DEFAULTS: Readonly<Required<Omit<RepairOptions, 'exclude'>>>;
 
+/** A group of closed shells that overlap (planUnion(), unionShells()). */
+export interface UnionGroup {
+  /** Its index in planUnion()'s list: groups are numbered by their lowest shell id. */
+  index: number;
+  /** The shells in it (two or more), each intersecting another of the group. */
+  shells: number[];
+  triangles: number;
+  /** The sum of the shells' signed volumes (what `info` reports for them). */
+  volume: number;
+  /** Every shell closed, manifold, outward and without self-intersections: manifold-3d can unite them. */
+  fit: boolean;
+  /** Why the group is not (or was not) united, else null. */
+  reason: string | null;
+  /** unionShells(): whether the group was replaced by its union. */
+  united?: boolean;
+  /** unionShells(), when united: manifold-3d's union, and its volume. */
+  result?: { triangles: number; vertices: number; volume: number };
+}
+
+export interface UnionOptions {
+  /** The manifold-3d module (its default export, awaited; setup() is called when needed). */
+  manifold: unknown;
+  /** The indices of the groups to unite (default: every group that fits). */
+  groups?: number[];
+  /** fromIndexed() options for the result (default { shells: true, intersections: true }). */
+  load?: IndexedOptions;
+  /** For the intersection pass of a mesh loaded without { shells: true, intersections: true }. */
+  maxPairs?: number;
+  signal?: AbortSignal;
+}
+
+/**
+ * Which closed shells overlap, and which of those groups unionShells() can unite. Changes
+ * nothing and needs no manifold-3d. A mesh loaded without { shells: true, intersections: true }
+ * gets the intersection pass here.
+ */
+export declare function planUnion(mesh: Mesh, options?: { maxPairs?: number; signal?: AbortSignal }): Promise<{ groups: UnionGroup[]; complete: boolean }>;
+/**
+ * A new Mesh in which each chosen group of overlapping shells is manifold-3d's boolean union of
+ * them; every other triangle stays, in file order, with its attribute word or colour, and the
+ * unions' triangles follow. The input is not changed. `mesh` is null when no group was united.
+ */
+export declare function unionShells(mesh: Mesh, options: UnionOptions): Promise<{ mesh: Mesh | null; groups: UnionGroup[]; complete: boolean }>;
+
 /** @deprecated An EditableMesh's loops are BoundaryLoops (face id nTriangles + id), as a Mesh's. */
 export type EditableLoop = BoundaryLoop;
 

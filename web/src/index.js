@@ -2,6 +2,7 @@
 import { createInstance } from './instance.js';
 import { stlError } from './errors.js';
 import { createEditableMesh, createPlanRepair } from './edit.js';
+import { createUnion } from './union.js';
 
 const api = createInstance({ importFull: () => import('./stltopo-full.js'), loadWorker: () => import('./worker.js') });
 
@@ -24,6 +25,9 @@ export const EditableMesh = createEditableMesh(api.internal.editModule);
 
 /** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
 export const planRepair = createPlanRepair(EditableMesh);
+
+/** Overlapping closed shells and their boolean union through manifold-3d (union.js, README). */
+export const { planUnion, unionShells } = createUnion(api.fromIndexed);
 
 /** Node only: streams a file from disk. In browsers it rejects. */
 export async function loadStlFile() {

@@ -2,6 +2,7 @@
 import { api, fileSource } from './instance.node.js';
 import { stlError } from './errors.js';
 import { createEditableMesh, createPlanRepair } from './edit.js';
+import { createUnion } from './union.js';
 import { normalizeOptions } from './options.js';
 import { concatBytes } from './wasm.js';
 
@@ -19,6 +20,9 @@ export const EditableMesh = createEditableMesh(api.internal.editModule);
 
 /** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
 export const planRepair = createPlanRepair(EditableMesh);
+
+/** Overlapping closed shells and their boolean union through manifold-3d (union.js, README). */
+export const { planUnion, unionShells } = createUnion(api.fromIndexed);
 
 /** Node only: reads an STL file from disk, streaming it to the core. */
 export async function loadStlFile(path, options) {

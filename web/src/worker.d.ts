@@ -7,6 +7,7 @@
 export {
   loadStl, loadStlFile, fromIndexed, writeStl, toStl,
   StlError, Mesh, kInvalid, EdgeKind, init, DEFECT_KINDS, GEOMETRY_DEFECT_KINDS, extractShell, REPAIR_STEPS, REPAIR_DEFAULTS,
+  planUnion, unionShells,
 } from './index.js';
 import type { Mesh as MeshT, LoadOptions as LoadOptionsT, RepairOptions as RepairOptionsT, RepairPlan as RepairPlanT,
   RepairLog as RepairLogT, RepairStep as RepairStepT, EditableMesh as EditableMeshT, IndexedMeshInput as IndexedMeshInputT,
@@ -62,4 +63,5 @@ export type {
   RepairOptions, RepairPlan, RepairLog, RepairStep, RepairFigures, RepairItem, RepairStepLog,
   StlInput, LoadOptions, WithTopology, WithoutTopology, IfTopology, InitOptions, IndexedOptions, WriteOptions, Stats, Solid,
   Warning, BoundaryLoop, ValidateResult, ErrorCode, WarningCode, Shell, Orientation, DefectKind, Defect, IndexedShell,
+  UnionGroup, UnionOptions,
 } from './index.js';

@@ -3,6 +3,7 @@
 // AbortSignal work across the thread, and the result arrays are transferred.
 import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
+import { createUnion } from './union.js';
 import { describeUrl, wasmSettings } from './wasm-load.js';
 import { Msg } from './protocol.js';
 
@@ -53,6 +54,9 @@ const loader = createWorkerLoader(() => {
 // The worker API (documented in worker.d.ts): loads, writes and repairs made in a worker, and
 // WorkerEditableMesh (an EditableMesh held in a worker, for repair with step-by-step undo).
 export const { loadStl, fromIndexed, writeStl, planRepair, applyRepair, WorkerEditableMesh } = loader;
+
+/** planUnion() and unionShells() (union.js), with their intersection passes and the result's load in a worker. */
+export const { planUnion, unionShells } = createUnion(loader.fromIndexed);
 
 /** toStl() with the writing in a worker: a Blob (type model/stl). */
 export async function toStl(mesh, options) {

@@ -4,6 +4,7 @@ import { Worker } from 'node:worker_threads';
 import { fileURLToPath } from 'node:url';
 import { stlError } from './errors.js';
 import { createWorkerLoader } from './worker-client.js';
+import { createUnion } from './union.js';
 import { Msg } from './protocol.js';
 import { concatBytes } from './wasm.js';
 
@@ -39,6 +40,9 @@ const loader = createWorkerLoader(() => {
 // The worker API (documented in worker.d.ts): loads, writes and repairs made in a worker, and
 // WorkerEditableMesh (an EditableMesh held in a worker, for repair with step-by-step undo).
 export const { loadStl, fromIndexed, writeStl, planRepair, applyRepair, WorkerEditableMesh } = loader;
+
+/** planUnion() and unionShells() (union.js), with their intersection passes and the result's load in a worker. */
+export const { planUnion, unionShells } = createUnion(loader.fromIndexed);
 
 /** toStl() with the writing in a worker: one Uint8Array. */
 export async function toStl(mesh, options) {

@@ -3,6 +3,7 @@
 // "exports" (self-reference), so the .d.ts files must match the package.
 import {
   loadStl, loadStlFile, StlError, Mesh, kInvalid, EdgeKind, fromIndexed, writeStl, toStl, EditableMesh, planRepair, REPAIR_STEPS,
+  planUnion, unionShells, type UnionGroup,
   type IndexedOptions, type WriteOptions, type RepairPlan, type RepairLog, type RepairStep, type RepairOptions,
   type LoadOptions, type StlInput, type Stats, type BoundaryLoop, type HalfedgeNavigation, type ValidateResult, type ErrorCode, type Warning, type Solid,
 } from 'stltopo';
@@ -220,4 +221,15 @@ export async function joining(mesh: Mesh): Promise<number> {
   const { first, count }: { first: number; count: number } = em.splitVertex(0);
   em.dispose();
   return first + count;
+}
+// Overlapping shells: the groups, and their union through manifold-3d (passed in).
+export async function uniting(mesh: Mesh, manifold: unknown): Promise<number> {
+  const { groups, complete } = await planUnion(mesh);
+  const fit: UnionGroup[] = groups.filter((g) => g.fit);
+  const r = await unionShells(mesh, { manifold, groups: fit.map((g) => g.index), load: { shells: true } });
+  const w = await worker.unionShells(mesh, { manifold });
+  const volume: number = r.groups[0]?.result?.volume ?? 0;
+  // @ts-expect-error: manifold-3d is required
+  await unionShells(mesh, {});
+  return (r.mesh ? r.mesh.nTriangles : 0) + (w.mesh?.nTriangles ?? 0) + volume + (complete ? 1 : 0);
 }
