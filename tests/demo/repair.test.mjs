@@ -9,7 +9,8 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { loadStl, EditableMesh, REPAIR_DEFAULTS } from 'stltopo';
+import { loadStl, EditableMesh, REPAIR_DEFAULTS, unionShells, toStl } from 'stltopo';
+import Module from 'manifold-3d';
 import { damagedTorus, indexedStl } from '../js/helpers.mjs';
 import { root, artifacts, startSite, launchChromium, newPage as openPage, closePage, settle, pageStats } from './demo-page.mjs';
 
@@ -244,5 +245,54 @@ test('Repair panel: a bad option shows the API error in the panel; small shells 
   } finally {
     ref.dispose();
   }
+  await closePage(page);
+});
+
+/** Runs one action of the union part of the panel and waits until it has finished. */
+async function unionAction(page, act) {
+  const seq = await page.evaluate(() => Number(document.body.dataset.unionSeq || 0));
+  await act();
+  await page.waitForFunction((n) => Number(document.body.dataset.unionSeq || 0) > n, seq, { timeout: 60_000 });
+}
+
+test('Overlapping shells: the box sample\'s 10 bodies become one solid with Unite (manifold-3d in the page), downloaded as such; Undo union brings the file back', async () => {
+  const page = await newPage();
+  await page.goto(`${siteUrl}?sample=box-overlapping`);
+  assert.equal(await settle(page, 0), 'ready');
+  await page.waitForFunction(() => document.body.dataset.union === 'ready');
+  assert.equal(await page.evaluate(() => document.body.dataset.unionGroups), '1');
+  assert.equal((await pageStats(page)).shells, '10');
+  assert.equal((await pageStats(page)).solid, 'false');
+  assert.equal(await page.isDisabled('#union-undo'), true);
+
+  // The reference: the same file united in Node with the same manifold-3d.
+  const manifold = await Module();
+  manifold.setup();
+  const file = readFileSync(path.join(root, 'tests/fixtures/mikedh_trimesh/models/box.STL'));
+  const ref = await unionShells(await loadStl(file, { shells: true, intersections: true }), { manifold });
+  assert.equal(ref.mesh.stats.solid, true);
+
+  await unionAction(page, () => page.click('#union-unite'));
+  const stats = await pageStats(page);
+  assert.equal(stats.shells, '1');
+  assert.equal(stats.solid, 'true');
+  assert.equal(stats.selfIntersections, '0');
+  assert.equal(await page.evaluate(() => document.body.dataset.union), 'none');
+  assert.equal(await page.evaluate(() => document.body.dataset.unionUndo), '1');
+  assert.match(await page.textContent('#union-status'), /No closed shells overlap/);
+
+  // The download is the union, byte for byte as the Node reference writes it.
+  await page.selectOption('#download-format', 'binary');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-button')]);
+  const saved = path.join(artifacts, 'box-united.stl');
+  await download.saveAs(saved);
+  assert.ok(readFileSync(saved).equals(Buffer.from(await toStl(ref.mesh, { format: 'binary' }))),
+    'the download is not the united mesh');
+
+  // Undo union: the file as loaded.
+  await unionAction(page, () => page.click('#union-undo'));
+  assert.equal((await pageStats(page)).shells, '10');
+  await page.waitForFunction(() => document.body.dataset.union === 'ready');
+  assert.equal(await page.isDisabled('#union-undo'), true);
   await closePage(page);
 });

@@ -6,6 +6,7 @@ import { $, viewer } from './page.js';
 import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels, showScaleNote } from './panels.js';
 import { stopEditing, setLoaded } from './edit-panel.js';
 import { setRepairSource, repairedStl } from './repair-panel.js';
+import { setUnionSource, setUnionReplace } from './union-panel.js';
 
 /** Files larger than this load without the exact geometry (see load()). */
 export const GEOMETRY_MAX_BYTES = 1e9;
@@ -86,6 +87,7 @@ export async function load(source, { name, credit = '' } = {}) {
     $('#download').hidden = false;
     setLoaded({ mesh, name });
     setRepairSource({ mesh, name });
+    setUnionSource({ mesh, name });
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     showScaleNote(scaleNote(mesh, viewer.stride, geometry, total));
     hideProgress();
@@ -106,10 +108,25 @@ export async function load(source, { name, credit = '' } = {}) {
     hasModel = false;
     shown = null;
     setRepairSource(null);
+    setUnionSource(null);
     $('#download').hidden = true;
     setState('error');
   }
 }
+
+// The union panel's result (or its undo) as the model on screen: drawn, listed and handed to the
+// edit and repair panels as a loaded model is; the view stays where it is.
+async function replaceModel(mesh, { name, credit, t0, keepUnionUndo }) {
+  await stopEditing();
+  const sceneMs = viewer.setMesh(mesh, { keepView: true });
+  shown = { mesh, name };
+  setLoaded({ mesh, name });
+  setRepairSource({ mesh, name });
+  setUnionSource({ mesh, name }, { keepUndo: keepUnionUndo });
+  showMesh(mesh, { name, credit, parseMs: performance.now() - t0 - sceneMs, sceneMs, totalMs: performance.now() - t0 });
+  showScaleNote(scaleNote(mesh, viewer.stride, true, 0));
+}
+setUnionReplace(replaceModel);
 
 // The mesh on screen, for "Download STL": written as STL in the worker (the mesh came from
 // one), then handed to the browser as a download. While a repair is applied (repair-panel.js),

@@ -21,6 +21,7 @@ import { fromIndexed } from 'stltopo/worker';
 import { $, viewer } from './page.js';
 import { showMesh } from './panels.js';
 import { setLoaded as setEditSource } from './edit-panel.js';
+import { setUnionSource } from './union-panel.js';
 
 const kMaxItems = 200; // items listed per step (the counts say how many there are)
 const kMaxPreviewItems = 20000; // items drawn per step
@@ -512,6 +513,7 @@ async function redraw(t0) {
   showMesh(mesh, { name: source.name, credit: em.undoableSteps ? 'Repaired in the page (stltopo repair).' : '',
     parseMs, sceneMs, totalMs: performance.now() - t0 });
   setEditSource({ mesh, name: source.name });
+  setUnionSource({ mesh, name: source.name }, { keepUndo: true }); // a union then starts from the repaired mesh
   return true;
 }
 

@@ -43,6 +43,10 @@ export const samples = [
     path: 'amandaghassaei_stl-parser/test/stl/wrench.stl', credit: 'amandaghassaei/stl-parser, MIT',
   },
   {
+    id: 'box-overlapping', group: 'Broken', label: 'Box of 10 overlapping bodies — self-intersecting (Unite)', file: 'box.STL',
+    path: 'mikedh_trimesh/models/box.STL', credit: 'mikedh/trimesh, MIT',
+  },
+  {
     id: 'torus-1m', group: 'Large', label: '1M-triangle torus with 8 holes (generated, 50 MB)',
     generate: 'bigTorus',
   },

@@ -125,7 +125,9 @@ export default defineConfig({
   },
   optimizeDeps: {
     entries: ['index.html'],
-    exclude: ['stltopo'],
+    // manifold-3d finds its .wasm next to itself (new URL('manifold.wasm', import.meta.url)),
+    // which a pre-bundled copy would not have beside it.
+    exclude: ['stltopo', 'manifold-3d'],
   },
   preview: { host: '127.0.0.1', headers: ISOLATION },
 });
