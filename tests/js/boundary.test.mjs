@@ -136,7 +136,7 @@ test('the entry points export the public API only (no _internal, no fileSource),
   assert.deepEqual(Object.keys(pkg.exports).sort(),
     ['.', './package.json', './stltopo-full.wasm', './stltopo-wasm.wasm', './three', './worker', './worker-thread']);
   const pub = ['DEFECT_KINDS', 'EdgeKind', 'GEOMETRY_DEFECT_KINDS', 'Mesh', 'REPAIR_DEFAULTS', 'REPAIR_STEPS', 'StlError', 'extractShell',
-    'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'toStl', 'writeStl'];
+    'fromIndexed', 'init', 'kInvalid', 'loadStl', 'loadStlFile', 'planUnion', 'toStl', 'unionShells', 'writeStl'];
   // The editable mesh lives where it is made: EditableMesh in the main entries, WorkerEditableMesh
   // (held in a worker) in the worker's; both have planRepair, the worker also applyRepair (on a
   // copy, returning the repaired mesh).
