@@ -29,7 +29,8 @@ int orient3dExpansion(const float* a, const float* b, const float* c, const floa
 
 // Sign of (b - a) x (c - a) in the plane (ax, ay) ...: > 0 when a, b, c turn
 // counter-clockwise.
-inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
+// (Always inlined: the triangle checks, compiled at -Oz in wasm, call it once per triangle.)
+__attribute__((always_inline)) inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
   const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
   const double det = l - r;
   const double bound = 3.3306690738754716e-16 * (std::fabs(l) + std::fabs(r));  // (3 + 16 eps) eps
@@ -91,7 +92,7 @@ inline double orient3dApprox(const float* a, const float* b, const float* c, con
 
 // Coordinate k of the normal (b - a) x (c - a), exactly: the orientation of the
 // triangle projected along axis k onto the coordinates (k + 1, k + 2) mod 3.
-inline int normalSign(const float* a, const float* b, const float* c, int k) {
+__attribute__((always_inline)) inline int normalSign(const float* a, const float* b, const float* c, int k) {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   return orient2d(a[i], a[j], b[i], b[j], c[i], c[j]);
 }
@@ -104,8 +105,11 @@ int normalsDot(const float* a, const float* b, const float* c, const float* d, c
 int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
 
 // Whether a, b, c lie on one line (equal points included): (b - a) x (c - a) == 0.
+// (A loop, so that code compiled for size, where normalSign is inlined, holds one copy of it.)
 inline bool collinear(const float* a, const float* b, const float* c) {
-  return normalSign(a, b, c, 0) == 0 && normalSign(a, b, c, 1) == 0 && normalSign(a, b, c, 2) == 0;
+  for (int k = 0; k < 3; ++k)
+    if (normalSign(a, b, c, k) != 0) return false;
+  return true;
 }
 
 }  // namespace stltopo::pred

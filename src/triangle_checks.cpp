@@ -86,7 +86,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
   // only the triangles it cannot rule out: none in a clean mesh). Threaded: each part lists
   // a range of triangles, and the lists are joined in range order.
   Array<uint32_t> cand;
-  auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) -> Status {
+  auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) __attribute__((flatten)) -> Status {
     uint32_t sink = 0;
     for (uint32_t t = t0; t < t1; ++t) {
       // The corners (and the edge canHaveDuplicate reads) of a triangle a few ahead: in a
