@@ -200,3 +200,18 @@ export async function pool(items, job, width = availableParallelism() + 1) {
   if (failure) throw failure;
   return results;
 }
+
+/**
+ * manifold-3d's verdict on an indexed part ({ positions, triangles }, as extractShell gives):
+ * 'NoError' or the error status it threw or reported. `wasm`: the manifold-3d module, set up.
+ */
+export function manifoldVerdict(wasm, part) {
+  try {
+    const m = new wasm.Manifold(new wasm.Mesh({ numProp: 3, vertProperties: part.positions, triVerts: part.triangles }));
+    const s = m.status();
+    m.delete();
+    return s;
+  } catch (e) {
+    return e.code || String(e.message);
+  }
+}

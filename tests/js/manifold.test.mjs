@@ -11,22 +11,13 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { loadStl, extractShell } from 'stltopo';
 import Module from 'manifold-3d';
-import { fixtures } from './helpers.mjs';
+import { fixtures, manifoldVerdict } from './helpers.mjs';
 
 const wasm = await Module();
 wasm.setup();
 
 // manifold-3d's verdict on one shell: 'NoError' or the error status it threw/reported.
-function verdict(part) {
-  try {
-    const m = new wasm.Manifold(new wasm.Mesh({ numProp: 3, vertProperties: part.positions, triVerts: part.triangles }));
-    const s = m.status();
-    m.delete();
-    return s;
-  } catch (e) {
-    return e.code || String(e.message);
-  }
-}
+const verdict = (part) => manifoldVerdict(wasm, part);
 
 test('manifold-3d builds every closed, manifold, outward shell and rejects every open or non-manifold one', async () => {
   let built = 0, rejected = 0, pairedOnly = 0;

@@ -10,7 +10,7 @@ import path from 'node:path';
 import { fromIndexed, loadStl, planUnion, unionShells, extractShell } from 'stltopo';
 import * as inWorker from 'stltopo/worker';
 import Module from 'manifold-3d';
-import { fixtures } from './helpers.mjs';
+import { fixtures, manifoldVerdict } from './helpers.mjs';
 
 const manifold = await Module();
 manifold.setup();
@@ -39,17 +39,7 @@ const load = (m, o = { shells: true, intersections: true }) => fromIndexed(m.pos
 const close = (a, b, what) => assert.ok(Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(b)), `${what}: ${a} vs ${b}`);
 
 // manifold-3d's verdict on shell s of a mesh loaded with shells.
-function verdict(mesh, s) {
-  const part = extractShell(mesh, s);
-  try {
-    const m = new manifold.Manifold(new manifold.Mesh({ numProp: 3, vertProperties: part.positions, triVerts: part.triangles }));
-    const st = m.status();
-    m.delete();
-    return st;
-  } catch (e) {
-    return e.code || String(e.message);
-  }
-}
+const verdict = (mesh, s) => manifoldVerdict(manifold, extractShell(mesh, s));
 
 test('two overlapping cubes become one solid of 15,000 mm³; a separate cube keeps its triangles, ids order and words', async () => {
   const m = join(cube(100, 0, 0, 5), cube(0, 0, 0, 20), cube(10, 10, 10, 20));
