@@ -99,14 +99,27 @@ function manifoldOf(options) {
   return wasm;
 }
 
-// Positions and triangles of shell s, its vertices numbered by first appearance.
-function shellArrays(positions, triangles, triangleShell, shell) {
+// The triangles of each shell, in file order, from one pass: those of shell s are
+// list[offsets[s]] .. list[offsets[s + 1] - 1] (degenerate triangles have no shell).
+function trianglesByShell(triangleShell, nShells) {
+  const offsets = new Uint32Array(nShells + 1);
+  for (const s of triangleShell) if (s < nShells) ++offsets[s + 1];
+  for (let s = 0; s < nShells; ++s) offsets[s + 1] += offsets[s];
+  const list = new Uint32Array(offsets[nShells]);
+  const fill = offsets.slice(0, nShells);
+  for (let t = 0; t < triangleShell.length; ++t) if (triangleShell[t] < nShells) list[fill[triangleShell[t]]++] = t;
+  return { offsets, list };
+}
+
+// Positions and triangles of shell s (its triangles: byShell), its vertices numbered by
+// first appearance.
+function shellArrays(positions, triangles, byShell, s) {
   const vertexOf = new Map();
   const pos = [];
-  const tri = new Uint32Array(3 * shell.triangles);
+  const ts = byShell.list.subarray(byShell.offsets[s], byShell.offsets[s + 1]);
+  const tri = new Uint32Array(3 * ts.length);
   let k = 0;
-  for (let t = 0; t < triangleShell.length; ++t) {
-    if (triangleShell[t] !== shell.id) continue;
+  for (const t of ts) {
     for (let c = 0; c < 3; ++c) {
       const v = triangles[3 * t + c];
       let w = vertexOf.get(v);
@@ -122,11 +135,11 @@ function shellArrays(positions, triangles, triangleShell, shell) {
 }
 
 // manifold-3d's union of the group's shells: { positions, triangles, volume } or { reason }.
-function uniteGroup(wasm, mesh, geo, group) {
+function uniteGroup(wasm, mesh, geo, byShell, group) {
   const made = [];
   try {
     for (const id of group.shells) {
-      const { vertProperties, triVerts } = shellArrays(mesh.positions, geo.triangles, geo.triangleShell, geo.shells[id]);
+      const { vertProperties, triVerts } = shellArrays(mesh.positions, geo.triangles, byShell, id);
       const mm = new wasm.Mesh({ numProp: 3, vertProperties, triVerts });
       let m;
       try {
@@ -198,6 +211,9 @@ export function createUnion(fromIndexed) {
     }
     const pieces = [];
     const shellOut = new Uint8Array(geo.shells.length); // 1: replaced by a union
+    // One pass over the triangles for every shell a union takes (not one per shell).
+    const byShell = groups.some((g) => g.fit && (!chosen || chosen.has(g.index)))
+      ? trianglesByShell(geo.triangleShell, geo.shells.length) : null;
     for (const g of groups) {
       g.united = false;
       if (chosen && !chosen.has(g.index)) {
@@ -205,7 +221,7 @@ export function createUnion(fromIndexed) {
         continue;
       }
       if (!g.fit) continue;
-      const r = uniteGroup(wasm, mesh, geo, g);
+      const r = uniteGroup(wasm, mesh, geo, byShell, g);
       if (r.reason) {
         g.fit = false;
         g.reason = r.reason;
