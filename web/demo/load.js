@@ -81,13 +81,9 @@ export async function load(source, { name, credit = '' } = {}) {
     await nextFrame();
     if (seq !== loadSeq) return;
     await stopEditing();
-    const sceneMs = viewer.setMesh(mesh);
+    const sceneMs = present(mesh, name);
     hasModel = true;
-    shown = { mesh, name };
     $('#download').hidden = false;
-    setLoaded({ mesh, name });
-    setRepairSource({ mesh, name });
-    setUnionSource({ mesh, name });
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
     showScaleNote(scaleNote(mesh, viewer.stride, geometry, total));
     hideProgress();
@@ -114,15 +110,22 @@ export async function load(source, { name, credit = '' } = {}) {
   }
 }
 
-// The union panel's result (or its undo) as the model on screen: drawn, listed and handed to the
-// edit and repair panels as a loaded model is; the view stays where it is.
-async function replaceModel(mesh, { name, credit, t0, keepUnionUndo }) {
-  await stopEditing();
-  const sceneMs = viewer.setMesh(mesh, { keepView: true });
+// `mesh` as the model on screen: drawn, and handed to the download, edit, repair and union
+// panels. The time the view took.
+function present(mesh, name, { keepView = false, keepUnionUndo = false } = {}) {
+  const sceneMs = viewer.setMesh(mesh, { keepView });
   shown = { mesh, name };
   setLoaded({ mesh, name });
   setRepairSource({ mesh, name });
   setUnionSource({ mesh, name }, { keepUndo: keepUnionUndo });
+  return sceneMs;
+}
+
+// The union panel's result (or its undo) as the model on screen, as a loaded model is; the
+// view stays where it is.
+async function replaceModel(mesh, { name, credit, t0, keepUnionUndo }) {
+  await stopEditing();
+  const sceneMs = present(mesh, name, { keepView: true, keepUnionUndo });
   showMesh(mesh, { name, credit, parseMs: performance.now() - t0 - sceneMs, sceneMs, totalMs: performance.now() - t0 });
   showScaleNote(scaleNote(mesh, viewer.stride, true, 0));
 }
