@@ -19,6 +19,9 @@ const BIN = {
   procstat: path.join(BUILD, 'bench/procstat'),
   genmesh: path.join(BUILD, 'bench/genmesh'),
   stages: path.join(BUILD, 'bench/stltopo_stages'),
+  // The same harness compiled to wasm (bindings/CMakeLists.txt, stltopo_stages_wasm; scripts/bench.sh
+  // builds it): the pass in process in wasm, against stltopo_stages natively.
+  stagesWasm: path.join(root, process.env.STLTOPO_WASM_BUILD_DIR || 'build-wasm', 'bindings/stltopo-stages.cjs'),
   // bench/CMakeLists.txt builds it into bench/judge, unless the tests (STLTOPO_BUILD_TESTS)
   // defined the target first, in tests/judge.
   cgal: ['bench/judge', 'tests/judge'].map((d) => path.join(BUILD, d, 'stltopo_cgal_pmp')).find((f) => fs.existsSync(f))
@@ -104,11 +107,23 @@ for (const c of cases) {
   const passThreads = threaded ? m('intersections threads') - m('info threads') : null;
   // The pass alone in process, as CGAL's figure is its search alone: stltopo_stages times
   // findIntersections on one thread (median of opt.reps after a warm-up; CGAL's is one call).
-  let passInProcess = null;
-  if (fs.existsSync(BIN.stages)) {
-    const st = spawnSync(BIN.stages, [c.file, '--intersections', '1', String(Math.max(3, opt.reps))], { encoding: 'utf8' });
-    if (st.status === 0) passInProcess = JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs;
+  // The wasm build of the same harness alternates with it (3 runs each, or opt.reps when more;
+  // the median of their medians): the wasm/native figure of the pass with nothing else around it.
+  let passInProcess = null, passInProcessWasm = null;
+  const inProcess = { native: [], wasm: [] };
+  const stageArgs = [c.file, '--intersections', '1', String(Math.max(3, opt.reps))];
+  for (let rep = 0; rep < Math.max(3, opt.reps); ++rep) {
+    if (fs.existsSync(BIN.stages)) {
+      const st = spawnSync(BIN.stages, stageArgs, { encoding: 'utf8' });
+      if (st.status === 0) inProcess.native.push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
+    }
+    if (fs.existsSync(BIN.stagesWasm)) {
+      const st = spawnSync(process.execPath, ['--no-experimental-fetch', BIN.stagesWasm, ...stageArgs], { encoding: 'utf8' });
+      if (st.status === 0) inProcess.wasm.push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
+    }
   }
+  if (inProcess.native.length) passInProcess = median(inProcess.native);
+  if (inProcess.wasm.length) passInProcessWasm = median(inProcess.wasm);
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
@@ -121,6 +136,8 @@ for (const c of cases) {
     cgalPairs: haveCgal ? runs.cgal[0].pairs : null,
     cgalToStltopoPass: haveCgal ? m('cgal', 'searchMs') / passNative : null,
     passInProcessMs: passInProcess,
+    passInProcessWasmMs: passInProcessWasm,
+    wasmToNativeInProcess: passInProcess && passInProcessWasm ? passInProcessWasm / passInProcess : null,
     cgalToStltopoPassInProcess: haveCgal && passInProcess ? m('cgal', 'searchMs') / passInProcess : null,
     threads: threaded ? CORES : null,
     infoThreadsMs: threaded ? m('info threads') : null,
@@ -149,6 +166,11 @@ for (const r of results) {
     table2.push(`| ${r.case} | ${r.threads} | ${f1(r.infoThreadsMs)} | ${f1(r.intersectionsThreadsMs)} | ${f2(r.ratioThreadsToInfo)} | ` +
       `${f2(r.ratioThreadsToInfoThreads)} | ${f1(r.passThreadsMs)} | ${f2(r.cgalToStltopoPassThreads)} |`);
   }
+}
+console.log('\n| case | pass in process, native ms | wasm ms | wasm/native |');
+console.log('|---|---|---|---|');
+for (const r of results) {
+  console.log(`| ${r.case} | ${f1(r.passInProcessMs)} | ${f1(r.passInProcessWasmMs)} | ${f2(r.wasmToNativeInProcess)} |`);
 }
 console.log('\n| case | pass over --shells, native ms | wasm ms | wasm/native |');
 console.log('|---|---|---|---|');

@@ -21,6 +21,13 @@ if [ "${STLTOPO_BENCH_NO_WASM_REBUILD:-0}" != 1 ] || [ ! -f dist/stltopo-wasm.wa
   STLTOPO_DEPS_INSTALLED=1 bash scripts/ensure-package.sh >&2
 fi
 
+# The stage harness compiled to wasm (bench/geometry.mjs: the pass in process, wasm against native),
+# in the wasm build's directory (configured by scripts/build-wasm.sh; skipped when it is not).
+WASM_BUILD_DIR="${STLTOPO_WASM_BUILD_DIR:-build-wasm}"
+if [ -f "$WASM_BUILD_DIR/CMakeCache.txt" ]; then
+  NODE_PATH="${NODE_PATH:-/usr/share/nodejs}" cmake --build "$WASM_BUILD_DIR" -j"$JOBS" --target stltopo_stages_wasm >&2
+fi
+
 # The native harness: genmesh, stltopo_stages, procstat and the CLI, Release.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_BENCH=ON -DSTLTOPO_BUILD_TESTS=OFF >&2
 cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_edits stltopo_cli stltopo_repair_bench >&2

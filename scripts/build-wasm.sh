@@ -52,13 +52,13 @@ for f in dist/* dist/.[!.]*; do
   case " ${keep[*]} " in *" $b "*) ;; *) rm -rf "$f" ;; esac
 done
 
-# Only the full module may hold SIMD instructions (the intersection pass, src/CMakeLists.txt):
-# the core must instantiate on every engine with wasm, SIMD or not. binaryen's wasm-dis comes
-# with Emscripten.
+# Only the full module may hold SIMD instructions and saturating float-to-int conversions (the
+# intersection pass, src/CMakeLists.txt): the core must instantiate on every engine with wasm,
+# SIMD or not. binaryen's wasm-dis comes with Emscripten.
 for m in wasm wasm-mt; do
   if command -v wasm-dis >/dev/null 2>&1 &&
-     wasm-dis dist/stltopo-$m.wasm | grep -qE '\b(v128|[if](8x16|16x8|32x4|64x2))\.'; then
-    echo "build-wasm: stltopo-$m.wasm holds SIMD instructions; only stltopo-full(-mt) may" >&2
+     wasm-dis dist/stltopo-$m.wasm | grep -qE '\b(v128|[if](8x16|16x8|32x4|64x2))\.|\.trunc_sat_'; then
+    echo "build-wasm: stltopo-$m.wasm holds SIMD or saturating conversions; only stltopo-full(-mt) may" >&2
     exit 1
   fi
 done
