@@ -636,22 +636,33 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   });
   for (unsigned i = 0; i < parts; ++i) firstOf[i + 1] += firstOf[i];
   const uint32_t n = firstOf[parts];
-  if (corner) {
-    if (!corner->resize(3 * size_t(n) + 1) || !signs->resize(n)) return oom("the intersection hierarchy");
-    (*corner)[3 * size_t(n)] = 0;
-  }
-  if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
+  // The sort's keys and its buffer (2n uint64): in the pass (columnar), the columns' own
+  // storage (6 (n + kLeaf) floats, 24 bytes a position against the sort's 16), which the
+  // gather fills once the sorted ids are in bvh.tri; the hierarchy's peak memory is then that
+  // of its arrays (tri, columns, corners, signs, nodes), 16 bytes a triangle less than with
+  // the sort's own arrays beside them. (Malloc'd storage, 8-byte aligned: the uint64 keys live
+  // there until the ids are out, and a compiler barrier orders their last read before the
+  // gather's first float store.)
+  Array<uint64_t> ownKeys;
+  uint64_t* keys = nullptr;
   if (columnar) {
     bvh.columns.stride = size_t(n) + kLeaf;
     if (!bvh.columns.v.resize(6 * bvh.columns.stride)) return oom("the intersection hierarchy");
-    for (int k = 0; k < 6; ++k)  // [0, n) of each column is written below
-      for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + n + i] = std::nanf("");
-  } else if (!bvh.box.resize(n)) {
-    return oom("the intersection hierarchy");
+    keys = reinterpret_cast<uint64_t*>(bvh.columns.v.data());
+  } else {
+    if (!bvh.box.resize(n) || !ownKeys.resize(2 * size_t(n))) return oom("the intersection hierarchy");
+    keys = ownKeys.data();
   }
-  if (n == 0) return {};
-  Array<uint64_t> keys, tmp;
-  if (!keys.resize(n) || !tmp.resize(n)) return oom("the intersection hierarchy");
+  if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
+  if (n == 0) {
+    if (corner && (!corner->resize(1) || !signs->resize(0))) return oom("the intersection hierarchy");
+    if (corner) (*corner)[0] = 0;
+    if (columnar)
+      for (int k = 0; k < 6; ++k)
+        for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + i] = std::nanf("");
+    return {};
+  }
+  uint64_t* tmp = keys + n;
   const float* lo = w.mesh.bboxMin;
   const float* hi = w.mesh.bboxMax;
   double scale[3];
@@ -683,7 +694,8 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   // Radix sort on the 30-bit code, stable (ties by triangle id): the keys go to buckets by
   // their top 10 bits, then each bucket is sorted by its low 20 bits in two passes of 10
   // (least significant first), where it stays in cache: the order an LSD sort of 3 passes
-  // gives, with one pass over the whole array instead of three.
+  // gives, with one pass over the whole array instead of three. The last pass writes the
+  // triangle ids alone, into bvh.tri.
   uint32_t top[1025];
   std::memset(top, 0, sizeof top);
   detail::forChunks(0, n, [&](size_t b, size_t e) {
@@ -697,10 +709,14 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       for (size_t j = b; j < e; ++j) tmp[at[keys[j] >> 52]++] = keys[j];
     });
   }
+  uint32_t* sorted = bvh.tri.data();
   // A call per bucket (see forChunks).
   detail::forEachCall(0, 1024, [&](size_t d) {
     const uint32_t b = top[d], e = top[d + 1];
-    if (e - b < 2) return;
+    if (e - b < 2) {
+      if (e > b) sorted[b] = uint32_t(tmp[b]);
+      return;
+    }
     uint32_t count[2][1024];
     std::memset(count, 0, sizeof count);
     for (uint32_t j = b; j < e; ++j) {
@@ -716,10 +732,19 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       }
     }
     for (uint32_t j = b; j < e; ++j) keys[count[0][(tmp[j] >> 32) & 1023]++] = tmp[j];
-    for (uint32_t j = b; j < e; ++j) tmp[count[1][(keys[j] >> 42) & 1023]++] = keys[j];
+    for (uint32_t j = b; j < e; ++j) sorted[count[1][(keys[j] >> 42) & 1023]++] = uint32_t(keys[j]);
   });
-  std::swap(keys, tmp);  // the sorted keys
-  tmp.release();
+  ownKeys.release();
+#if defined(__GNUC__)
+  __asm__ __volatile__("" ::: "memory");  // the keys' last read comes before the columns' first store
+#endif
+  if (corner) {
+    if (!corner->resize(3 * size_t(n) + 1) || !signs->resize(n)) return oom("the intersection hierarchy");
+    (*corner)[3 * size_t(n)] = 0;
+  }
+  if (columnar)
+    for (int k = 0; k < 6; ++k)  // [0, n) of each column is written below
+      for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + n + i] = std::nanf("");
   const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
   detail::runParts(boxParts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
@@ -729,13 +754,12 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       for (uint32_t j = uint32_t(cb); j < ce; ++j) {
         // A chain of two: a triangle's record, then its corners' positions.
         for (auto [u, ue] = aheadOf(j, begin, end, 2 * kAhead); u < ue; ++u)
-          touch(&w.mesh.triangles[3 * size_t(uint32_t(keys[u]))], sink);
+          touch(&w.mesh.triangles[3 * size_t(sorted[u])], sink);
         for (auto [u, ue] = aheadOf(j, begin, end, kAhead); u < ue; ++u) {
-          const uint32_t tu = uint32_t(keys[u]);
+          const uint32_t tu = sorted[u];
           for (int c = 0; c < 3; ++c) touch(w.p(w.v(tu, c)), sink);
         }
-        const uint32_t t = uint32_t(keys[j]);
-        bvh.tri[j] = t;
+        const uint32_t t = sorted[j];
         const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
         const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
         Box b;
@@ -767,7 +791,6 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       keepAlive(sink);
     });
   });
-  keys.release();
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
   if (!bvh.nodes.resize(2 * size_t(leaves))) return oom("the intersection hierarchy");
   uint32_t next = 0;
