@@ -109,21 +109,20 @@ for (const c of cases) {
   // findIntersections on one thread (median of opt.reps after a warm-up; CGAL's is one call).
   // The wasm build of the same harness alternates with it (3 runs each, or opt.reps when more;
   // the median of their medians): the wasm/native figure of the pass with nothing else around it.
-  let passInProcess = null, passInProcessWasm = null;
-  const inProcess = { native: [], wasm: [] };
   const stageArgs = [c.file, '--intersections', '1', String(Math.max(3, opt.reps))];
+  const harnesses = {  // [program, its arguments], when it is built
+    native: fs.existsSync(BIN.stages) ? [BIN.stages, stageArgs] : null,
+    wasm: fs.existsSync(BIN.stagesWasm) ? [process.execPath, ['--no-experimental-fetch', BIN.stagesWasm, ...stageArgs]] : null,
+  };
+  const inProcess = { native: [], wasm: [] };
   for (let rep = 0; rep < Math.max(3, opt.reps); ++rep) {
-    if (fs.existsSync(BIN.stages)) {
-      const st = spawnSync(BIN.stages, stageArgs, { encoding: 'utf8' });
-      if (st.status === 0) inProcess.native.push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
-    }
-    if (fs.existsSync(BIN.stagesWasm)) {
-      const st = spawnSync(process.execPath, ['--no-experimental-fetch', BIN.stagesWasm, ...stageArgs], { encoding: 'utf8' });
-      if (st.status === 0) inProcess.wasm.push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
+    for (const [k, h] of Object.entries(harnesses)) {
+      if (!h) continue;
+      const st = spawnSync(h[0], h[1], { encoding: 'utf8' });
+      if (st.status === 0) inProcess[k].push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
     }
   }
-  if (inProcess.native.length) passInProcess = median(inProcess.native);
-  if (inProcess.wasm.length) passInProcessWasm = median(inProcess.wasm);
+  const passInProcess = median(inProcess.native), passInProcessWasm = median(inProcess.wasm);
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),

@@ -550,6 +550,10 @@ inline float highest4(v128_t v) {
   v = wasm_f32x4_pmax(v, wasm_i32x4_shuffle(v, v, 2, 3, 0, 1));
   return wasm_f32x4_extract_lane(wasm_f32x4_pmax(v, wasm_i32x4_shuffle(v, v, 1, 0, 3, 2)), 0);
 }
+inline Box boxOf(v128_t lo, v128_t hi) {  // lanes x, y, z of each
+  return Box{{wasm_f32x4_extract_lane(lo, 0), wasm_f32x4_extract_lane(lo, 1), wasm_f32x4_extract_lane(lo, 2)},
+             {wasm_f32x4_extract_lane(hi, 0), wasm_f32x4_extract_lane(hi, 1), wasm_f32x4_extract_lane(hi, 2)}};
+}
 #endif
 
 uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
@@ -568,9 +572,7 @@ uint32_t buildNodes(Bvh& bvh, uint32_t first, uint32_t end, uint32_t& next) {
     m.right = right;
     const Box &l = bvh.nodes[left].box, &r = bvh.nodes[right].box;
 #if defined(__wasm_simd128__)
-    const v128_t lo = wasm_f32x4_pmin(xyz(l.lo), xyz(r.lo)), hi = wasm_f32x4_pmax(xyz(l.hi), xyz(r.hi));
-    m.box = Box{{wasm_f32x4_extract_lane(lo, 0), wasm_f32x4_extract_lane(lo, 1), wasm_f32x4_extract_lane(lo, 2)},
-                {wasm_f32x4_extract_lane(hi, 0), wasm_f32x4_extract_lane(hi, 1), wasm_f32x4_extract_lane(hi, 2)}};
+    m.box = boxOf(wasm_f32x4_pmin(xyz(l.lo), xyz(r.lo)), wasm_f32x4_pmax(xyz(l.hi), xyz(r.hi)));
 #else
     for (int k = 0; k < 3; ++k) {
       m.box.lo[k] = std::min(l.lo[k], r.lo[k]);
@@ -653,14 +655,6 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
     keys = ownKeys.data();
   }
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
-  if (n == 0) {
-    if (corner && (!corner->resize(1) || !signs->resize(0))) return oom("the intersection hierarchy");
-    if (corner) (*corner)[0] = 0;
-    if (columnar)
-      for (int k = 0; k < 6; ++k)
-        for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + i] = std::nanf("");
-    return {};
-  }
   uint64_t* tmp = keys + n;
   const float* lo = w.mesh.bboxMin;
   const float* hi = w.mesh.bboxMax;
@@ -764,10 +758,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
         Box b;
 #if defined(__wasm_simd128__)
         const v128_t p0 = xyz(p[0]), p1 = xyz(p[1]), p2 = xyz(p[2]);
-        const v128_t lo = wasm_f32x4_pmin(wasm_f32x4_pmin(p0, p1), p2);
-        const v128_t hi = wasm_f32x4_pmax(wasm_f32x4_pmax(p0, p1), p2);
-        b = Box{{wasm_f32x4_extract_lane(lo, 0), wasm_f32x4_extract_lane(lo, 1), wasm_f32x4_extract_lane(lo, 2)},
-                {wasm_f32x4_extract_lane(hi, 0), wasm_f32x4_extract_lane(hi, 1), wasm_f32x4_extract_lane(hi, 2)}};
+        b = boxOf(wasm_f32x4_pmin(wasm_f32x4_pmin(p0, p1), p2), wasm_f32x4_pmax(wasm_f32x4_pmax(p0, p1), p2));
 #else
         for (int k = 0; k < 3; ++k) {
           b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
@@ -790,6 +781,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
       keepAlive(sink);
     });
   });
+  if (n == 0) return {};  // no node
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
   if (!bvh.nodes.resize(2 * size_t(leaves))) return oom("the intersection hierarchy");
   uint32_t next = 0;
