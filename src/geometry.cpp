@@ -2216,10 +2216,33 @@ bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersect
 
 Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out,
                        const IntersectionOptions& options) {
+  return analyzeGeometry(mesh, topo, out, options, true);
+}
+
+Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options,
+                       bool shellList) {
   out.solid = false;
+  out.shells = Array<Shell>{};
+  out.nesting = ShellNesting{};
   Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
   if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
-  if (s.ok()) s = geometry_detail::finishGeometry(mesh, topo, out);
+  if (s.ok()) s = shellList ? geometry_detail::finishGeometry(mesh, topo, out) : geometry_detail::finishSolid(mesh, topo, out);
+  return s;
+}
+
+Status geometry_detail::finishSolid(const Mesh& mesh, const Topology& topo, GeometryReport& out) {
+  out.solid = false;
+  // isSolid's conditions that need no shell: without them, no shell pass.
+  const TriangleChecks& checks = out.checks;
+  const Intersections& found = out.intersections;
+  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0 ||
+      !found.complete || found.nPairs() != 0)
+    return {};
+  Array<Shell> shells;
+  ShellNesting nesting;
+  Status s = watertightShells(mesh, topo, shells);
+  if (s.ok()) s = findShellNesting(mesh, topo, shells, found, nesting);
+  if (s.ok()) out.solid = isSolid(topo, checks, found, shells, nesting);
   return s;
 }
 

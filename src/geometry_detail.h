@@ -36,6 +36,17 @@ inline uint64_t workLimit(uint64_t maxPairs, uint32_t nTriangles) {
 // out.intersections (of this mesh and topology, which has triangleShell).
 Status finishGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out);
 
+// analyzeGeometry without the shell list (shellList false): out.solid only, with out.shells
+// and out.nesting left empty. No shell pass when the mesh cannot be solid, else
+// watertightShells instead of findShellsAndDefects; `solid` is the same as finishGeometry's.
+Status finishSolid(const Mesh& mesh, const Topology& topo, GeometryReport& out);
+
+// The shells of a watertight, manifold mesh as far as findShellNesting and isSolid read
+// them (shells.cpp): triangles, firstTriangle and volume (the same to the bit as
+// findShellsAndDefects's), and no boundary, cut or non-manifold edge (there is none in such
+// a mesh); the other figures are left 0. InvalidArgument for another mesh.
+Status watertightShells(const Mesh& mesh, const Topology& topo, Array<Shell>& out);
+
 // Counts pair (a, b) of `kind`, already appended to out.pairs/kinds, in out's per-kind
 // counts and per-triangle flags (out.triangleIntersects covers both).
 inline void countPair(Intersections& out, uint32_t a, uint32_t b, uint8_t kind) {

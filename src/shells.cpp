@@ -10,6 +10,7 @@
 #include "stltopo/topology.h"
 #include "parallel.h"
 #include "prefetch.h"
+#include "geometry_detail.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
 
@@ -333,6 +334,42 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
 
   if (shellsOut) *shellsOut = std::move(shells);
   if (defectsOut) *defectsOut = std::move(d);
+  return Status{};
+}
+
+Status geometry_detail::watertightShells(const Mesh& mesh, const Topology& topo, Array<Shell>& out) {
+  out = Array<Shell>{};
+  const uint32_t nt = mesh.nTriangles(), nShells = topo.nShells;
+  if (topo.nTriangles != nt || topo.nVertices != mesh.nVertices() || topo.triangleDegenerate.size() != nt)
+    return bad("the topology was not built from this mesh");
+  if (topo.triangleShell.size() != nt)
+    return bad("the topology has no triangleShell (TopologyOptions::triangleShell = false)");
+  if (!topo.watertight() || !topo.manifold()) return bad("watertightShells: the mesh is not watertight and manifold");
+  Array<Shell> shells;
+  if (!shells.assign(nShells, Shell{})) return detail::oom(kLists);
+  const uint32_t* triangleShell = topo.triangleShell.data();
+  const float* P = mesh.positions.data();
+  uint32_t nextShell = 0;
+  // The same triangles, in the same order and with the same formula, as findShellsAndDefects:
+  // the volumes are the same to the bit.
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t s = triangleShell[t];
+    if (topo.triangleDegenerate[t]) {
+      if (s != kInvalid) return bad("triangleShell: a degenerate triangle has a shell");
+      continue;
+    }
+    if (s >= nShells) return bad("triangleShell: a shell id out of range");
+    Shell& S = shells[s];
+    if (S.triangles == 0) {
+      if (s != nextShell++) return bad("triangleShell: shells are not numbered by their lowest triangle id");
+      S.firstTriangle = t;
+    }
+    ++S.triangles;
+    const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
+    S.volume += detail::triangleVolume(P + size_t(corner[0]) * 3, P + size_t(corner[1]) * 3, P + size_t(corner[2]) * 3);
+  }
+  if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
+  out = std::move(shells);
   return Status{};
 }
 

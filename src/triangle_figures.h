@@ -13,6 +13,11 @@ namespace stltopo::detail {
 struct TriangleFigures {
   double nx, ny, nz, area, volume;
 };
+// The signed volume of the tetrahedron (origin, a, b, c): TriangleFigures::volume.
+inline double triangleVolume(const float* a, const float* b, const float* c) {
+  double ax = a[0], ay = a[1], az = a[2], bx = b[0], by = b[1], bz = b[2], cx = c[0], cy = c[1], cz = c[2];
+  return (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+}
 inline TriangleFigures triangleFigures(const float* a, const float* b, const float* c) {
   double ax = a[0], ay = a[1], az = a[2], bx = b[0], by = b[1], bz = b[2], cx = c[0], cy = c[1], cz = c[2];
   double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
@@ -21,7 +26,7 @@ inline TriangleFigures triangleFigures(const float* a, const float* b, const flo
   f.ny = uz * wx - ux * wz;
   f.nz = ux * wy - uy * wx;
   f.area = 0.5 * std::sqrt(f.nx * f.nx + f.ny * f.ny + f.nz * f.nz);
-  f.volume = (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
+  f.volume = triangleVolume(a, b, c);
   return f;
 }
 // Whether a stored normal n points against the winding (Mesh::normalMismatches).

@@ -27,13 +27,23 @@ struct Result {
   stltopo::GeometryReport geo;
 };
 
-void analyze(const Soup& soup, Result& r, const stltopo::IntersectionOptions& o = {}) {
+// (lean: also without the shell list, checked against it; the tests that count the
+// certificates' work over one pass turn it off.)
+void analyze(const Soup& soup, Result& r, const stltopo::IntersectionOptions& o = {}, bool lean = true) {
   ASSERT_TRUE(gen::read(gen::binary(soup), r.mesh).ok());
   stltopo::TopologyOptions to;
   to.triangleShell = true;
   ASSERT_TRUE(stltopo::buildTopology(r.mesh, r.topo, to).ok());
   stltopo::Status s = stltopo::analyzeGeometry(r.mesh, r.topo, r.geo, o);
   ASSERT_TRUE(s.ok()) << s.message;
+  if (!lean) return;
+  // Without the shell list: the same `solid`, and no shells or nesting.
+  stltopo::GeometryReport lean;
+  s = stltopo::analyzeGeometry(r.mesh, r.topo, lean, o, false);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(lean.solid, r.geo.solid);
+  EXPECT_TRUE(lean.shells.empty() && lean.nesting.depth.empty());
+  EXPECT_EQ(lean.intersections.nPairs(), r.geo.intersections.nPairs());
 }
 
 // Pairs as "i j kind" strings, ordered.
@@ -603,7 +613,7 @@ TEST(Geometry, FanCertificatesCoverACleanTorus) {
   const uint64_t certified0 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
   const uint64_t skipped0 = stltopo::geometry_detail::fanSkippedPairsForTesting();
   Result t;
-  analyze(gen::torus(64, 32), t);
+  analyze(gen::torus(64, 32), t, {}, false);
   EXPECT_EQ(t.geo.intersections.nPairs(), 0u);
   // Every vertex of the torus is certified, and the pass used them: nearly every candidate
   // pair of a clean mesh is a neighbour pair.
@@ -617,7 +627,7 @@ TEST(Geometry, FanCertificatesCoverACleanTorus) {
   // With a hole (a quad left out: 4 boundary vertices), the others stay certified.
   const uint64_t certified1 = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
   Result cut;
-  analyze(gen::torus(64, 32, {5}), cut);
+  analyze(gen::torus(64, 32, {5}), cut, {}, false);
   const uint64_t n = stltopo::geometry_detail::fanCertifiedVerticesForTesting() - certified1;
   EXPECT_EQ(n, uint64_t(cut.mesh.nVertices()) - 4);
 }
@@ -777,7 +787,7 @@ TEST(Geometry, PatchCertificatesCoverAHeightField) {
   // A clean torus of 8192 triangles: every position is in a certified node.
   const uint64_t before2 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
   Result torus;
-  analyze(gen::torus(128, 32), torus);
+  analyze(gen::torus(128, 32), torus, {}, false);
   EXPECT_EQ(torus.geo.intersections.nPairs(), 0u);
   EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before2, uint64_t(torus.mesh.nTriangles()));
 }
@@ -793,7 +803,7 @@ TEST(Geometry, PatchUnionsCoverACleanTorus) {
     const uint64_t positions0 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
     const uint64_t unions0 = stltopo::geometry_detail::patchUnionsForTesting();
     Result r;
-    analyze(soup, r);
+    analyze(soup, r, {}, false);
     EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
     EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - positions0,
               uint64_t(r.mesh.nTriangles()));
@@ -808,7 +818,7 @@ TEST(Geometry, PatchUnionsCoverACleanTorus) {
   stltopo::IntersectionOptions o;
   o.threads = 4;
   Result r;
-  analyze(soup, r, o);
+  analyze(soup, r, o, false);
   stltopo::setParallelGrainForTesting(0);
   EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
   EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions1, 2u);
@@ -1016,6 +1026,51 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
   EXPECT_GT(compared, 150);
   EXPECT_GT(withPairs, 60);
   EXPECT_GT(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - certified0, 100000u);
+#endif
+}
+
+// analyzeGeometry without the shell list (what `info --intersections` runs without
+// --shells): on every fixture, as read and with the tolerance weld, and on nested and
+// inside-out cubes, the same `solid` as with the shell list, from the shells' volumes only.
+TEST(Geometry, SolidWithoutTheShellListIsTheSame) {
+  std::vector<std::pair<std::string, std::string>> inputs;  // name, bytes
+#ifdef STLTOPO_FIXTURES
+  namespace fs = std::filesystem;
+  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
+    if (e.is_regular_file() && e.path().extension() != ".md")
+      inputs.push_back({e.path().string(), gen::readFile(e.path().string())});
+  std::sort(inputs.begin(), inputs.end());
+#endif
+  inputs.push_back({"cavity", gen::binary(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10, true)))});
+  inputs.push_back({"nested", gen::binary(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10)))});
+  inputs.push_back({"inside out", gen::binary(cubeSoup(0, 0, 0, 30, true))});
+  inputs.push_back({"three levels", gen::binary(join(join(cubeSoup(0, 0, 0, 30), cubeSoup(5, 5, 5, 20, true)),
+                                                     cubeSoup(10, 10, 10, 10)))});
+  int solid = 0, compared = 0;
+  for (const auto& [name, bytes] : inputs) {
+    for (float tolerance : {0.0f, 0.001f}) {
+      stltopo::Mesh mesh;
+      if (!gen::read(bytes, mesh).ok() || mesh.nTriangles() > 300000) continue;
+      stltopo::Topology topo;
+      stltopo::TopologyOptions to;
+      to.triangleShell = true;
+      to.tolerance = tolerance;
+      ASSERT_TRUE(stltopo::buildTopology(mesh, topo, to).ok()) << name;
+      stltopo::GeometryReport full, lean;
+      ASSERT_TRUE(stltopo::analyzeGeometry(mesh, topo, full).ok()) << name;
+      ASSERT_TRUE(stltopo::analyzeGeometry(mesh, topo, lean, {}, false).ok()) << name;
+      EXPECT_EQ(lean.solid, full.solid) << name << " tolerance " << tolerance;
+      EXPECT_TRUE(lean.shells.empty()) << name;
+      EXPECT_TRUE(gen::sameArray(lean.intersections.pairs, full.intersections.pairs)) << name;
+      solid += full.solid;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 8);
+  EXPECT_GE(solid, 3);
+#ifdef STLTOPO_FIXTURES
+  EXPECT_GE(compared, 150);
+  EXPECT_GT(solid, 40);
 #endif
 }
 

@@ -256,7 +256,7 @@ Result reportOne(const Input& in, const InfoConfig& c) {
   if (s.ok() && c.topology && c.to.triangleShell && (c.defects || (c.shells && !c.intersections)))
     s = stltopo::findShellsAndDefects(mesh, topo, c.shells && !c.intersections ? &shells : nullptr,
                                       c.defects ? &found : nullptr);
-  if (s.ok() && c.topology && c.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, c.io);
+  if (s.ok() && c.topology && c.intersections) s = stltopo::analyzeGeometry(mesh, topo, geo, c.io, c.shells);
   if (!s.ok()) {
     r.ok = false;
     if (c.json)

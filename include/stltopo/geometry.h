@@ -170,5 +170,11 @@ struct GeometryReport {
 };
 Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out,
                        const IntersectionOptions& options = {});
+// The same, with `shellList` false for a report that lists no shells: out.shells and
+// out.nesting stay empty, and `solid` (the same as above) costs a pass over the shells'
+// volumes only, or nothing when the mesh is not watertight and manifold or has zero-area,
+// duplicate or intersecting triangles.
+Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options,
+                       bool shellList);
 
 }  // namespace stltopo
