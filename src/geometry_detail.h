@@ -89,11 +89,15 @@ void setPatchCertificatesForTesting(bool on);
 // The smallest node the patch certificates try (0: the default, 64 positions); tests set 2
 // so that small meshes exercise them.
 void setPatchMinimumForTesting(uint32_t positions);
-// The largest node tried from its triangles (0: the default, 8192 positions); above it, nodes
-// are tried as unions of certified children. Tests set a few so that small meshes exercise
-// the unions; the unions certified so far; and a switch that turns the unions off.
-void setPatchTaskSizeForTesting(uint32_t positions);
+// The largest node tried top down within the budget (0: the default, 8192 positions), and the
+// tasks' size as a multiple of it (0: the default, 4; 1: no node above it is tried from its
+// triangles); above it, nodes are tried as unions of certified children, and inside a task
+// also from their triangles when these all turn one way. Tests set a few positions so that
+// small meshes exercise both; the unions and the large nodes certified from their triangles
+// so far; and a switch that turns the unions off.
+void setPatchTaskSizeForTesting(uint32_t positions, uint32_t scale = 0);
 uint64_t patchUnionsForTesting();
+uint64_t patchLargeNodesForTesting();
 void setPatchUnionsForTesting(bool on);
 
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {

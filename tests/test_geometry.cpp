@@ -742,10 +742,10 @@ struct PatchMinimum {
   explicit PatchMinimum(uint32_t n) { stltopo::geometry_detail::setPatchMinimumForTesting(n); }
   ~PatchMinimum() { stltopo::geometry_detail::setPatchMinimumForTesting(0); }
 };
-// The largest node tried from its triangles; larger ones are tried as unions of certified
-// children (0: the default).
+// The largest node tried top down within the budget, and the tasks' size as a multiple of it
+// (1: larger nodes are tried only as unions of certified children; 0: the defaults).
 struct PatchTaskSize {
-  explicit PatchTaskSize(uint32_t n) { stltopo::geometry_detail::setPatchTaskSizeForTesting(n); }
+  explicit PatchTaskSize(uint32_t n, uint32_t scale = 0) { stltopo::geometry_detail::setPatchTaskSizeForTesting(n, scale); }
   ~PatchTaskSize() { stltopo::geometry_detail::setPatchTaskSizeForTesting(0); }
 };
 
@@ -792,12 +792,16 @@ TEST(Geometry, PatchCertificatesCoverAHeightField) {
   EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - before2, uint64_t(torus.mesh.nTriangles()));
 }
 
-// A clean torus of 32,768 triangles: four tasks of 8192 positions, each certified, and two
-// unions above them (each half of the torus along its axis projects once; the whole torus
-// does not), so that the join no longer tests the pairs between the quarters of a half.
+// A clean torus of 32,768 triangles, with tasks of 8192 positions (no node above them tried
+// from its triangles): four tasks, each certified, and two unions above them (each half of
+// the torus along its axis projects once; the whole torus does not), so that the join no
+// longer tests the pairs between the quarters of a half. With the default tasks (one of
+// 32,768 positions), the halves are certified from their triangles instead: the same
+// positions and the same work, without a union.
 TEST(Geometry, PatchUnionsCoverACleanTorus) {
   const auto soup = gen::torus(256, 64);
   uint64_t work[2];
+  PatchTaskSize tasks(8192, 1);
   for (int unions = 0; unions < 2; ++unions) {
     stltopo::geometry_detail::setPatchUnionsForTesting(unions == 1);
     const uint64_t positions0 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
@@ -823,6 +827,18 @@ TEST(Geometry, PatchUnionsCoverACleanTorus) {
   EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
   EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions1, 2u);
   EXPECT_EQ(r.geo.intersections.work, work[1]);
+  // The default tasks: the two halves from their triangles.
+  PatchTaskSize defaults(0);
+  const uint64_t unions2 = stltopo::geometry_detail::patchUnionsForTesting();
+  const uint64_t large2 = stltopo::geometry_detail::patchLargeNodesForTesting();
+  const uint64_t positions2 = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
+  Result d;
+  analyze(soup, d, {}, false);
+  EXPECT_EQ(d.geo.intersections.nPairs(), 0u);
+  EXPECT_EQ(stltopo::geometry_detail::patchUnionsForTesting() - unions2, 0u);
+  EXPECT_EQ(stltopo::geometry_detail::patchLargeNodesForTesting() - large2, 2u);
+  EXPECT_EQ(stltopo::geometry_detail::patchCertifiedPositionsForTesting() - positions2, uint64_t(d.mesh.nTriangles()));
+  EXPECT_EQ(d.geo.intersections.work, work[1]);
 }
 
 // Nodes that must not be certified, each hiding pairs inside one node: a sheet crossing a
@@ -910,15 +926,16 @@ TEST(Geometry, PatchCertificatesCoverAFieldWithFlippedTriangles) {
 // Random height fields, damaged (corners dragged across the field, triangles flipped or
 // removed, stray triangles added), against the integer brute force, with every node of two
 // or more positions tried: the certificates never hide a pair.
-// The same with the nodes of more than 8 positions tried only as unions of their children,
-// every other round on 3 threads with the parts split down to single items: the unions never
-// hide a pair either.
-void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
+// The same with the nodes of more than 8 positions tried only as unions of their children
+// (scale 1), or also from their triangles inside tasks of 32 positions (scale 4), every other
+// round on 3 threads with the parts split down to single items: the unions and the large
+// nodes never hide a pair either.
+void patchesAgainstIntegerBruteForce(uint32_t taskSize, uint32_t scale = 0) {
   PatchMinimum small(2);
-  PatchTaskSize tasks(taskSize);
+  PatchTaskSize tasks(taskSize, scale);
   stltopo::setParallelGrainForTesting(taskSize ? 1 : 0);
-  std::mt19937 rng(2026 + taskSize);
-  int withPairs = 0, certifiedRounds = 0, rounds = 0, unionRounds = 0;
+  std::mt19937 rng(2026 + taskSize + scale);
+  int withPairs = 0, certifiedRounds = 0, rounds = 0, unionRounds = 0, largeRounds = 0;
   for (int round = 0; round < 1500; ++round) {
     const int g = 3 + int(rng() % 5);
     auto t = heightField(rng, g, int(rng() % 4));
@@ -947,22 +964,29 @@ void patchesAgainstIntegerBruteForce(uint32_t taskSize) {
     Brute want = brute(t);
     const uint64_t before = stltopo::geometry_detail::patchCertifiedPositionsForTesting();
     const uint64_t unionsBefore = stltopo::geometry_detail::patchUnionsForTesting();
+    const uint64_t largeBefore = stltopo::geometry_detail::patchLargeNodesForTesting();
     Passed run;
     runPass(t, run, taskSize && round % 2 ? 3 : 1);
     ASSERT_TRUE(run.ok) << "round " << round;
     ASSERT_EQ(run.pairs, want.pairs) << "round " << round << ", tasks of " << taskSize;
     certifiedRounds += stltopo::geometry_detail::patchCertifiedPositionsForTesting() > before;
     unionRounds += stltopo::geometry_detail::patchUnionsForTesting() > unionsBefore;
+    largeRounds += stltopo::geometry_detail::patchLargeNodesForTesting() > largeBefore;
     withPairs += !want.pairs.empty();
     ++rounds;
   }
   stltopo::setParallelGrainForTesting(0);
   EXPECT_GT(certifiedRounds, rounds / 4);
   EXPECT_GT(withPairs, rounds / 4);
-  if (taskSize) EXPECT_GT(unionRounds, rounds / 4);
+  if (taskSize && scale == 1) EXPECT_GT(unionRounds, rounds / 4);
+  if (taskSize && scale != 1) {
+    EXPECT_GT(largeRounds, rounds / 4);
+    EXPECT_GT(unionRounds, rounds / 20);
+  }
 }
 TEST(Geometry, PatchCertificatesAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(0); }
-TEST(Geometry, PatchUnionsAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(8); }
+TEST(Geometry, PatchUnionsAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(8, 1); }
+TEST(Geometry, PatchLargeNodesAgainstIntegerBruteForce) { patchesAgainstIntegerBruteForce(8, 4); }
 
 // Every fixture, and a torus, as read and with corners dragged at random (folds and
 // crossings inside what would be patches), with the patches tried at their usual sizes:
