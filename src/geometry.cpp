@@ -997,13 +997,14 @@ constexpr uint32_t kMinPatch = 64;  // smaller nodes are not tried (setPatchMini
 // triangles when these all turn one way along an axis (setPatchTaskSizeForTesting).
 constexpr uint32_t kMaxPatch = 8192;
 // A task (run on one thread) is a subtree of at most kTaskScale * kMaxPatch positions. Its
-// nodes above kMaxPatch are tried from their triangles only when all of them turn one way
-// along an axis (a common sign mask), where a try seldom fails, and only until one fails: on a
-// smooth mesh such a node is certified at once, instead of as unions of the kMaxPatch nodes
-// below it, each of which merges and tests its children's boundaries again (the 1M torus: 32
-// tasks and 30 unions instead of 128 and 126; its pass about 15% faster). A failed try costs
-// the hash of the node's sides, at most once per position (a node of parts of many small
-// bodies: about 5% more on 400 spheres of 4,760 triangles).
+// nodes above kMaxPatch are tried from their triangles when all of them, or all but a few,
+// turn one way along an axis (certify), and only until a try that summed the node's sides
+// fails: on a smooth mesh such a node is certified at once, instead of as unions of the
+// kMaxPatch nodes below it, each of which merges and tests its children's boundaries again
+// (the 1M torus: 32 tasks and 30 unions instead of 128 and 126; its pass about 15% faster,
+// 25% with 1% of its triangles flipped). A failed try costs the hash of the node's sides, at
+// most once per position (a node of parts of many small bodies: about 5% more on 400 spheres
+// of 4,760 triangles).
 constexpr uint32_t kTaskScale = 4;
 constexpr size_t kMaxLoops = 32;  // more boundary loops: not tried (the test is quadratic in them)
 constexpr uint32_t kChunk = 256;  // positions per run of the boundary's first level (its table: 24 KiB)
@@ -1106,7 +1107,9 @@ struct PatchCertifier {
   // times.
   // With `flip` (a sign mask bit), a triangle whose sign mask has that bit counts with its
   // sides reversed (the chain of the triangles wound to face one way along an axis).
+  bool summed = false;  // whether boundary() ran since certify() began
   bool boundary(uint32_t first, uint32_t end, const uint8_t* signs = nullptr, uint8_t flip = 0) {
+    summed = true;
     // Two levels, so that the table the triangles' sides go to stays in the first-level cache:
     // the sides of each run of kChunk positions are summed in a small table, and the edges
     // whose sum is not 0 (the run's boundary, short on a smooth mesh) are summed again over
@@ -1495,6 +1498,7 @@ struct PatchCertifier {
   // says the same of the node: no two of its triangles intersect.
   bool certify(uint32_t first, uint32_t end, uint8_t common, uint8_t nonzero, const uint8_t* signs) {
     flipped = 0;
+    summed = false;
     if (common) {
       return boundary(first, end) && alongCommon(common, [&](int k, int s) {
         if (!certifiedIn(k, s)) return false;
@@ -1701,9 +1705,10 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         }
       }
     };
-    // Above maxPatch, top down: a node all of whose triangles turn one way along an axis is
-    // tried, outside the budget, until one such try fails (patch::kTaskScale); the subtrees of
-    // at most maxPatch below the others are tried as above.
+    // Above maxPatch, top down: a node whose triangles all turn one way along an axis, or all
+    // but a few (certify), is tried, outside the budget, until one such try fails after
+    // summing its sides (patch::kTaskScale); the subtrees of at most maxPatch below the
+    // others are tried as above.
     uint32_t todo[64];
     int sp = 0;
     bool largeFailed = false;
@@ -1716,13 +1721,13 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         budgeted(id);
         continue;
       }
-      if (!largeFailed && nodeSigns[id] &&
+      if (!largeFailed && (nodeSigns[id] || nodeNonzero[id]) &&
           pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data())) {
         take(id);
         gPatchLarge.fetch_add(1, std::memory_order_relaxed);
         continue;
       }
-      largeFailed = largeFailed || nodeSigns[id] != 0;
+      largeFailed = largeFailed || pc.summed;
       todo[sp++] = nd.right;
       todo[sp++] = id + 1;
     }
