@@ -79,7 +79,9 @@ const contenders = {
   'intersections shells': (f) => [BIN.cli, 'info', '--json', '--shells', '--intersections', f],
   'npm shells': (f) => [node, npmCli, 'info', '--json', '--shells', f],
   'npm intersections shells': (f) => [node, npmCli, 'info', '--json', '--shells', '--intersections', f],
-  ...(haveCgal ? { cgal: (f) => [BIN.cgal, f] } : {}),
+  // CGAL's search three times in its process: the first call, and the median of the other two
+  // (warmSeconds), to set against stltopo's first and warm calls alike.
+  ...(haveCgal ? { cgal: (f) => [BIN.cgal, f, '--reps', '3'] } : {}),
 };
 const results = [];
 for (const c of cases) {
@@ -91,6 +93,7 @@ for (const c of cases) {
       if (k === 'cgal') {
         const head = JSON.parse(p.stdout.split('\n')[0]);
         row.searchMs = head.seconds * 1000;
+        row.warmSearchMs = head.warmSeconds !== undefined ? head.warmSeconds * 1000 : null;
         row.pairs = head.pairs;
       } else if (k.includes('intersections')) {
         row.pairs = JSON.parse(p.stdout).selfIntersections;
@@ -115,14 +118,19 @@ for (const c of cases) {
     wasm: fs.existsSync(BIN.stagesWasm) ? [process.execPath, ['--no-experimental-fetch', BIN.stagesWasm, ...stageArgs]] : null,
   };
   const inProcess = { native: [], wasm: [] };
+  const firstCalls = [];  // native: each process's first call, which pays fresh pages as CGAL's one call does
   for (let rep = 0; rep < Math.max(3, opt.reps); ++rep) {
     for (const [k, h] of Object.entries(harnesses)) {
       if (!h) continue;
       const st = spawnSync(h[0], h[1], { encoding: 'utf8' });
-      if (st.status === 0) inProcess[k].push(JSON.parse(st.stdout.trim().split('\n').pop()).passOneThreadMs);
+      if (st.status !== 0) continue;
+      const out = JSON.parse(st.stdout.trim().split('\n').pop());
+      inProcess[k].push(out.passOneThreadMs);
+      if (k === 'native' && out.passFirstMs) firstCalls.push(out.passFirstMs);
     }
   }
   const passInProcess = median(inProcess.native), passInProcessWasm = median(inProcess.wasm);
+  const passFirst = median(firstCalls);
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
@@ -137,7 +145,11 @@ for (const c of cases) {
     passInProcessMs: passInProcess,
     passInProcessWasmMs: passInProcessWasm,
     wasmToNativeInProcess: passInProcess && passInProcessWasm ? passInProcessWasm / passInProcess : null,
-    cgalToStltopoPassInProcess: haveCgal && passInProcess ? m('cgal', 'searchMs') / passInProcess : null,
+    cgalWarmSearchMs: haveCgal ? m('cgal', 'warmSearchMs') : null,
+    // warm against warm (both in process, after a first call), and first call against first call
+    cgalToStltopoPassInProcess: haveCgal && passInProcess ? m('cgal', 'warmSearchMs') / passInProcess : null,
+    passFirstCallMs: passFirst,
+    cgalToStltopoPassFirstCall: haveCgal && passFirst ? m('cgal', 'searchMs') / passFirst : null,
     threads: threaded ? CORES : null,
     infoThreadsMs: threaded ? m('info threads') : null,
     intersectionsThreadsMs: threaded ? m('intersections threads') : null,
@@ -154,13 +166,13 @@ fs.mkdirSync(path.dirname(opt.out), { recursive: true });
 fs.writeFileSync(opt.out, JSON.stringify({ date: new Date().toISOString(), reps: opt.reps, results }, null, 1));
 const f1 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(1));
 const f2 = (x) => (x === null || Number.isNaN(x) ? '–' : x.toFixed(2));
-console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass | pass in process ms | CGAL/pass in process |');
-console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
+console.log('| case | info ms | info --intersections ms | ratio | pass native ms | pass wasm ms | wasm/native | extra B/tri | CGAL search ms | CGAL/stltopo pass | pass in process ms | CGAL/pass in process (warm) | first call ms | CGAL/first call (first calls) |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
 const table2 = [];
 for (const r of results) {
   console.log(`| ${r.case} | ${f1(r.infoMs)} | ${f1(r.intersectionsMs)} | ${f2(r.ratioToInfo)} | ${f1(r.passNativeMs)} | ${f1(r.passWasmMs)} | ` +
     `${f2(r.wasmToNative)} | ${f1(r.extraBytesPerTriangle)} | ${f1(r.cgalSearchMs)} | ${f2(r.cgalToStltopoPass)} | ` +
-    `${f1(r.passInProcessMs)} | ${f2(r.cgalToStltopoPassInProcess)} |`);
+    `${f1(r.passInProcessMs)} | ${f2(r.cgalToStltopoPassInProcess)} | ${f1(r.passFirstCallMs)} | ${f2(r.cgalToStltopoPassFirstCall)} |`);
   if (r.threads) {
     table2.push(`| ${r.case} | ${r.threads} | ${f1(r.infoThreadsMs)} | ${f1(r.intersectionsThreadsMs)} | ${f2(r.ratioThreadsToInfo)} | ` +
       `${f2(r.ratioThreadsToInfoThreads)} | ${f1(r.passThreadsMs)} | ${f2(r.cgalToStltopoPassThreads)} |`);
