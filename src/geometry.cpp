@@ -983,7 +983,7 @@ Status certifyFans(const Welded& w, const Topology& topo, const Array<uint32_t>&
 // The nodes of kMinPatch to kMaxPatch positions are tried top down; a node whose triangles
 // have a common strict sign along some axis (the AND of their sign masks, bottom up) is
 // tried, and when it fails its children are (larger nodes inside a task are tried too when
-// they have a common sign: patch::kTaskScale). Above those, a node whose two children are
+// their triangles turn one way: patch::kTaskScale). Above those, a node whose two children are
 // certified is tried as their union, from the children's boundaries (certifyUnion): on a
 // clean mesh the patches grow to a large part of a shell, and the join skips the pairs
 // between them too. Cost: one hash of N's sides and a grid over its boundary sides per node
@@ -1616,8 +1616,8 @@ void eachSubtree(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner,
 // Per node: 1 when no two of its triangles intersect (the certificate above); `signs`: per
 // sorted position, signMask of its triangle; `inPatches`: the positions in certified nodes.
 // The subtrees of at most kTaskScale * kMaxPatch positions are independent tasks: each
-// computes its nodes' masks bottom up, tries its nodes above kMaxPatch that have a common
-// sign (patch::kTaskScale), and below the others tries the subtrees of at most kMaxPatch
+// computes its nodes' masks bottom up, tries its nodes above kMaxPatch whose triangles turn
+// one way (patch::kTaskScale), and below the others tries the subtrees of at most kMaxPatch
 // top down, each within a budget of 4 times its positions (a region where the tries keep
 // failing, a soup, stops trying), so that the result is the same on any number of threads.
 Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& corner, const Array<uint8_t>& signs,
@@ -1630,8 +1630,8 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   const uint32_t maxPatch = gPatchTaskSize.load(std::memory_order_relaxed) ? gPatchTaskSize.load() : patch::kMaxPatch;
   Array<uint32_t> tasks;  // subtree roots
   const uint32_t scale = gPatchTaskScale.load(std::memory_order_relaxed) ? gPatchTaskScale.load() : patch::kTaskScale;
-  if (!subtreeRoots(bvh, scale * maxPatch, [&](const Node& nd) { return nd.end - nd.first < minPatch; }, tasks))
-    return oom("the patch certificates");
+  auto small = [&](const Node& nd) { return nd.end - nd.first < minPatch; };
+  if (!subtreeRoots(bvh, scale * maxPatch, small, tasks)) return oom("the patch certificates");
   // Per node: the sign bits common to its triangles, and bit k when none has a zero normal
   // coordinate k.
   Array<uint8_t> nodeSigns, nodeNonzero;
@@ -1656,7 +1656,6 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
     for (uint64_t x : pc.byDest) (void)ks.push_back(x);  // reserved
   };
   eachSubtree(w, bvh, corner, parts, tasks, [&](PatchCertifier& pc, unsigned part, uint32_t root, uint32_t nodes) {
-    const Node& top = bvh.nodes[root];
     for (uint32_t id = root + nodes; id-- > root;) {
       const Node& nd = bvh.nodes[id];
       if (nd.right) {
@@ -1673,7 +1672,6 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         nodeNonzero[id] = z;
       }
     }
-    (void)top;
     uint64_t positions = 0;
     auto take = [&](uint32_t id) {
       const Node& nd = bvh.nodes[id];
@@ -1694,8 +1692,7 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
         const Node& nd = bvh.nodes[id];
         if (nd.end - nd.first < minPatch) continue;
         if ((nodeSigns[id] || nodeNonzero[id]) && tried < budget &&
-            (tried += nd.end - nd.first,
-             pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
+            (tried += nd.end - nd.first, pc.certify(nd.first, nd.end, nodeSigns[id], nodeNonzero[id], signs.data()))) {
           take(id);
           continue;
         }
@@ -2327,7 +2324,8 @@ Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& o
   out.nesting = ShellNesting{};
   Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
   if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
-  if (s.ok()) s = shellList ? geometry_detail::finishGeometry(mesh, topo, out) : geometry_detail::finishSolid(mesh, topo, out);
+  if (s.ok())
+    s = shellList ? geometry_detail::finishGeometry(mesh, topo, out) : geometry_detail::finishSolid(mesh, topo, out);
   return s;
 }
 

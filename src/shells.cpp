@@ -8,9 +8,9 @@
 #include "stltopo/mesh.h"
 #include "stltopo/status.h"
 #include "stltopo/topology.h"
+#include "geometry_detail.h"
 #include "parallel.h"
 #include "prefetch.h"
-#include "geometry_detail.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
 

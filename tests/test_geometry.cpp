@@ -745,7 +745,9 @@ struct PatchMinimum {
 // The largest node tried top down within the budget, and the tasks' size as a multiple of it
 // (1: larger nodes are tried only as unions of certified children; 0: the defaults).
 struct PatchTaskSize {
-  explicit PatchTaskSize(uint32_t n, uint32_t scale = 0) { stltopo::geometry_detail::setPatchTaskSizeForTesting(n, scale); }
+  explicit PatchTaskSize(uint32_t n, uint32_t scale = 0) {
+    stltopo::geometry_detail::setPatchTaskSizeForTesting(n, scale);
+  }
   ~PatchTaskSize() { stltopo::geometry_detail::setPatchTaskSizeForTesting(0); }
 };
 
