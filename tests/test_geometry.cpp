@@ -27,16 +27,16 @@ struct Result {
   stltopo::GeometryReport geo;
 };
 
-// (lean: also without the shell list, checked against it; the tests that count the
+// (withoutList: also without the shell list, checked against it; the tests that count the
 // certificates' work over one pass turn it off.)
-void analyze(const Soup& soup, Result& r, const stltopo::IntersectionOptions& o = {}, bool lean = true) {
+void analyze(const Soup& soup, Result& r, const stltopo::IntersectionOptions& o = {}, bool withoutList = true) {
   ASSERT_TRUE(gen::read(gen::binary(soup), r.mesh).ok());
   stltopo::TopologyOptions to;
   to.triangleShell = true;
   ASSERT_TRUE(stltopo::buildTopology(r.mesh, r.topo, to).ok());
   stltopo::Status s = stltopo::analyzeGeometry(r.mesh, r.topo, r.geo, o);
   ASSERT_TRUE(s.ok()) << s.message;
-  if (!lean) return;
+  if (!withoutList) return;
   // Without the shell list: the same `solid`, and no shells or nesting.
   stltopo::GeometryReport lean;
   s = stltopo::analyzeGeometry(r.mesh, r.topo, lean, o, false);
