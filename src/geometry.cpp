@@ -2298,11 +2298,17 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
   return {};
 }
 
+namespace {
+// isSolid's conditions that need no shell.
+bool solidButForShells(const Topology& topo, const TriangleChecks& checks, const Intersections& found) {
+  return topo.watertight() && topo.manifold() && checks.zeroArea.empty() && checks.nDuplicateTriangles == 0 &&
+         found.complete && found.nPairs() == 0;
+}
+}  // namespace
+
 bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found, const Array<Shell>& shells,
              const ShellNesting& nesting) {
-  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0)
-    return false;
-  if (!found.complete || found.nPairs() != 0) return false;
+  if (!solidButForShells(topo, checks, found)) return false;
   if (shells.size() != nesting.depth.size()) return false;
   for (size_t s = 0; s < shells.size(); ++s) {
     if (nesting.depth[s] == kInvalid) return false;
@@ -2331,12 +2337,10 @@ Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& o
 
 Status geometry_detail::finishSolid(const Mesh& mesh, const Topology& topo, GeometryReport& out) {
   out.solid = false;
-  // isSolid's conditions that need no shell: without them, no shell pass.
+  // Without isSolid's conditions that need no shell, no shell pass.
   const TriangleChecks& checks = out.checks;
   const Intersections& found = out.intersections;
-  if (!topo.watertight() || !topo.manifold() || !checks.zeroArea.empty() || checks.nDuplicateTriangles != 0 ||
-      !found.complete || found.nPairs() != 0)
-    return {};
+  if (!solidButForShells(topo, checks, found)) return {};
   Array<Shell> shells;
   ShellNesting nesting;
   Status s = watertightShells(mesh, topo, shells);
