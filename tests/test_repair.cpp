@@ -460,6 +460,91 @@ TEST(Repair, ApplyTakesThePlansResultOnlyForItsInputOnce) {
   EXPECT_EQ(repairLogJson(again), repairLogJson(ran));
 }
 
+// applyRepair(mesh, plan, em, log), the CLI's way, gives what em.init(mesh) and
+// applyRepair(em, plan, log) give: the same log and mesh, whether it takes the plan's result
+// without building the input (every vertex used), builds it first (an unused vertex: the
+// plan's input is the compacted mesh), or runs the steps (no result kept, taken already,
+// other options). Bad options change nothing.
+TEST(Repair, ApplyFromTheMeshIsApplyOnAnEditableMesh) {
+  gen::Soup soup = gen::cube(0, 0, 0, 10);
+  soup.f.pop_back();                      // a hole to fill
+  std::swap(soup.f[0][1], soup.f[0][2]);  // a face to orient
+  const Mesh whole = meshOf(soup);
+  Mesh spare = meshOf(soup);  // and a vertex no triangle uses
+  for (float x : {5.0f, 5.0f, 50.0f}) ASSERT_TRUE(spare.positions.push_back(x));
+  RepairOptions keepNothing;
+  keepNothing.keepResult = false;
+  RepairOptions fewEdges;
+  fewEdges.maxHoleEdges = 2;
+  struct Case {
+    const char* what;
+    const Mesh* mesh;
+    RepairOptions options;
+    bool takenBefore;  // the plan's result taken by another application first
+  } cases[] = {{"every vertex used", &whole, RepairOptions{}, false},
+               {"an unused vertex", &spare, RepairOptions{}, false},
+               {"no result kept", &whole, keepNothing, false},
+               {"the result taken already", &whole, RepairOptions{}, true},
+               {"other options than the result's", &whole, fewEdges, false}};
+  for (const Case& c : cases) {
+    RepairPlan plan, same;
+    ASSERT_TRUE(planRepair(*c.mesh, c.options, plan).ok()) << c.what;
+    ASSERT_TRUE(planRepair(*c.mesh, c.options, same).ok()) << c.what;
+    if (c.takenBefore) {
+      EditableMesh first;
+      RepairLog firstLog;
+      ASSERT_TRUE(applyRepair(*c.mesh, plan, first, firstLog).ok()) << c.what;
+      ASSERT_TRUE(plan.resultTaken()) << c.what;
+    }
+    RepairPlan other = plan;
+    if (c.options.maxHoleEdges == 2) {
+      // The plan's options changed after it was made: the result (made with the defaults
+      // here) does not fit, and the steps run with the changed options.
+      ASSERT_TRUE(planRepair(*c.mesh, RepairOptions{}, other).ok()) << c.what;
+      other.options = c.options;
+      ASSERT_TRUE(planRepair(*c.mesh, RepairOptions{}, same).ok()) << c.what;
+      same.options = c.options;
+    }
+    EditableMesh em, ref;
+    RepairLog log, refLog;
+    ASSERT_TRUE(ref.init(*c.mesh).ok()) << c.what;
+    ASSERT_TRUE(applyRepair(ref, same, refLog).ok()) << c.what;
+    ASSERT_TRUE(applyRepair(*c.mesh, other, em, log).ok()) << c.what;
+    EXPECT_EQ(repairLogJson(log), repairLogJson(refLog)) << c.what;
+    Mesh got, want;
+    ASSERT_TRUE(em.toMesh(got, nullptr, nullptr).ok());
+    ASSERT_TRUE(ref.toMesh(want, nullptr, nullptr).ok());
+    EXPECT_EQ(stlBytes(got), stlBytes(want)) << c.what;
+    EXPECT_TRUE(gen::sameMesh(got, want)) << c.what;
+    EXPECT_TRUE(em.validate().ok()) << c.what;
+    if (!c.takenBefore) EXPECT_EQ(other.resultTaken(), same.resultTaken()) << c.what;
+    ASSERT_TRUE(undoRepair(em, log).ok()) << c.what;
+    Mesh back;
+    ASSERT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
+    Mesh compacted;
+    ASSERT_TRUE(ref.init(*c.mesh).ok());
+    ASSERT_TRUE(ref.toMesh(compacted, nullptr, nullptr).ok());
+    EXPECT_TRUE(gen::sameMesh(back, compacted)) << c.what;
+  }
+  // The fast path took the result without a build: it holds the repaired cube.
+  RepairPlan plan;
+  ASSERT_TRUE(planRepair(whole, RepairOptions{}, plan).ok());
+  EditableMesh em;
+  RepairLog log;
+  ASSERT_TRUE(applyRepair(whole, plan, em, log).ok());
+  EXPECT_TRUE(plan.resultTaken());
+  EXPECT_TRUE(log.after.stats.watertight);
+  EXPECT_TRUE(log.after.solid);
+  // Bad options: refused, em as it was.
+  RepairPlan bad = plan;
+  bad.options.maxPairs = 0;
+  RepairLog badLog;
+  EXPECT_EQ(applyRepair(whole, bad, em, badLog).code, Code::InvalidArgument);
+  Mesh kept;
+  ASSERT_TRUE(em.toMesh(kept, nullptr, nullptr).ok());
+  EXPECT_EQ(kept.nTriangles(), 12u);
+}
+
 TEST(Repair, ApplyRefusesAnotherMeshAndChangesNothing) {
   Mesh a = meshOf(gen::cube()), b = meshOf(gen::cube(0, 0, 0, 2));
   RepairPlan plan;

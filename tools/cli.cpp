@@ -695,9 +695,8 @@ int repair(int argc, char** argv) {
   stltopo::EditableMesh em;
   stltopo::TopologyOptions to;
   to.threads = ro.threads;
-  s = em.init(mesh, to);
   stltopo::RepairLog log;
-  if (s.ok()) s = stltopo::applyRepair(em, plan, log);
+  s = stltopo::applyRepair(mesh, plan, em, log, to);  // takes the plan's result (no second build)
   stltopo::Mesh result;
   if (s.ok()) s = em.toMesh(result, nullptr, nullptr);
   if (!s.ok()) return fail(in, s);

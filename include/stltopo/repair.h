@@ -224,6 +224,15 @@ Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPl
 // change log from it (O(n) to check that em holds the plan's input; onStep is called for
 // each step of the log); otherwise the steps run.
 Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log);
+// The same for the Mesh the plan was made from (planRepair(mesh, ...)): `em` becomes the
+// repaired mesh. What em.init(mesh, topologyOptions) then applyRepair(em, plan, log) give,
+// but when the plan kept its result (RepairOptions::keepResult) and `mesh` is its input as
+// the plan found it, em takes that result without building the input first (O(n) to check
+// the mesh); otherwise an EditableMesh is built from `mesh` and the steps run on it. em
+// stays as it was when the options are bad or that build fails; when a step fails, em
+// holds what the failed applyRepair left (the mesh before that step).
+Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
+                   const TopologyOptions& topologyOptions = {});
 
 // Undoes the last step of `log` on `em` (which must be in the state after it: same
 // fingerprint as the step left) and removes it from the log. InvalidArgument when the

@@ -84,9 +84,13 @@ Status runDuplicates(StepContext& ctx) {
   Found f;
   Status s = f.get(ctx);
   if (!s.ok()) return s;
-  TriangleChecks checks;
-  s = checkTriangles(*f.m, f.t, checks, ctx.options.threads);
-  if (!s.ok()) return s;
+  TriangleChecks own;
+  const TriangleChecks* known = ctx.mesh && ctx.topo ? ctx.checks : nullptr;  // (f's are ctx's then)
+  if (!known) {
+    s = checkTriangles(*f.m, f.t, own, ctx.options.threads);
+    if (!s.ok()) return s;
+  }
+  const TriangleChecks& checks = known ? *known : own;
   ctx.plan.note = ctx.options.removeOppositeDuplicates
                       ? "keeps the lowest id of each group; groups that face both ways are removed whole"
                       : "keeps the lowest id of each group; groups that face both ways (zero-thickness walls) stay";
@@ -118,9 +122,13 @@ Status runZeroArea(StepContext& ctx) {
   Found f;
   Status s = f.get(ctx);
   if (!s.ok()) return s;
-  TriangleChecks checks;
-  s = checkTriangles(*f.m, f.t, checks, ctx.options.threads);
-  if (!s.ok()) return s;
+  TriangleChecks own;
+  const TriangleChecks* known = ctx.mesh && ctx.topo ? ctx.checks : nullptr;  // (f's are ctx's then)
+  if (!known) {
+    s = checkTriangles(*f.m, f.t, own, ctx.options.threads);
+    if (!s.ok()) return s;
+  }
+  const TriangleChecks& checks = known ? *known : own;
   EditableMesh& em = ctx.em;
   ctx.plan.note =
       "flips the longest edge (the neighbour is cut in two at the middle corner: nothing moves), in rounds while "

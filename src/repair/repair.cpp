@@ -248,9 +248,10 @@ struct KnownPairs {
 // too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
 // triangleShell equals a fresh build's), else on a fresh build with it. `keep`: the pass's
 // pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
-// when they are usable; the shells, their nesting and `solid` are then made from them as
-// analyzeGeometry makes them. `checksOut`: the triangle checks the figures came from, kept
-// (for the report of the same mesh: reportOf).
+// when they are usable; `solid` is then made from them as analyzeGeometry makes it. No
+// shell list: `solid` comes from finishSolid (a shell pass only for a mesh that can be
+// solid, and then only the volumes). `checksOut`: the triangle checks the figures came
+// from, kept (for the report of the same mesh: reportOf).
 Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
                  RepairFigures& f, Intersections* keep = nullptr, KnownPairs* known = nullptr,
                  TriangleChecks* checksOut = nullptr) {
@@ -282,12 +283,12 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
     s = checkTriangles(mesh, &T, g.checks, o.threads);
     g.intersections = std::move(known->found);
     known->valid = false;
-    if (s.ok()) s = geometry_detail::finishGeometry(mesh, T, g);
+    if (s.ok()) s = geometry_detail::finishSolid(mesh, T, g);
   } else {
     IntersectionOptions io;
     io.maxPairs = o.maxPairs;
     io.threads = o.threads;
-    s = analyzeGeometry(mesh, T, g, io);
+    s = analyzeGeometry(mesh, T, g, io, false);  // of the shells, only `solid` (no shell list)
   }
   if (!s.ok()) return s;
   f.zeroAreaTriangles = uint32_t(g.checks.zeroArea.size());
@@ -571,6 +572,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     RepairStepPlan sp;
     sp.kind = RepairStepKind(k);
     repair_detail::StepContext ctx{em, o, sp, &cur, &topo, &next, &nextTopo, &maps};
+    ctx.checks = curChecksKnown ? &curChecks : nullptr;
     if (o.onStep) o.onStep(o.user, sp.kind, false);
     s = runStep(sp.kind, ctx);
     RepairStepLog L;
@@ -808,25 +810,34 @@ namespace {
 // applyRepair with the plan's result (RepairPlan::result): em takes the repaired mesh and
 // `log` the change log when em holds the plan's input and the options are the result's.
 // `taken` says whether it did; nothing changes otherwise.
-Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool& taken) {
-  taken = false;
-  RepairResult& r = *plan.result;
-  std::lock_guard<std::mutex> hold(r.lock);
-  if (r.taken || !sameRepair(r.options, plan.options) || r.log.fingerprintBefore != plan.fingerprint)
-    return Status{};
-  Mesh m;
-  Status s = em.toMesh(m, nullptr, nullptr);
-  if (!s.ok()) return s;
-  if (meshKey(m, fingerprintOf(m)) != r.inputKey) return Status{};
+// Whether r (held locked) may still be taken for `plan`: not taken yet, and made with the
+// plan's options for the plan's input.
+bool resultFits(const RepairResult& r, const RepairPlan& plan) {
+  return !r.taken && sameRepair(r.options, plan.options) && r.log.fingerprintBefore == plan.fingerprint;
+}
+// em and log take r's mesh and log (r held locked); onStep is called for each step.
+void take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog& log) {
   em = std::move(r.em);
   log = std::move(r.log);
   r.taken = true;
-  taken = true;
   if (plan.options.onStep)
     for (const RepairStepLog& L : log.steps) {
       plan.options.onStep(plan.options.user, L.kind, false);
       plan.options.onStep(plan.options.user, L.kind, true);
     }
+}
+
+Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool& taken) {
+  taken = false;
+  RepairResult& r = *plan.result;
+  std::lock_guard<std::mutex> hold(r.lock);
+  if (!resultFits(r, plan)) return Status{};
+  Mesh m;
+  Status s = em.toMesh(m, nullptr, nullptr);
+  if (!s.ok()) return s;
+  if (meshKey(m, fingerprintOf(m)) != r.inputKey) return Status{};
+  take(r, plan, em, log);
+  taken = true;
   return Status{};
 }
 }  // namespace
@@ -849,6 +860,30 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
     if (!s.ok() || taken) return s;
   }
   return run(em, plan.options, nullptr, &log, &plan);
+}
+
+Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
+                   const TopologyOptions& topologyOptions) {
+  log = RepairLog{};
+  Status s = checkOptions(plan.options);
+  if (!s.ok()) return s;
+  if (plan.result) {
+    // The plan's input is `mesh` as init() and toMesh() give it back (every vertex used):
+    // then an EditableMesh made from mesh would hold it, and takeResult would take the
+    // result. Its key says so without making that mesh.
+    RepairResult& r = *plan.result;
+    std::lock_guard<std::mutex> hold(r.lock);
+    if (resultFits(r, plan) && meshKey(mesh, fingerprintOf(mesh)) == r.inputKey) {
+      take(r, plan, em, log);
+      return Status{};
+    }
+  }
+  EditableMesh built;
+  s = built.init(mesh, topologyOptions);
+  if (!s.ok()) return s;
+  s = applyRepair(built, plan, log);
+  em = std::move(built);
+  return s;
 }
 
 Status undoRepairStep(EditableMesh& em, RepairLog& log) {

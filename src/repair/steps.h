@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "stltopo/edit.h"
+#include "stltopo/geometry.h"
 #include "stltopo/repair.h"
 #include "try_alloc.h"
 
@@ -38,6 +39,8 @@ struct StepContext {
   Topology* nextTopo = nullptr;
   CompactMaps* maps = nullptr;
   bool rebuilt = false;
+  // The triangle checks of `mesh` (with `topo`), when the runner has them; null otherwise.
+  const TriangleChecks* checks = nullptr;
   // Index the next item gets.
   uint32_t nextItem() const { return uint32_t(plan.items.size()); }
   // Starts item `action`, touching these elements (ids of em now); bbox from their
