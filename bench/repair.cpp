@@ -2,13 +2,13 @@
 // `info` path), planRepair, EditableMesh::init and applyRepair, with the time of each step
 // in the plan and in the apply (RepairOptions::onStep: a step's time includes the runner's
 // rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
-// whole repair of a loaded mesh in an editor (the JS API's way); "cli" is a second plan
-// and applyRepair(mesh, plan, em, log), the CLI's way (no EditableMesh of the input is
-// built: the plan's result is taken). Prints one JSON object. apply takes the plan's own result
+// whole repair of a loaded mesh in an editor (the JS API's way). --cli: the CLI's way
+// instead, applyRepair(mesh, plan, em, log), which takes the plan's result without an
+// EditableMesh of the input ("init" is then 0). Prints one JSON object. apply takes the plan's own result
 // (RepairPlan::result), so its steps take no time there: the time of each step is the
 // plan's ("planSteps"); --no-keep (RepairOptions::keepResult = false) makes apply run the
 // steps again, as before plans kept their result.
-//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep]
+//   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep] [--cli]
 // --threads N: RepairOptions::threads, and the load and init on as many.
 #include <algorithm>
 #include <chrono>
@@ -53,14 +53,17 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   if (argc < 2) {
-    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep]\n");
+    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep] [--cli]\n");
     return 2;
   }
   int reps = 3;
+  bool cli = false;
   stltopo::RepairOptions ro;
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--cli"))
+      cli = true;
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
       ro.threads = unsigned(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--no-intersections"))
@@ -86,7 +89,7 @@ int main(int argc, char** argv) {
   }
   std::ifstream f(argv[1], std::ios::binary);
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  std::vector<double> load, plan, apply, init, whole, cliPlan, cliApply, cliWhole;
+  std::vector<double> load, plan, apply, init, whole;
   std::map<std::string, std::vector<double>> steps, planSteps;
   stltopo::RepairLog last;
   for (int r = 0; r < reps; ++r) {
@@ -110,34 +113,31 @@ int main(int argc, char** argv) {
     if (!stltopo::planRepair(mesh, timed, p).ok()) return 1;
     plan.push_back(since(t0));
     for (auto& [k, v] : pst.seconds) planSteps[k].push_back(v);
-    t0 = Clock::now();
-    stltopo::EditableMesh em;
-    stltopo::TopologyOptions to;
-    to.threads = ro.threads;
-    if (!em.init(mesh, to).ok()) return 1;
-    init.push_back(since(t0));
     StepTimes st;
     p.options.onStep = onStep;
     p.options.user = &st;
-    t0 = Clock::now();
+    stltopo::EditableMesh em;
+    stltopo::TopologyOptions to;
+    to.threads = ro.threads;
     stltopo::RepairLog log;
-    if (!stltopo::applyRepair(em, p, log).ok()) return 1;
-    apply.push_back(since(t0));
+    if (cli) {
+      // The CLI's way (`stltopo repair IN OUT`): applyRepair from the loaded Mesh, which
+      // takes the plan's result without building an EditableMesh of the input first.
+      init.push_back(0);
+      t0 = Clock::now();
+      if (!stltopo::applyRepair(mesh, p, em, log, to).ok()) return 1;
+      apply.push_back(since(t0));
+    } else {
+      t0 = Clock::now();
+      if (!em.init(mesh, to).ok()) return 1;
+      init.push_back(since(t0));
+      t0 = Clock::now();
+      if (!stltopo::applyRepair(em, p, log).ok()) return 1;
+      apply.push_back(since(t0));
+    }
     for (auto& [k, v] : st.seconds) steps[k].push_back(v);
     whole.push_back(plan.back() + init.back() + apply.back());
     if (r + 1 == reps) last = std::move(log);
-    // The CLI's way (`stltopo repair IN OUT`): a plan, then applyRepair from the loaded Mesh,
-    // which takes the plan's result without building an EditableMesh of the input first.
-    t0 = Clock::now();
-    stltopo::RepairPlan p2;
-    if (!stltopo::planRepair(mesh, ro, p2).ok()) return 1;
-    cliPlan.push_back(since(t0));
-    t0 = Clock::now();
-    stltopo::EditableMesh em2;
-    stltopo::RepairLog log2;
-    if (!stltopo::applyRepair(mesh, p2, em2, log2, to).ok()) return 1;
-    cliApply.push_back(since(t0));
-    cliWhole.push_back(cliPlan.back() + cliApply.back());
   }
   std::printf(
       "{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"whole\":%.4f,\"steps\":{",
@@ -154,8 +154,8 @@ int main(int argc, char** argv) {
     first = false;
   }
   std::printf(
-      "},\"cli\":{\"plan\":%.4f,\"apply\":%.4f,\"whole\":%.4f},\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
-      median(cliPlan), median(cliApply), median(cliWhole), last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
+      "},\"cli\":%s,\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
+      cli ? "true" : "false", last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
       last.after.stats.inconsistentEdges, last.after.solid ? "true" : "false");
   return 0;
 }
