@@ -113,6 +113,19 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
     EXPECT_EQ(repairPlanJson(p2), repairPlanJson(r.plan)) << what << ": the plan depends on the topology's origin";
     EXPECT_EQ(p2.afterReport, r.plan.afterReport) << what;
     EXPECT_FALSE(p2.result) << what;
+    // Planned on an EditableMesh of it (the JS API's way: the run takes the topology of the
+    // editor's compacted mesh): the same plan, as the plan of that compacted mesh.
+    EditableMesh held;
+    EXPECT_TRUE(held.init(input).ok());
+    Mesh compacted;
+    EXPECT_TRUE(held.toMesh(compacted, nullptr, nullptr).ok());
+    RepairPlan p3, p4;
+    EXPECT_TRUE(planRepair(held, o2, p3).ok()) << what;
+    const bool same = compacted.nVertices() == input.nVertices();  // then the plan is r.plan
+    if (!same) EXPECT_TRUE(planRepair(compacted, o2, p4).ok()) << what;
+    const RepairPlan& want = same ? r.plan : p4;
+    EXPECT_EQ(repairPlanJson(p3), repairPlanJson(want)) << what << ": planning an EditableMesh differs";
+    EXPECT_EQ(p3.afterReport, want.afterReport) << what;
   }
   EditableMesh em;
   EXPECT_TRUE(em.init(input).ok());

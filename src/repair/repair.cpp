@@ -749,26 +749,34 @@ Status planRepair(const Mesh& mesh, const RepairOptions& options, RepairPlan& ou
   return planRepair(mesh, nullptr, options, out);
 }
 
-Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& options, RepairPlan& out) {
+namespace {
+// planRepair of `mesh`: with `fresh`, a topology of it as buildTopology gives it (prevAndFace,
+// and triangleShell when options.intersections), which the run may take; else with `topo`
+// (the caller's, for the scratch copy only), else with a topology built here.
+Status planWith(const Mesh& mesh, const Topology* topo, Topology* fresh, const RepairOptions& options,
+                RepairPlan& out) {
   out = RepairPlan{};
   Status s = checkOptions(options);
   if (!s.ok()) return s;
   STLTOPO_TRY { out.options = options; }
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   EditableMesh scratch;
-  // Without a topology, the one built here serves both the scratch copy and the run: when
-  // every vertex is used, toMesh() gives the mesh back as it is, and its topology is this
-  // one (the editable mesh's contract), so run() does not build it again.
-  Topology built;
+  // Without the caller's topology, a fresh one serves both the scratch copy and the run:
+  // when every vertex is used, toMesh() gives the mesh back as it is, and its topology is
+  // this one (the editable mesh's contract), so run() does not build it again.
+  Topology own;
+  Topology& built = fresh ? *fresh : own;
   bool reuse = false;
-  if (topo) {
+  if (topo && !fresh) {
     s = scratch.init(mesh, *topo);
   } else {
-    TopologyOptions to;
-    to.threads = options.threads;
-    to.prevAndFace = true;
-    to.triangleShell = options.intersections;
-    s = buildTopology(mesh, built, to);
+    if (!fresh) {
+      TopologyOptions to;
+      to.threads = options.threads;
+      to.prevAndFace = true;
+      to.triangleShell = options.intersections;
+      s = buildTopology(mesh, built, to);
+    }
     if (s.ok()) s = scratch.init(mesh, built);
     reuse = s.ok() && built.nUsedVertices == mesh.nVertices();
   }
@@ -796,20 +804,24 @@ Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& o
   }
   return s;
 }
+}  // namespace
+
+Status planRepair(const Mesh& mesh, const Topology* topo, const RepairOptions& options, RepairPlan& out) {
+  return planWith(mesh, topo, nullptr, options, out);
+}
 
 Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPlan& out) {
   out = RepairPlan{};
+  // The compacted mesh with its topology (a fresh build's, triangleShell included when the
+  // pass runs): the scratch copy is made from them, and the run takes the topology.
   Mesh m;
   Topology t;
-  Status s = em.toMesh(m, &t, nullptr);
+  Status s = em.toMesh(m, &t, nullptr, options.intersections);
   if (!s.ok()) return s;
-  return planRepair(m, &t, options, out);
+  return planWith(m, nullptr, &t, options, out);
 }
 
 namespace {
-// applyRepair with the plan's result (RepairPlan::result): em takes the repaired mesh and
-// `log` the change log when em holds the plan's input and the options are the result's.
-// `taken` says whether it did; nothing changes otherwise.
 // Whether r (held locked) may still be taken for `plan`: not taken yet, and made with the
 // plan's options for the plan's input.
 bool resultFits(const RepairResult& r, const RepairPlan& plan) {
@@ -827,6 +839,9 @@ void take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog& 
     }
 }
 
+// applyRepair with the plan's result (RepairPlan::result): em takes the repaired mesh and
+// `log` the change log when em holds the plan's input and the options are the result's.
+// `taken` says whether it did; nothing changes otherwise.
 Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool& taken) {
   taken = false;
   RepairResult& r = *plan.result;
