@@ -93,21 +93,29 @@ class EditSession {
     staged_.colorConvention = js::colorConvention(colors);
   }
   val init(double tolerance) {
-    const uint32_t nv = staged_.nVertices();
-    if (staged_.positions.size() % 3 != 0 || staged_.triangles.size() % 3 != 0)
-      return js::status(Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element"));
-    for (size_t i = 0; i < staged_.triangles.size(); ++i)
-      if (staged_.triangles[i] >= nv) {
-        Status s =
-            Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
-        s.triangle = uint32_t(i / 3);
-        return js::status(s);
-      }
-    stltopo::TopologyOptions o;
-    o.tolerance = tolerance > 0 ? tolerance : 0;
-    Status s = em_.init(staged_, o);
+    Status s = checkStaged();
+    if (s.ok()) {
+      stltopo::TopologyOptions o;
+      o.tolerance = tolerance > 0 ? tolerance : 0;
+      s = em_.init(staged_, o);
+    }
     staged_ = stltopo::Mesh{};
     return js::status(s);
+  }
+  // planRepair of the staged mesh itself, instead of init() and planRepair(): the plan of
+  // the EditableMesh init(0) would make (the same plan; tests/test_repair.cpp checks both
+  // ways), without building that EditableMesh first. The session stays empty.
+  val planRepairStaged(val opts) {
+    Status s = checkStaged();
+    stltopo::RepairOptions o;
+    if (s.ok()) s = repairOptions(opts, o);
+    stltopo::RepairPlan p;
+    if (s.ok()) {
+      lastPlannedResult.reset();  // the last plan's result goes first: one at a time
+      s = stltopo::planRepair(staged_, o, p);
+    }
+    staged_ = stltopo::Mesh{};
+    return planned(s, p, o);
   }
 
   // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
@@ -302,13 +310,11 @@ class EditSession {
   val planRepair(val opts) {
     stltopo::RepairOptions o;
     Status s = repairOptions(opts, o);
+    if (!s.ok()) return js::status(s);
     stltopo::RepairPlan p;
     lastPlannedResult.reset();  // the last plan's result goes first: one at a time
-    if (s.ok()) s = stltopo::planRepair(em_, o, p);
-    if (s.ok() && p.beforeKnown && p.afterKnown)
-      lastPlanned = PlannedFigures{true, p.fingerprint, p.fingerprintAfter, o.intersections, o.maxPairs, p.before, p.after};
-    if (s.ok()) lastPlannedResult = p.result;
-    return s.ok() ? val(stltopo::repairPlanJson(p)) : js::status(s);
+    s = stltopo::planRepair(em_, o, p);
+    return planned(s, p, o);
   }
   val applyRepair(val opts, const std::string& fingerprint) {
     stltopo::RepairPlan p;
@@ -358,6 +364,31 @@ class EditSession {
   EditableMesh em_;
   Array<uint32_t> faceIds_;               // faceIds()
   std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
+
+  // The staged arrays as init() and planRepairStaged() take them: whole elements, every
+  // corner a vertex.
+  Status checkStaged() const {
+    const uint32_t nv = staged_.nVertices();
+    if (staged_.positions.size() % 3 != 0 || staged_.triangles.size() % 3 != 0)
+      return Status::error(Code::InvalidArgument, "positions and triangles need 3 numbers per element");
+    for (size_t i = 0; i < staged_.triangles.size(); ++i)
+      if (staged_.triangles[i] >= nv) {
+        Status s =
+            Status::error(Code::InvalidArgument, "triangle " + std::to_string(i / 3) + " uses a vertex out of range");
+        s.triangle = uint32_t(i / 3);
+        return s;
+      }
+    return Status{};
+  }
+  // What planRepair (status s, plan p, options o) gives JS: the plan's JSON, its figures
+  // and result kept for applyRepair (module-wide), or the error.
+  static val planned(const Status& s, const stltopo::RepairPlan& p, const stltopo::RepairOptions& o) {
+    if (!s.ok()) return js::status(s);
+    if (p.beforeKnown && p.afterKnown)
+      lastPlanned = PlannedFigures{true, p.fingerprint, p.fingerprintAfter, o.intersections, o.maxPairs, p.before, p.after};
+    lastPlannedResult = p.result;
+    return val(stltopo::repairPlanJson(p));
+  }
 
   static Status repairOptions(val v, stltopo::RepairOptions& o) {
     auto bad = [](const std::string& m) { return Status::error(Code::InvalidArgument, "repair options: " + m); };
@@ -451,6 +482,7 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("attributeInfo", &EditSession::attributeInfo)
       .function("attributeNames", &EditSession::attributeNames)
       .function("planRepair", &EditSession::planRepair)
+      .function("planRepairStaged", &EditSession::planRepairStaged)
       .function("applyRepair", &EditSession::applyRepair)
       .function("undoRepairStep", &EditSession::undoRepairStep)
       .function("undoableRepairSteps", &EditSession::undoableRepairSteps);

@@ -54,6 +54,33 @@ test('plan, apply, undo: the result is the plan\'s prediction, and undo gives ba
   }
 });
 
+test('planRepair(mesh) plans from the arrays what the EditableMesh made from them plans', async () => {
+  const t = damagedTorus(30, 12, 5);
+  // An indexed mesh with an unused vertex and a repeated position: the editor welds and
+  // compacts them, so the plan (its fingerprint, ids and figures) is of the compacted mesh.
+  const positions = new Float32Array([...t.positions, 9, 9, 9, ...t.positions.slice(0, 3)]);
+  const nv = t.positions.length / 3;
+  const triangles = Uint32Array.from(t.triangles, (v) => (v === 0 ? nv + 1 : v));
+  const cases = [await fromIndexed(t.positions, t.triangles), { positions, triangles },
+    await loadStl(readFileSync(admesh('block', 'nearby')))];
+  for (const [k, mesh] of cases.entries()) {
+    for (const options of [{}, { intersections: false, steps: ['fill-holes', 'orient', 'small-shells'] }]) {
+      const plan = await planRepair(mesh, options);
+      const em = await EditableMesh.from(mesh);
+      try {
+        assert.deepEqual(plan, em.planRepair(options), `case ${k}`);
+        // And it applies to that EditableMesh.
+        const log = em.applyRepair(plan);
+        assert.deepEqual(log.after, plan.after, `case ${k}`);
+      } finally {
+        em.dispose();
+      }
+    }
+  }
+  await assert.rejects(planRepair({ positions: new Float32Array(3), triangles: Uint32Array.of(0, 1, 2) }),
+    (e) => e.code === 'invalid-argument' && e.triangle === 0);
+});
+
 // Two boxes that cross (self-intersections), one face flipped and one removed: a repair
 // that changes the mesh and leaves pairs for the intersection pass.
 async function crossingBoxes() {

@@ -63,19 +63,46 @@ function repairLogFrom(json) {
   return l;
 }
 
-/** planRepair(mesh, options) of an entry: a Mesh is planned on a temporary EditableMesh. */
+/**
+ * planRepair(mesh, options) of an entry: a Mesh is planned from its arrays, as the
+ * EditableMesh made from it would plan (EditableMesh.planRepairOf).
+ */
 export function createPlanRepair(EditableMesh) {
   return async function planRepair(mesh, options = {}) {
     if (mesh instanceof EditableMesh) return mesh.planRepair(options);
-    if (!mesh || !mesh.positions || !mesh.triangles) throw invalid('planRepair() needs a Mesh or an EditableMesh');
-    normalizeRepairOptions(options);
-    const em = await EditableMesh.from(mesh);
-    try {
-      return em.planRepair(options);
-    } finally {
-      em.dispose();
-    }
+    return EditableMesh.planRepairOf(mesh, options);
   };
+}
+
+/**
+ * A new session of module M with the arrays of `source` (a Mesh, or { positions, triangles,
+ * ... }) staged, before its init() or planRepairStaged(). Deleted again when staging fails.
+ */
+function stage(M, source) {
+  const s = new M._EditableMesh();
+  try {
+    const up = (name, arr) => {
+      if (!arr) return;
+      const v = s.upload(name, arr.length);
+      if (v === null) throw stlError('out-of-memory', `could not allocate ${name}`);
+      v.set(arr);
+    };
+    up('positions', source.positions);
+    up('triangles', source.triangles);
+    up('attributes', source.attributes);
+    const colors = source.colorConvention && source.colorConvention !== 'none';
+    if (colors && source.colors && source.colorValid) {
+      up('colors', source.colors);
+      up('colorValid', source.colorValid);
+    }
+    up('normals', source.normals);
+    s.setFormat(source.format || 'unknown', colors ? source.colorConvention : 'none');
+    for (const so of source.solids || []) s.addSolid(so.name || '', so.firstTriangle, so.triangleCount);
+  } catch (e) {
+    s.delete();
+    throw e;
+  }
+  return s;
 }
 
 /**
@@ -117,32 +144,30 @@ export function createEditableMesh(getModule) {
     static async from(source, options = {}) {
       if (!source || !source.positions || !source.triangles) throw invalid('EditableMesh.from() needs a Mesh or { positions, triangles }');
       const entry = await getModule();
-      const M = entry.module;
-      const s = new M._EditableMesh();
+      const s = stage(entry.module, source);
       try {
-        const up = (name, arr) => {
-          if (!arr) return;
-          const v = s.upload(name, arr.length);
-          if (v === null) throw stlError('out-of-memory', `could not allocate ${name}`);
-          v.set(arr);
-        };
-        up('positions', source.positions);
-        up('triangles', source.triangles);
-        up('attributes', source.attributes);
-        const colors = source.colorConvention && source.colorConvention !== 'none';
-        if (colors && source.colors && source.colorValid) {
-          up('colors', source.colors);
-          up('colorValid', source.colorValid);
-        }
-        up('normals', source.normals);
-        s.setFormat(source.format || 'unknown', colors ? source.colorConvention : 'none');
-        for (const so of source.solids || []) s.addSolid(so.name || '', so.firstTriangle, so.triangleCount);
         check(s.init(options.tolerance || 0));
       } catch (e) {
         s.delete();
         throw e;
       }
       return new EditableMesh(entry, s, source);
+    }
+
+    /**
+     * planRepair() of a Mesh: the plan of EditableMesh.from(source).planRepair(options),
+     * made from the source's arrays without building that EditableMesh first.
+     */
+    static async planRepairOf(source, options = {}) {
+      if (!source || !source.positions || !source.triangles) throw invalid('planRepair() needs a Mesh or an EditableMesh');
+      const o = normalizeRepairOptions(options);
+      const entry = await getModule();
+      const s = stage(entry.module, source);
+      try {
+        return repairPlanFrom(check(s.planRepairStaged(o)), o);
+      } finally {
+        s.delete();
+      }
     }
 
     #live() {

@@ -714,6 +714,11 @@ export type EditableLoop = BoundaryLoop;
  */
 export declare class EditableMesh {
   static from(source: Mesh | IndexedMeshInput, options?: { tolerance?: number }): Promise<EditableMesh>;
+  /**
+   * The plan of EditableMesh.from(source).planRepair(options), made without building that
+   * EditableMesh (what planRepair(mesh) does).
+   */
+  static planRepairOf(source: Mesh | IndexedMeshInput, options?: RepairOptions): Promise<RepairPlan>;
   readonly nVertices: number;
   readonly nTriangles: number;
   readonly nHalfedges: number;

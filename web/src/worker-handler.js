@@ -119,11 +119,11 @@ export function serve(port, internal, { fileSource = null } = {}) {
       let em = null;
       try {
         if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule);
-        em = await EditableMesh.from(msg.mesh);
         if (msg.mode === 'plan') {
-          const plan = em.planRepair(msg.options);
+          const plan = await EditableMesh.planRepairOf(msg.mesh, msg.options);
           port.post(repairedMessage({ plan }), repairTransferList(plan));
         } else {
+          em = await EditableMesh.from(msg.mesh);
           const log = em.applyRepair(msg.plan);
           const bytes = em.toStl({ format: msg.mesh.format === 'ascii' ? 'ascii' : 'binary' });
           const raw = await internal.loadRaw(bufferSource(bytes), normalizeOptions(msg.loadOptions), { validate: true });
