@@ -5,7 +5,9 @@
 // and applyRepair on an EditableMesh, after a small repair that compiles the code: see
 // WASM_CHILD). "whole" is plan + EditableMesh init + apply (the
 // repair of a loaded mesh), wholeOverLoad its ratio to the load (the figure);
-// applyOverLoad is apply alone. Medians; the contenders alternate run by run.
+// applyOverLoad is apply alone. Medians; the contenders alternate run by run. Each native
+// process repairs 3 times and reports its medians (its first load and repair pay for fresh
+// pages, as the wasm child's warm-ups do before it measures).
 //   node bench/repair.mjs [--sizes 100k,1M] [--reps N] [--out FILE]
 // Needs build-bench (scripts/bench.sh builds genmesh and stltopo_repair_bench) and dist/.
 import fs from 'node:fs';
@@ -85,11 +87,11 @@ try {
       const native = [], wasm = [], native2 = [], nativeCli = [];
       const flags = intersections ? [] : ['--no-intersections'];
       for (let r = 0; r < opt.reps; ++r) {
-        native.push(run(BIN.native, [file, '--reps', '1', ...flags]));
-        nativeCli.push(run(BIN.native, [file, '--reps', '1', '--cli', ...flags]));
+        native.push(run(BIN.native, [file, '--reps', '3', ...flags]));
+        nativeCli.push(run(BIN.native, [file, '--reps', '3', '--cli', ...flags]));
         wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0', warmFile]));
         // RepairOptions::threads = 2 (the load and init on 2 threads too), alternated with the rest.
-        native2.push(run(BIN.native, [file, '--reps', '1', '--threads', '2', ...flags]));
+        native2.push(run(BIN.native, [file, '--reps', '3', '--threads', '2', ...flags]));
       }
       const steps = {}, planSteps = {};
       for (const k of Object.keys(native[0].steps)) steps[k] = median(native.map((x) => x.steps[k]));
