@@ -131,6 +131,9 @@ struct EditableMesh::Impl {
   uint32_t nNonManifoldVertices_ = 0;
   // Computed when read.
   bool loopsStale_ = true, statsStale_ = true;
+  // The shell count of the topology init() was given (its nShells), until the first change
+  // (whatever makes the stats stale forgets it): stats() then needs no shell pass.
+  uint32_t knownShells_ = kInvalid;
   EditLoops loops_;
   EditStats stats_;
   // File-level data carried to toMesh().

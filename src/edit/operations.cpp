@@ -130,6 +130,7 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
     return fail();
   loopsStale_ = false;
   statsStale_ = true;
+  knownShells_ = topo.nShells;
   format_ = mesh.format;
   colorConvention_ = mesh.colorConvention;
   STLTOPO_TRY {
@@ -214,7 +215,10 @@ Status EditableMesh::Impl::setPosition(uint32_t v, float x, float y, float z) {
   });
   // More loops through one vertex than the list holds (a vertex pinching many holes): they
   // are numbered and summed again when next read, O(n) once.
-  if (overflow) loopsStale_ = statsStale_ = true;
+  if (overflow) {
+    loopsStale_ = statsStale_ = true;
+    knownShells_ = kInvalid;
+  }
   return Status{};
 }
 

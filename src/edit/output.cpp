@@ -44,7 +44,7 @@ const EditStats& EditableMesh::Impl::stats() {
   c.nNonManifoldVertices = nNonManifoldVertices_;
   const EditLoops& l = loops();
   for (uint32_t h = 0; h < l.nLoops(); ++h) (l.loopIsSeam[h] ? c.nSeams : c.nHoles) += 1;
-  uint32_t shells = Impl::countShells(*this);
+  uint32_t shells = knownShells_ != kInvalid ? knownShells_ : Impl::countShells(*this);
   c.nShells = shells == kInvalid ? 0 : shells;
   s.triangles = c.nTriangles;
 #define STLTOPO_STATS_COUNT(count, name, doc) s.name = c.count;

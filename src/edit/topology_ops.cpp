@@ -60,6 +60,7 @@ uint32_t EditableMesh::Impl::appendVertex(M& m, const float* p) {
   appendDefaults(m, Element::Vertex);
   ++m.nLiveVertices_;
   m.statsStale_ = true;
+  m.knownShells_ = kInvalid;
   return v;
 }
 
@@ -181,6 +182,7 @@ uint32_t EditableMesh::Impl::apply(M& m) {
   }
   for (uint32_t v : m.touchedVertices_) refan(m, v);
   m.loopsStale_ = m.statsStale_ = true;
+  m.knownShells_ = kInvalid;
   clearChange(m);
   return firstAdded;
 }
