@@ -2,8 +2,8 @@
 // The repair benchmark (issue 23): the whole default repair of a torus with 8 holes and 1%
 // flipped faces, against a plain load of the same file, natively (in-process, with the time
 // of each step: bench/repair.cpp) and in wasm (the package in Node: loadStl, then planRepair
-// and applyRepair on an EditableMesh, after a small repair that compiles the code: see
-// WASM_CHILD). "whole" is plan + EditableMesh init + apply (the
+// and applyRepair on an EditableMesh, after a repair of the same file that compiles the
+// code: see WASM_CHILD). "whole" is plan + EditableMesh init + apply (the
 // repair of a loaded mesh), wholeOverLoad its ratio to the load (the issue's figure);
 // applyOverLoad is apply alone. Medians; the contenders alternate run by run. Each native
 // process repairs 3 times and reports its medians (its first load and repair pay for fresh
@@ -39,11 +39,13 @@ const bytes = readFileSync(process.argv[2]);
 const intersections = process.argv[3] === '1';
 const t = () => performance.now() / 1000;
 await loadStl(bytes); // warm: the module's compilation is not the load's
-// Nor is it the repair's: a small repair first (planRepair's first call loads the full module,
-// and V8 runs a function in its baseline code until the optimized code is ready: about 1.2 s
-// of the first 1M plan on the 2-core VM). The heap's growth for the repair stays counted.
+// Nor is it the repair's: a repair of the same file first, as for the load (planRepair's first
+// call loads the full module, and V8 runs a function in its baseline code until it has been
+// called often enough for the optimized code, and a loop keeps the code it started in: a
+// warm-up on a small mesh left the 1M plan at 0.65-1.9 s from run to run, against 0.5-0.53 s
+// after a warm-up on the file itself, on the 2-core VM).
 {
-  const small = await loadStl(readFileSync(process.argv[4]));
+  const small = await loadStl(bytes);
   const p = await planRepair(small, { intersections });
   const e = await EditableMesh.from(small);
   e.applyRepair(p);
@@ -81,15 +83,13 @@ try {
     const n = SIZES[size];
     const file = path.join(DATA, `torus-${size}-holes8-flip1.stl`);
     if (!fs.existsSync(file)) spawnSync(BIN.genmesh, [String(n), file, '--hole-count', '8', '--flip-percent', '1'], { stdio: 'ignore' });
-    const warmFile = path.join(DATA, 'torus-20k-holes3-flip1.stl');  // the wasm child's warm-up repair
-    if (!fs.existsSync(warmFile)) spawnSync(BIN.genmesh, ['20000', warmFile, '--hole-count', '3', '--flip-percent', '1'], { stdio: 'ignore' });
     for (const intersections of [false, true]) {
       const native = [], wasm = [], native2 = [], nativeCli = [];
       const flags = intersections ? [] : ['--no-intersections'];
       for (let r = 0; r < opt.reps; ++r) {
         native.push(run(BIN.native, [file, '--reps', '3', ...flags]));
         nativeCli.push(run(BIN.native, [file, '--reps', '3', '--cli', ...flags]));
-        wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0', warmFile]));
+        wasm.push(run(process.execPath, [childFile, file, intersections ? '1' : '0']));
         // RepairOptions::threads = 2 (the load and init on 2 threads too), alternated with the rest.
         native2.push(run(BIN.native, [file, '--reps', '3', '--threads', '2', ...flags]));
       }
