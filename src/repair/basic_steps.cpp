@@ -25,6 +25,15 @@ struct Found {
   Topology topo;
   const Mesh* m = nullptr;
   const Topology* t = nullptr;
+  const TriangleChecks* c = nullptr;  // checks()
+  // c: the triangle checks of m, the runner's when it has them (m is ctx's then), else
+  // made into `own`. After get().
+  Status checks(const StepContext& ctx, TriangleChecks& own) {
+    c = ctx.mesh && ctx.topo ? ctx.checks : nullptr;
+    if (c) return Status{};
+    c = &own;
+    return checkTriangles(*m, t, own, ctx.options.threads);
+  }
   Status get(const StepContext& ctx) {
     if (ctx.mesh && ctx.topo) {
       m = ctx.mesh;
@@ -85,12 +94,9 @@ Status runDuplicates(StepContext& ctx) {
   Status s = f.get(ctx);
   if (!s.ok()) return s;
   TriangleChecks own;
-  const TriangleChecks* known = ctx.mesh && ctx.topo ? ctx.checks : nullptr;  // (f's are ctx's then)
-  if (!known) {
-    s = checkTriangles(*f.m, f.t, own, ctx.options.threads);
-    if (!s.ok()) return s;
-  }
-  const TriangleChecks& checks = known ? *known : own;
+  s = f.checks(ctx, own);
+  if (!s.ok()) return s;
+  const TriangleChecks& checks = *f.c;
   ctx.plan.note = ctx.options.removeOppositeDuplicates
                       ? "keeps the lowest id of each group; groups that face both ways are removed whole"
                       : "keeps the lowest id of each group; groups that face both ways (zero-thickness walls) stay";
@@ -123,12 +129,9 @@ Status runZeroArea(StepContext& ctx) {
   Status s = f.get(ctx);
   if (!s.ok()) return s;
   TriangleChecks own;
-  const TriangleChecks* known = ctx.mesh && ctx.topo ? ctx.checks : nullptr;  // (f's are ctx's then)
-  if (!known) {
-    s = checkTriangles(*f.m, f.t, own, ctx.options.threads);
-    if (!s.ok()) return s;
-  }
-  const TriangleChecks& checks = known ? *known : own;
+  s = f.checks(ctx, own);
+  if (!s.ok()) return s;
+  const TriangleChecks& checks = *f.c;
   EditableMesh& em = ctx.em;
   ctx.plan.note =
       "flips the longest edge (the neighbour is cut in two at the middle corner: nothing moves), in rounds while "
