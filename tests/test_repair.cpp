@@ -548,6 +548,33 @@ TEST(Repair, ApplyFromTheMeshIsApplyOnAnEditableMesh) {
   EXPECT_TRUE(plan.resultTaken());
   EXPECT_TRUE(log.after.stats.watertight);
   EXPECT_TRUE(log.after.solid);
+  // With a tolerance weld the EditableMesh holds the welded mesh, not the plan's input: as
+  // em.init(mesh, tolerance) then applyRepair, refused (another fingerprint), the result kept.
+  {
+    gen::Soup near = soup;  // the first corner on vertex 0 moved to a copy 1e-4 away: a crack
+    near.v.push_back({near.v[0][0] + 1e-4f, near.v[0][1], near.v[0][2]});
+    bool moved = false;
+    for (auto& f : near.f)
+      for (auto& c : f)
+        if (!moved && c == 0) {
+          c = uint32_t(near.v.size() - 1);
+          moved = true;
+        }
+    ASSERT_TRUE(moved);
+    const Mesh nearMesh = meshOf(near);
+    RepairPlan p;
+    ASSERT_TRUE(planRepair(nearMesh, RepairOptions{}, p).ok());
+    TopologyOptions welded;
+    welded.tolerance = 1e-3;
+    EditableMesh w, wref;
+    RepairLog wl, wrefLog;
+    ASSERT_TRUE(wref.init(nearMesh, welded).ok());
+    const Status want = applyRepair(wref, p, wrefLog);
+    const Status got = applyRepair(nearMesh, p, w, wl, welded);
+    EXPECT_EQ(want.code, Code::InvalidArgument);
+    EXPECT_EQ(got.code, want.code);
+    EXPECT_FALSE(p.resultTaken());
+  }
   // Bad options: refused, em as it was.
   RepairPlan bad = plan;
   bad.options.maxPairs = 0;

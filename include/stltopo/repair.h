@@ -226,11 +226,12 @@ Status planRepair(const EditableMesh& em, const RepairOptions& options, RepairPl
 Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log);
 // The same for the Mesh the plan was made from (planRepair(mesh, ...)): `em` becomes the
 // repaired mesh. What em.init(mesh, topologyOptions) then applyRepair(em, plan, log) give,
-// but when the plan kept its result (RepairOptions::keepResult) and `mesh` is its input as
-// the plan found it, em takes that result without building the input first (O(n) to check
-// the mesh); otherwise an EditableMesh is built from `mesh` and the steps run on it. em
-// stays as it was when the options are bad or that build fails; when a step fails, em
-// holds what the failed applyRepair left (the mesh before that step).
+// but when the plan kept its result (RepairOptions::keepResult), `mesh` is its input as the
+// plan found it and topologyOptions has no tolerance weld, em takes that result without
+// building the input first (O(n) to check the mesh); otherwise an EditableMesh is built
+// from `mesh` and the steps run on it. em stays as it was when the options are bad or that
+// build fails; when a step fails, em holds what the failed applyRepair left (the mesh
+// before that step).
 Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
                    const TopologyOptions& topologyOptions = {});
 

@@ -882,10 +882,11 @@ Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, R
   log = RepairLog{};
   Status s = checkOptions(plan.options);
   if (!s.ok()) return s;
-  if (plan.result) {
-    // The plan's input is `mesh` as init() and toMesh() give it back (every vertex used):
-    // then an EditableMesh made from mesh would hold it, and takeResult would take the
-    // result. Its key says so without making that mesh.
+  if (plan.result && !(topologyOptions.tolerance > 0)) {
+    // The plan's input is `mesh` as init() and toMesh() give it back (every vertex used, the
+    // exact weld): then an EditableMesh made from mesh would hold it, and takeResult would
+    // take the result. Its key says so without making that mesh. (With a tolerance weld the
+    // EditableMesh may hold another mesh: built below, as applyRepair finds it.)
     RepairResult& r = *plan.result;
     std::lock_guard<std::mutex> hold(r.lock);
     if (resultFits(r, plan) && meshKey(mesh, fingerprintOf(mesh)) == r.inputKey) {
