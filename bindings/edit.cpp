@@ -103,8 +103,9 @@ class EditSession {
     return js::status(s);
   }
   // planRepair of the staged mesh itself, instead of init() and planRepair(): the plan of
-  // the EditableMesh init(0) would make (the same plan; tests/test_repair.cpp checks both
-  // ways), without building that EditableMesh first. The session stays empty.
+  // the EditableMesh init(0) would make (the same plan: tests/js/repair.test.mjs compares
+  // both ways, and tests/test_repair.cpp the C++ calls under them), without building that
+  // EditableMesh first. The session stays empty.
   val planRepairStaged(val opts) {
     Status s = checkStaged();
     stltopo::RepairOptions o;
