@@ -4,9 +4,9 @@
 // rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
 // whole repair of a loaded mesh in an editor (the JS API's way). --cli: the CLI's way
 // instead, applyRepair(mesh, plan, em, log), which takes the plan's result without an
-// EditableMesh of the input ("init" is then 0). Prints one JSON object. apply takes the plan's own result
-// (RepairPlan::result), so its steps take no time there: the time of each step is the
-// plan's ("planSteps"); --no-keep (RepairOptions::keepResult = false) makes apply run the
+// EditableMesh of the input ("init" is then 0). Prints one JSON object. apply takes the
+// plan's own result (RepairPlan::result), so its steps take no time there: the time of
+// each step is the plan's ("planSteps"); --no-keep (RepairOptions::keepResult = false) makes apply run the
 // steps again, as before plans kept their result.
 //   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep] [--cli]
 // --threads N: RepairOptions::threads, and the load and init on as many.

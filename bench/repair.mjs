@@ -45,9 +45,9 @@ await loadStl(bytes); // warm: the module's compilation is not the load's
 // warm-up on a small mesh left the 1M plan at 0.65-1.9 s from run to run, against 0.5-0.53 s
 // after a warm-up on the file itself, on the 2-core VM).
 {
-  const small = await loadStl(bytes);
-  const p = await planRepair(small, { intersections });
-  const e = await EditableMesh.from(small);
+  const warm = await loadStl(bytes);
+  const p = await planRepair(warm, { intersections });
+  const e = await EditableMesh.from(warm);
   e.applyRepair(p);
   e.dispose();
 }

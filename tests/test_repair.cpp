@@ -487,20 +487,19 @@ TEST(Repair, ApplyFromTheMeshIsApplyOnAnEditableMesh) {
   for (float x : {5.0f, 5.0f, 50.0f}) ASSERT_TRUE(spare.positions.push_back(x));
   RepairOptions keepNothing;
   keepNothing.keepResult = false;
-  RepairOptions fewEdges;
-  fewEdges.maxHoleEdges = 2;
   struct Case {
     const char* what;
     const Mesh* mesh;
     RepairOptions options;
-    bool takenBefore;  // the plan's result taken by another application first
-  } cases[] = {{"every vertex used", &whole, RepairOptions{}, false},
-               {"an unused vertex", &spare, RepairOptions{}, false},
-               {"no result kept", &whole, keepNothing, false},
-               {"the result taken already", &whole, RepairOptions{}, true},
-               {"other options than the result's", &whole, fewEdges, false}};
+    bool takenBefore;   // the plan's result taken by another application first
+    bool otherOptions;  // the plan's options changed after it was made
+  } cases[] = {{"every vertex used", &whole, RepairOptions{}, false, false},
+               {"an unused vertex", &spare, RepairOptions{}, false, false},
+               {"no result kept", &whole, keepNothing, false, false},
+               {"the result taken already", &whole, RepairOptions{}, true, false},
+               {"other options than the result's", &whole, RepairOptions{}, false, true}};
   for (const Case& c : cases) {
-    RepairPlan plan, same;
+    RepairPlan plan, same;  // applied the CLI's way, and on an EditableMesh
     ASSERT_TRUE(planRepair(*c.mesh, c.options, plan).ok()) << c.what;
     ASSERT_TRUE(planRepair(*c.mesh, c.options, same).ok()) << c.what;
     if (c.takenBefore) {
@@ -509,20 +508,13 @@ TEST(Repair, ApplyFromTheMeshIsApplyOnAnEditableMesh) {
       ASSERT_TRUE(applyRepair(*c.mesh, plan, first, firstLog).ok()) << c.what;
       ASSERT_TRUE(plan.resultTaken()) << c.what;
     }
-    RepairPlan other = plan;
-    if (c.options.maxHoleEdges == 2) {
-      // The plan's options changed after it was made: the result (made with the defaults
-      // here) does not fit, and the steps run with the changed options.
-      ASSERT_TRUE(planRepair(*c.mesh, RepairOptions{}, other).ok()) << c.what;
-      other.options = c.options;
-      ASSERT_TRUE(planRepair(*c.mesh, RepairOptions{}, same).ok()) << c.what;
-      same.options = c.options;
-    }
+    // The result no longer fits the options: the steps run with the changed ones.
+    if (c.otherOptions) plan.options.maxHoleEdges = same.options.maxHoleEdges = 2;
     EditableMesh em, ref;
     RepairLog log, refLog;
     ASSERT_TRUE(ref.init(*c.mesh).ok()) << c.what;
     ASSERT_TRUE(applyRepair(ref, same, refLog).ok()) << c.what;
-    ASSERT_TRUE(applyRepair(*c.mesh, other, em, log).ok()) << c.what;
+    ASSERT_TRUE(applyRepair(*c.mesh, plan, em, log).ok()) << c.what;
     EXPECT_EQ(repairLogJson(log), repairLogJson(refLog)) << c.what;
     Mesh got, want;
     ASSERT_TRUE(em.toMesh(got, nullptr, nullptr).ok());
@@ -530,7 +522,7 @@ TEST(Repair, ApplyFromTheMeshIsApplyOnAnEditableMesh) {
     EXPECT_EQ(stlBytes(got), stlBytes(want)) << c.what;
     EXPECT_TRUE(gen::sameMesh(got, want)) << c.what;
     EXPECT_TRUE(em.validate().ok()) << c.what;
-    if (!c.takenBefore) EXPECT_EQ(other.resultTaken(), same.resultTaken()) << c.what;
+    if (!c.takenBefore) EXPECT_EQ(plan.resultTaken(), same.resultTaken()) << c.what;
     ASSERT_TRUE(undoRepair(em, log).ok()) << c.what;
     Mesh back;
     ASSERT_TRUE(em.toMesh(back, nullptr, nullptr).ok());
