@@ -671,6 +671,18 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
 #if defined(__SSE2__)
   const __m128d loXY = _mm_set_pd(lo[1], lo[0]), scaleXY = _mm_set_pd(scale[1], scale[0]);
+#elif defined(__wasm_simd128__)
+  const v128_t loXY = wasm_f64x2_make(lo[0], lo[1]), scaleXY = wasm_f64x2_make(scale[0], scale[1]);
+#endif
+#if defined(__SSE2__) || defined(__wasm_simd128__)
+  // The z coordinate's bits of a Morton code, as the scalar loop below makes them (the SIMD
+  // paths make x and y two at a time).
+  auto zBits = [&](const float* a, const float* b, const float* c) {
+    double z = 0;
+    z += a[2], z += b[2], z += c[2];
+    const double qz = (z / 3 - lo[2]) * scale[2];
+    return kSpread10.v[qz <= 0 ? 0 : qz >= 1023 ? 1023 : uint32_t(qz)] << 2;
+  };
 #endif
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
@@ -696,10 +708,21 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
           // q <= 0 -> 0, q >= 1023 -> 1023, else truncated: the clamp, then the truncation.
           const __m128i qi = _mm_cvttpd_epi32(_mm_min_pd(_mm_max_pd(q, _mm_setzero_pd()), _mm_set1_pd(1023)));
           code = kSpread10.v[uint32_t(_mm_cvtsi128_si32(qi))] | kSpread10.v[uint32_t(_mm_cvtsi128_si32(_mm_srli_si128(qi, 4)))] << 1;
-          double z = 0;
-          z += a[2], z += b[2], z += c[2];
-          const double qz = (z / 3 - lo[2]) * scale[2];
-          code |= kSpread10.v[qz <= 0 ? 0 : qz >= 1023 ? 1023 : uint32_t(qz)] << 2;
+          code |= zBits(a, b, c);
+        }
+#elif defined(__wasm_simd128__)
+        // The same in wasm's f64x2 (pmax(q, 0) is q < 0 ? 0 : q, pmin(x, 1023) is
+        // 1023 < x ? 1023 : x: the clamp above, without a branch).
+        {
+          auto xy = [](const float* p) { return wasm_f64x2_promote_low_f32x4(wasm_v128_load64_zero(p)); };
+          const float *a = w.p(w.v(t, 0)), *b = w.p(w.v(t, 1)), *c = w.p(w.v(t, 2));
+          const v128_t sum = wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_splat(0), xy(a)), xy(b)), xy(c));
+          const v128_t q = wasm_f64x2_mul(wasm_f64x2_sub(wasm_f64x2_div(sum, wasm_f64x2_splat(3)), loXY), scaleXY);
+          const v128_t qi = wasm_i32x4_trunc_sat_f64x2_zero(
+              wasm_f64x2_pmin(wasm_f64x2_pmax(q, wasm_f64x2_splat(0)), wasm_f64x2_splat(1023)));
+          code = kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 0))] |
+                 kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 1))] << 1;
+          code |= zBits(a, b, c);
         }
 #else
         for (int k = 0; k < 3; ++k) {
