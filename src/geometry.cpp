@@ -542,6 +542,65 @@ struct Spread10Table {
 };
 constexpr Spread10Table kSpread10{};
 
+// The hierarchy's Morton codes: the cell of a triangle's centroid in a 1024^3 grid over the
+// mesh's box, its 10 bits an axis interleaved (x in bit 0). code() is what buildBvh uses
+// (x and y two at a time where there is SIMD), scalarCode() the formula written out; they
+// give the same value for every input (Geometry.MortonCodesAreTheScalarFormula).
+struct MortonFrame {
+  const float* lo;
+  double scale[3];
+#if defined(__SSE2__)
+  __m128d loXY, scaleXY;
+#elif defined(__wasm_simd128__)
+  v128_t loXY, scaleXY;
+#endif
+  explicit MortonFrame(const Mesh& mesh) : lo(mesh.bboxMin) {
+    const float* hi = mesh.bboxMax;
+    for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
+#if defined(__SSE2__)
+    loXY = _mm_set_pd(lo[1], lo[0]), scaleXY = _mm_set_pd(scale[1], scale[0]);
+#elif defined(__wasm_simd128__)
+    loXY = wasm_f64x2_make(lo[0], lo[1]), scaleXY = wasm_f64x2_make(scale[0], scale[1]);
+#endif
+  }
+  // Axis k's 10 bits, spread to every third bit from bit k.
+  uint32_t axisBits(const float* a, const float* b, const float* c, int k) const {
+    double x = 0;
+    x += a[k], x += b[k], x += c[k];
+    const double q = (x / 3 - lo[k]) * scale[k];
+    return kSpread10.v[q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q)] << k;
+  }
+  uint32_t scalarCode(const float* a, const float* b, const float* c) const {
+    return axisBits(a, b, c, 0) | axisBits(a, b, c, 1) | axisBits(a, b, c, 2);
+  }
+  uint32_t code(const float* a, const float* b, const float* c) const {
+#if defined(__SSE2__)
+    // x and y in the two lanes of one register: the same operations in the same order as
+    // axisBits (each lane rounds as the scalar code does), one division instead of two, and
+    // the clamp (q <= 0 -> 0, q >= 1023 -> 1023) as a max and a min before the truncation.
+    auto xy = [](const float* p) {
+      return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+    };
+    const __m128d sum = _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_setzero_pd(), xy(a)), xy(b)), xy(c));
+    const __m128d q = _mm_mul_pd(_mm_sub_pd(_mm_div_pd(sum, _mm_set1_pd(3)), loXY), scaleXY);
+    const __m128i qi = _mm_cvttpd_epi32(_mm_min_pd(_mm_max_pd(q, _mm_setzero_pd()), _mm_set1_pd(1023)));
+    return kSpread10.v[uint32_t(_mm_cvtsi128_si32(qi))] | kSpread10.v[uint32_t(_mm_cvtsi128_si32(_mm_srli_si128(qi, 4)))] << 1 |
+           axisBits(a, b, c, 2);
+#elif defined(__wasm_simd128__)
+    // The same in wasm's f64x2: pmax(q, 0) is q < 0 ? 0 : q, pmin(x, 1023) is 1023 < x ? 1023 : x.
+    auto xy = [](const float* p) { return wasm_f64x2_promote_low_f32x4(wasm_v128_load64_zero(p)); };
+    const v128_t sum = wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_splat(0), xy(a)), xy(b)), xy(c));
+    const v128_t q = wasm_f64x2_mul(wasm_f64x2_sub(wasm_f64x2_div(sum, wasm_f64x2_splat(3)), loXY), scaleXY);
+    const v128_t qi =
+        wasm_i32x4_trunc_sat_f64x2_zero(wasm_f64x2_pmin(wasm_f64x2_pmax(q, wasm_f64x2_splat(0)), wasm_f64x2_splat(1023)));
+    return kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 0))] | kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 1))] << 1 |
+           axisBits(a, b, c, 2);
+#else
+    return scalarCode(a, b, c);
+#endif
+  }
+};
+
 #if defined(__wasm_simd128__)
 // wasm: the boxes' minima and maxima as f32x4.pmin / pmax, one instruction each in the engine.
 // Scalar std::min / std::max of floats compile to a compare and a select, which V8 turns into a
@@ -665,25 +724,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   }
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
   uint64_t* tmp = keys + n;
-  const float* lo = w.mesh.bboxMin;
-  const float* hi = w.mesh.bboxMax;
-  double scale[3];
-  for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0 / (double(hi[k]) - lo[k]) : 0;
-#if defined(__SSE2__)
-  const __m128d loXY = _mm_set_pd(lo[1], lo[0]), scaleXY = _mm_set_pd(scale[1], scale[0]);
-#elif defined(__wasm_simd128__)
-  const v128_t loXY = wasm_f64x2_make(lo[0], lo[1]), scaleXY = wasm_f64x2_make(scale[0], scale[1]);
-#endif
-#if defined(__SSE2__) || defined(__wasm_simd128__)
-  // The z coordinate's bits of a Morton code, as the scalar loop below makes them (the SIMD
-  // paths make x and y two at a time).
-  auto zBits = [&](const float* a, const float* b, const float* c) {
-    double z = 0;
-    z += a[2], z += b[2], z += c[2];
-    const double qz = (z / 3 - lo[2]) * scale[2];
-    return kSpread10.v[qz <= 0 ? 0 : qz >= 1023 ? 1023 : uint32_t(qz)] << 2;
-  };
-#endif
+  const MortonFrame frame(w.mesh);
   detail::runParts(parts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(nt, parts, id + 1));
     const uint32_t begin = uint32_t(detail::partBegin(nt, parts, id));
@@ -694,45 +735,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
         for (auto [u, ue] = aheadOf(t, begin, end, kAhead); u < ue; ++u)
           for (int j = 0; j < 3; ++j) touch(w.p(w.v(u, j)), sink);
         if (!valid[t]) continue;
-        uint32_t code = 0;
-#if defined(__SSE2__)
-        // x and y in the two lanes of one SSE2 register: the same operations in the same
-        // order as below (the lanes round as the scalar code does), one division instead of two.
-        {
-          auto xy = [](const float* p) {
-            return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
-          };
-          const float *a = w.p(w.v(t, 0)), *b = w.p(w.v(t, 1)), *c = w.p(w.v(t, 2));
-          const __m128d sum = _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_setzero_pd(), xy(a)), xy(b)), xy(c));
-          const __m128d q = _mm_mul_pd(_mm_sub_pd(_mm_div_pd(sum, _mm_set1_pd(3)), loXY), scaleXY);
-          // q <= 0 -> 0, q >= 1023 -> 1023, else truncated: the clamp, then the truncation.
-          const __m128i qi = _mm_cvttpd_epi32(_mm_min_pd(_mm_max_pd(q, _mm_setzero_pd()), _mm_set1_pd(1023)));
-          code = kSpread10.v[uint32_t(_mm_cvtsi128_si32(qi))] | kSpread10.v[uint32_t(_mm_cvtsi128_si32(_mm_srli_si128(qi, 4)))] << 1;
-          code |= zBits(a, b, c);
-        }
-#elif defined(__wasm_simd128__)
-        // The same in wasm's f64x2 (pmax(q, 0) is q < 0 ? 0 : q, pmin(x, 1023) is
-        // 1023 < x ? 1023 : x: the clamp above, without a branch).
-        {
-          auto xy = [](const float* p) { return wasm_f64x2_promote_low_f32x4(wasm_v128_load64_zero(p)); };
-          const float *a = w.p(w.v(t, 0)), *b = w.p(w.v(t, 1)), *c = w.p(w.v(t, 2));
-          const v128_t sum = wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_add(wasm_f64x2_splat(0), xy(a)), xy(b)), xy(c));
-          const v128_t q = wasm_f64x2_mul(wasm_f64x2_sub(wasm_f64x2_div(sum, wasm_f64x2_splat(3)), loXY), scaleXY);
-          const v128_t qi = wasm_i32x4_trunc_sat_f64x2_zero(
-              wasm_f64x2_pmin(wasm_f64x2_pmax(q, wasm_f64x2_splat(0)), wasm_f64x2_splat(1023)));
-          code = kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 0))] |
-                 kSpread10.v[uint32_t(wasm_i32x4_extract_lane(qi, 1))] << 1;
-          code |= zBits(a, b, c);
-        }
-#else
-        for (int k = 0; k < 3; ++k) {
-          double c = 0;
-          for (int j = 0; j < 3; ++j) c += w.p(w.v(t, j))[k];
-          double q = (c / 3 - lo[k]) * scale[k];
-          uint32_t qi = q <= 0 ? 0 : q >= 1023 ? 1023 : uint32_t(q);
-          code |= kSpread10.v[qi] << k;
-        }
-#endif
+        const uint32_t code = frame.code(w.p(w.v(t, 0)), w.p(w.v(t, 1)), w.p(w.v(t, 2)));
         keys[i++] = uint64_t(code) << 32 | t;
       }
       next = i;
@@ -1847,6 +1850,20 @@ Status certifyPatches(const Welded& w, const Bvh& bvh, const Array<uint32_t>& co
   return {};
 }
 }  // namespace
+
+Status geometry_detail::mortonCodesForTesting(const Mesh& mesh, Array<uint32_t>& fast, Array<uint32_t>& scalar) {
+  const uint32_t nt = mesh.nTriangles();
+  if (!fast.resize(nt) || !scalar.resize(nt)) return oom("the Morton codes");
+  const MortonFrame frame(mesh);
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t* c = &mesh.triangles[3 * size_t(t)];
+    const float *a = &mesh.positions[3 * size_t(c[0])], *b = &mesh.positions[3 * size_t(c[1])],
+                *d = &mesh.positions[3 * size_t(c[2])];
+    fast[t] = frame.code(a, b, d);
+    scalar[t] = frame.scalarCode(a, b, d);
+  }
+  return {};
+}
 
 Status geometry_detail::fanCertificatesForTesting(const Mesh& mesh, const Topology& topo, const TriangleChecks& checks,
                                                   Array<uint8_t>& certified) {

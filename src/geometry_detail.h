@@ -99,6 +99,10 @@ void setPatchTaskSizeForTesting(uint32_t positions, uint32_t scale = 0);
 uint64_t patchUnionsForTesting();
 uint64_t patchLargeNodesForTesting();
 void setPatchUnionsForTesting(bool on);
+// The hierarchy's Morton code of each triangle of a mesh (the cell of its centroid in a
+// 1024^3 grid over the mesh's box), as the pass computes it (`fast`: SIMD where the build
+// has it) and by the scalar formula (`scalar`). Tests compare the two.
+Status mortonCodesForTesting(const Mesh& mesh, Array<uint32_t>& fast, Array<uint32_t>& scalar);
 
 inline Status checkWeld(const Mesh& mesh, const Topology* topo) {
   if (topo && (topo->nTriangles != mesh.nTriangles() || topo->nVertices != mesh.nVertices() ||

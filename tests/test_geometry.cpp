@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -1191,3 +1192,95 @@ TEST(Geometry, ExactStagesAgree) {
 }
 
 }  // namespace
+
+// The hierarchy's Morton codes, as the pass computes them (x and y two at a time where the
+// build has SIMD), against the scalar formula: the same value for every triangle, on random
+// bit patterns (denormals, signed zeros, magnitudes up to FLT_MAX), on coordinates spread over
+// many magnitudes, on a mesh flat along an axis (scale 0 there) and on centroids that fall on
+// cell sides and on the box's faces (the clamp's ends).
+TEST(Geometry, MortonCodesAreTheScalarFormula) {
+  std::mt19937 rng(20261204);
+  auto randomFinite = [&]() {
+    for (;;) {
+      const uint32_t bits = uint32_t(rng());
+      float f;
+      std::memcpy(&f, &bits, sizeof f);
+      if (std::isfinite(f)) return f;
+    }
+  };
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  auto check = [](const std::vector<float>& positions, const char* what) {
+    std::vector<uint32_t> tri(positions.size() / 3);
+    for (uint32_t i = 0; i < tri.size(); ++i) tri[i] = i;
+    stltopo::IndexedMesh in;
+    in.positions = positions.data();
+    in.positionsLength = positions.size();
+    in.triangles = tri.data();
+    in.trianglesLength = tri.size() - tri.size() % 3;
+    stltopo::IndexedOptions o;
+    o.weld = stltopo::Weld::None;
+    stltopo::Mesh mesh;
+    ASSERT_TRUE(stltopo::meshFromIndexed(in, mesh, nullptr, o).ok()) << what;
+    stltopo::Array<uint32_t> fast, scalar;
+    ASSERT_TRUE(stltopo::geometry_detail::mortonCodesForTesting(mesh, fast, scalar).ok()) << what;
+    ASSERT_EQ(fast.size(), mesh.nTriangles()) << what;
+    size_t differ = 0;
+    for (size_t t = 0; t < fast.size(); ++t) {
+      differ += fast[t] != scalar[t];
+      EXPECT_LT(scalar[t], 1u << 30) << what;
+    }
+    EXPECT_EQ(differ, 0u) << what << ": " << fast.size() << " triangles";
+  };
+  {
+    std::vector<float> p(3 * 3 * 20000);
+    for (float& x : p) x = randomFinite();
+    check(p, "random bit patterns");
+  }
+  {
+    std::vector<float> p(3 * 3 * 20000);
+    std::uniform_int_distribution<int> e(-40, 38);
+    for (float& x : p) x = unit(rng) * std::pow(10.0f, float(e(rng)));
+    check(p, "many magnitudes");
+  }
+  {
+    std::vector<float> p(3 * 3 * 20000);
+    for (size_t i = 0; i < p.size(); ++i) p[i] = i % 3 == 1 ? 7.25f : unit(rng) * 100;
+    check(p, "flat along y");
+  }
+  {
+    // Corners on a grid of 1023 * 3 steps over [0, 1]: centroids on and next to cell sides,
+    // with the box's corners present so that the box is [0, 1]^3.
+    std::vector<float> p = {0, 0, 0, 1, 1, 1, 0, 1, 0};
+    std::uniform_int_distribution<int> g(0, 3 * 1023);
+    for (int i = 0; i < 3 * 20000; ++i)
+      for (int k = 0; k < 3; ++k) {
+        float x = float(g(rng)) / float(3 * 1023);
+        if (rng() % 4 == 0) x = std::nextafter(x, rng() % 2 ? 2.0f : -1.0f);
+        p.push_back(std::min(1.0f, std::max(0.0f, x)));
+      }
+    check(p, "cell sides");
+  }
+  {
+    // The box [0, 1023]^3 (scale 1): centroids on integer coordinates, so that q is an integer
+    // exactly and a rounding other than the formula's (a multiplication by 1/3 instead of the
+    // division, say) lands in the cell below.
+    std::vector<float> p = {0, 0, 0, 1023, 1023, 1023, 0, 1023, 0};
+    // Centroids in the top cell and on the box's top face (q = 1023, the clamp's upper end).
+    p.insert(p.end(), {1023, 1023, 1023, 1023, 1023, 1023, 1023, 1023, 1023});
+    p.insert(p.end(), {1022.5f, 0, 1023, 1022.5f, 0, 1023, 1022.5f, 0, 1023});
+    std::uniform_int_distribution<int> g(0, 1023);
+    for (int i = 0; i < 20000; ++i) {
+      float c[3][3];
+      for (int k = 0; k < 3; ++k) {
+        int m, a, b, d;  // m: the centroid's coordinate, the mean of a, b and d
+        do {
+          m = g(rng), a = g(rng), b = g(rng);
+          d = 3 * m - a - b;
+        } while (d < 0 || d > 1023);
+        c[0][k] = float(a), c[1][k] = float(b), c[2][k] = float(d);
+      }
+      for (auto& corner : c) p.insert(p.end(), corner, corner + 3);
+    }
+    check(p, "integer centroids");
+  }
+}
