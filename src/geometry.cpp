@@ -2421,7 +2421,16 @@ Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& o
   out.shells = Array<Shell>{};
   out.nesting = ShellNesting{};
   Status s = checkTriangles(mesh, &topo, out.checks, options.threads);
-  if (s.ok()) s = findIntersections(mesh, topo, out.checks, out.intersections, options);
+  if (s.ok()) s = analyzeGeometryAfterChecks(mesh, topo, out, options, shellList);
+  return s;
+}
+
+Status analyzeGeometryAfterChecks(const Mesh& mesh, const Topology& topo, GeometryReport& out,
+                                  const IntersectionOptions& options, bool shellList) {
+  out.solid = false;
+  out.shells = Array<Shell>{};
+  out.nesting = ShellNesting{};
+  Status s = findIntersections(mesh, topo, out.checks, out.intersections, options);
   if (s.ok())
     s = shellList ? geometry_detail::finishGeometry(mesh, topo, out) : geometry_detail::finishSolid(mesh, topo, out);
   return s;

@@ -1059,6 +1059,8 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
 // analyzeGeometry without the shell list (what `info --intersections` runs without
 // --shells): on every fixture, as read and with the tolerance weld, and on nested and
 // inside-out cubes, the same `solid` as with the shell list, from the shells' volumes only.
+// (and the same after the checks: analyzeGeometryAfterChecks on a topology stripped of the
+// arrays the checks read)
 TEST(Geometry, SolidWithoutTheShellListIsTheSame) {
   std::vector<std::pair<std::string, std::string>> inputs;  // name, bytes
 #ifdef STLTOPO_FIXTURES
@@ -1073,7 +1075,7 @@ TEST(Geometry, SolidWithoutTheShellListIsTheSame) {
   inputs.push_back({"inside out", gen::binary(cubeSoup(0, 0, 0, 30, true))});
   inputs.push_back({"three levels", gen::binary(join(join(cubeSoup(0, 0, 0, 30), cubeSoup(5, 5, 5, 20, true)),
                                                      cubeSoup(10, 10, 10, 10)))});
-  int solid = 0, compared = 0;
+  int solid = 0, compared = 0, fanPasses = 0;
   for (const auto& [name, bytes] : inputs) {
     for (float tolerance : {0.0f, 0.001f}) {
       stltopo::Mesh mesh;
@@ -1089,12 +1091,31 @@ TEST(Geometry, SolidWithoutTheShellListIsTheSame) {
       EXPECT_EQ(lean.solid, full.solid) << name << " tolerance " << tolerance;
       EXPECT_TRUE(lean.shells.empty()) << name;
       EXPECT_TRUE(gen::sameArray(lean.intersections.pairs, full.intersections.pairs)) << name;
+      // After the checks, on a topology without the arrays only the checks read (what
+      // `stltopo info --intersections` does): the same report.
+      stltopo::Topology bare;
+      ASSERT_TRUE(stltopo::buildTopology(mesh, bare, to).ok()) << name;
+      stltopo::GeometryReport after;
+      ASSERT_TRUE(stltopo::checkTriangles(mesh, &bare, after.checks).ok()) << name;
+      bare.next.release(), bare.prev.release(), bare.face.release();
+      bare.triangleHalfedge.release(), bare.vertexHalfedge.release();
+      const uint64_t fansBefore = stltopo::geometry_detail::fanCertifiedVerticesForTesting();
+      ASSERT_TRUE(stltopo::analyzeGeometryAfterChecks(mesh, bare, after, {}, false).ok()) << name;
+      fanPasses += stltopo::geometry_detail::fanCertifiedVerticesForTesting() > fansBefore;
+      EXPECT_EQ(after.solid, full.solid) << name << " tolerance " << tolerance;
+      EXPECT_TRUE(after.shells.empty()) << name;
+      EXPECT_TRUE(gen::sameArray(after.intersections.pairs, full.intersections.pairs)) << name;
+      EXPECT_TRUE(gen::sameArray(after.intersections.kinds, full.intersections.kinds)) << name;
+      EXPECT_EQ(after.intersections.complete, full.intersections.complete) << name;
+      EXPECT_TRUE(gen::sameArray(after.checks.zeroArea, full.checks.zeroArea)) << name;
+      EXPECT_EQ(after.checks.nDuplicateTriangles, full.checks.nDuplicateTriangles) << name;
       solid += full.solid;
       ++compared;
     }
   }
   EXPECT_GT(compared, 8);
   EXPECT_GE(solid, 3);
+  EXPECT_GT(fanPasses, 0);  // the fan certificates (which read vert and pairKind) ran without the arrays
 #ifdef STLTOPO_FIXTURES
   EXPECT_GE(compared, 150);
   EXPECT_GT(solid, 40);

@@ -176,5 +176,14 @@ Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& o
 // duplicate or intersecting triangles.
 Status analyzeGeometry(const Mesh& mesh, const Topology& topo, GeometryReport& out, const IntersectionOptions& options,
                        bool shellList);
+// analyzeGeometry(mesh, topo, out, options, shellList) after its first step: `out.checks` must
+// hold checkTriangles(mesh, &topo, ...) of this mesh and topology, and is kept. Without the
+// shell list the rest reads of the topology only its counts, vertexWeld, triangleDegenerate,
+// triangleShell, vert, pairKind and vertexNonManifold, so a caller that needs nothing else
+// afterwards may release next, prev, face, triangleHalfedge and vertexHalfedge (which the
+// checks read) before this call, and the pass reuses their memory (`stltopo info
+// --intersections` does: 18 MB at 1M triangles). With `shellList` the topology must be whole.
+Status analyzeGeometryAfterChecks(const Mesh& mesh, const Topology& topo, GeometryReport& out,
+                                  const IntersectionOptions& options, bool shellList);
 
 }  // namespace stltopo
