@@ -1855,12 +1855,11 @@ Status geometry_detail::mortonCodesForTesting(const Mesh& mesh, Array<uint32_t>&
   const uint32_t nt = mesh.nTriangles();
   if (!fast.resize(nt) || !scalar.resize(nt)) return oom("the Morton codes");
   const MortonFrame frame(mesh);
+  const Welded w{mesh, nullptr};
   for (uint32_t t = 0; t < nt; ++t) {
-    const uint32_t* c = &mesh.triangles[3 * size_t(t)];
-    const float *a = &mesh.positions[3 * size_t(c[0])], *b = &mesh.positions[3 * size_t(c[1])],
-                *d = &mesh.positions[3 * size_t(c[2])];
-    fast[t] = frame.code(a, b, d);
-    scalar[t] = frame.scalarCode(a, b, d);
+    const Tri x = triOf(w, t);
+    fast[t] = frame.code(x.p[0], x.p[1], x.p[2]);
+    scalar[t] = frame.scalarCode(x.p[0], x.p[1], x.p[2]);
   }
   return {};
 }
