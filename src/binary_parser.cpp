@@ -33,13 +33,6 @@ inline void BinaryParser::startPart() {
     skipNeeded = kHeaderBytes + kRecordBytes * uint64_t(n);
     return;
   }
-#if STLTOPO_THREADS
-  // A threaded read welds with the partitioned table: set up before the reservation sizes it.
-  if (threads > 1 && !b.partitioned && !b.enablePartitions(threads)) {
-    b.error = oom("the weld table");
-    return;
-  }
-#endif
   // Reserve only what the known input size can hold.
   if (b.opt.sizeHint > partStart + kHeaderBytes) {
     uint64_t fits = (b.opt.sizeHint - partStart - kHeaderBytes) / kRecordBytes;
@@ -98,20 +91,21 @@ void BinaryParser::feed(const uint8_t* p, size_t n) {
     uint64_t k = 0;
 #if STLTOPO_THREADS
     if (threads > 1) {
-      // Threaded: batches of whole records (the same mesh as one at a time, below).
-      const uint64_t grain = parallelGrain(4096), batch = std::max<uint64_t>(grain * 16, 1024);
-      while (whole - k >= 2 * grain) {
-        uint32_t count = uint32_t(std::min<uint64_t>(batch, whole - k));
-        Builder::BatchResult r = b.addBatchParallel(p + i, count, threads);
-        if (r == Builder::BatchResult::Fallback) break;
-        if (r == Builder::BatchResult::Failed) {
+      // Threaded: batches of whole records, with the mesh of one at a time (below), which
+      // adds whatever a batch leaves (see addBatchParallel).
+      constexpr uint64_t kParallelBatch = uint64_t(1) << 18;
+      while (whole - k >= 2 * parallelGrain(4096)) {
+        const uint32_t count = uint32_t(std::min<uint64_t>(kParallelBatch, whole - k));
+        const uint64_t done = b.addBatchParallel(p + i, count, offset, threads);
+        i += size_t(done) * kRecordBytes;
+        offset += done * kRecordBytes;
+        partDone += uint32_t(done);
+        k += done;
+        if (b.failed()) {
           addFailed();
           break;
         }
-        i += size_t(count) * kRecordBytes;
-        offset += uint64_t(count) * kRecordBytes;
-        partDone += count;
-        k += count;
+        if (done < count) break;
       }
     }
 #endif

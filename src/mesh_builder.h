@@ -66,31 +66,23 @@ struct Builder {
   Status error;  // sticky
 
 #if STLTOPO_THREADS
-  // The partitioned weld table of a threaded read (ReadOptions::threads > 1), set up by the
-  // parser before it reserves, in place of `table`: 2^partBits open-addressed tables (about
-  // one per thread: large tables keep their huge pages), a key's chosen by the top partBits
-  // of its hash, so that each thread of a batch owns whole parts. A
-  // slot's id is a vertex id, or (during a batch only) kPending | the batch corner that
-  // first had the key. The vertex ids are those of the single table: first appearance in
-  // corner order.
-  static constexpr uint32_t kMaxPartBits = 6;
-  static constexpr uint32_t kPending = 0x80000000u;
-  struct Part {
-    Array<Slot> slots;
-    uint32_t mask = 0, count = 0;
+  // A range of a threaded batch (addBatchParallel) past the first, welded on a thread of its
+  // own against a private table, in local ids (first appearance within the range), which the
+  // merge maps to the mesh's. Kept from one batch to the next.
+  struct RangeWeld {
+    Array<Slot> table;
+    uint32_t mask = 0;
+    Array<Slot> recent;
+    Array<float> positions;      // per local vertex: the first-seen coordinates, as written
+    Array<double> area, volume;  // per record: its figures, summed in order by the merge
+    Array<uint32_t> map;         // per local vertex: its id in the mesh (the merge)
+    Array<uint32_t> hint;        // per local vertex: where the merge's probe stopped
+    uint32_t hash[3 * 32];       // a group's corner hashes (see prepareBatch)
+    uint32_t mismatches = 0;
+    bool visCam = false;
+    bool stopped = false;  // a non-finite coordinate or no memory: the range is read again on one thread
   };
-  Part parts[1u << kMaxPartBits];
-  uint32_t partBits = 0;
-  bool partitioned = false;
-  uint32_t nParts() const { return 1u << partBits; }
-  Part& partOf(uint32_t hash) { return parts[hash >> (32 - partBits)]; }
-  // The work arrays of a parallel batch, kept from one batch to the next.
-  Array<Slot> batchKeys;                  // 3 per record: the corner's key (its id unused)
-  Array<uint32_t> batchHashes;            // 3 per record: slotHash of the key
-  Array<uint32_t> batchOrder;             // 3 per record: each range's corners by owner, then their weld results
-  Array<double> batchArea, batchVolume;   // per record: its figures, summed in order afterwards
-  Array<uint64_t> batchNew[kMaxThreads];  // per thread: slot index << 32 | corner of each new key
-
+  RangeWeld ranges[kMaxThreads];
 #endif
 
   explicit Builder(const ReadOptions& o) : opt(o) {}
@@ -103,15 +95,7 @@ struct Builder {
     table.release();
     recent.release();
 #if STLTOPO_THREADS
-    for (Part& p : parts) p = Part{};
-    partitioned = false;
-    partBits = 0;
-    batchKeys.release();
-    batchHashes.release();
-    batchOrder.release();
-    batchArea.release();
-    batchVolume.release();
-    for (Array<uint64_t>& a : batchNew) a.release();
+    for (RangeWeld& r : ranges) r = RangeWeld{};
 #endif
   }
   void dropArrays();
@@ -120,43 +104,28 @@ struct Builder {
 
   bool growTable(uint32_t forVertices);
 #if STLTOPO_THREADS
-  static bool growPart(Part& part, uint32_t forVertices);
-  // Moves the single table's vertices into parts for `threads` threads (partitioned =
-  // true). False on allocation failure (nothing changed).
-  bool enablePartitions(unsigned threads);
-  // weld() for the partitioned table, one corner at a time (records that straddle input
-  // chunks, short runs, and batches that need the exact error of the one-thread path).
-  uint32_t weldPartitioned(float x, float y, float z);
-  // Appends a vertex at the first-seen coordinates; its id, or kInvalid when the array
-  // cannot grow. Grows the bounding box as weld() does.
-  inline uint32_t appendVertex(float x, float y, float z) {
-    uint32_t id = mesh.nVertices();
-    size_t n = mesh.positions.size();
-    if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2))) return kInvalid;
-    (void)mesh.positions.resize(n + 3);
-    float* q = mesh.positions.data() + n;
-    q[0] = x;
-    q[1] = y;
-    q[2] = z;
-    if (id == 0) {
-      for (int c = 0; c < 3; ++c) mesh.bboxMin[c] = mesh.bboxMax[c] = q[c];
-    } else {
-      for (int c = 0; c < 3; ++c) {
-        if (q[c] < mesh.bboxMin[c]) mesh.bboxMin[c] = q[c];
-        if (q[c] > mesh.bboxMax[c]) mesh.bboxMax[c] = q[c];
-      }
-    }
-    return id;
-  }
-
-  // A batch of `count` whole binary records at rec (the first at input offset `offset`) on
-  // `threads` threads: decoding and figures split by record ranges, the weld by parts, the
-  // vertex numbering in corner order. Done: added, exactly as add() one by one would;
-  // Failed: error is set (out-of-memory), as add() would have failed; Fallback: nothing
-  // was added (a record has a non-finite coordinate, or the ids would not fit): add them
-  // one by one for the exact error.
-  enum class BatchResult { Done, Failed, Fallback };
-  BatchResult addBatchParallel(const uint8_t* rec, uint32_t count, unsigned threads);
+  // A batch of `count` whole binary records at rec (the first at input offset `offset`) on up
+  // to `threads` threads, with the mesh that add() gives one record at a time. The first
+  // range of records is added by add() itself on the calling thread; each later range is
+  // welded on a thread of its own against a private table (weldRange), in local ids, and
+  // merged afterwards, in order (mergeRange): its vertices looked up in the mesh's table,
+  // which by then holds the ranges before, the ones not there appended in their order of
+  // first appearance; its corners mapped; its figures summed in record order. Returns the
+  // number of records added: `count`, or fewer when a range could not be welded apart (a
+  // non-finite coordinate, no memory), and the parser adds the rest one by one to meet the
+  // exact error. When add() fails on the first range, or mergeRange runs out of memory,
+  // error is set, and the records up to the failing one are counted (as one by one). 0 with
+  // nothing done when the batch is not for threads (see the body).
+  uint64_t addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned threads);
+  // Welds `count` records at rec into w: local ids to tri (3 a record), attributes to attrs,
+  // stored normals to normals (when not null), the figures to w. False (w.stopped) on a
+  // non-finite coordinate or when memory runs out.
+  static bool weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32_t* tri, uint16_t* attrs,
+                        float* normals);
+  // The merge of range w (weldRange of `count` records, whose local ids are at tri): its new
+  // vertices join the mesh, its corners get the mesh's ids, its figures are summed. False
+  // (error set) when memory runs out.
+  bool mergeRange(RangeWeld& w, uint32_t* tri, uint32_t count, unsigned threads);
 #endif
 
   // Batches of binary records: their corner hashes are computed once, up front, and used
@@ -209,24 +178,38 @@ struct Builder {
     uint32_t h = hash ? *hash : slotHash(k);
     Slot& r = recent[h & (kRecent - 1)];
     if (r.x == k.x && r.y == k.y && r.z == k.z && r.id != kInvalid) return r.id;
-    uint32_t i = h & mask;
-    for (;;) {
-      const Slot& slot = table[i];
-      if (slot.id == kInvalid) break;
-      if (slot.x == k.x && slot.y == k.y && slot.z == k.z) {
-        r = slot;
-        return slot.id;
-      }
-      i = (i + 1) & mask;
+    const uint32_t i = findSlot(table.data(), mask, k, h);
+    if (table[i].id != kInvalid) {
+      r = table[i];
+      return r.id;
     }
     // A new vertex. Only here can a coordinate be NaN or Inf (such a key never matches a
     // stored vertex), and only here can the bounding box grow.
     if (!finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z)) return kNonFinite;
-    uint32_t id = mesh.nVertices();
-    size_t n = mesh.positions.size();
+    const uint32_t id = appendVertex(x, y, z);
+    if (id == kInvalid) return kInvalid;
+    k.id = id;
+    table[i] = k;
+    r = k;
+    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
+    return id;
+  }
+
+  // The slot of key k (hash h) in an open-addressed table of mask + 1 slots: the one that
+  // holds it, or the empty one where it goes.
+  static inline uint32_t findSlot(const Slot* t, uint32_t mask, const Slot& k, uint32_t h) {
+    uint32_t i = h & mask;
+    while (t[i].id != kInvalid && !(t[i].x == k.x && t[i].y == k.y && t[i].z == k.z)) i = (i + 1) & mask;
+    return i;
+  }
+  // Appends a vertex at the first-seen coordinates (as written), and grows the bounding box;
+  // its id, or kInvalid when the array cannot grow.
+  inline uint32_t appendVertex(float x, float y, float z) {
+    const uint32_t id = mesh.nVertices();
+    const size_t n = mesh.positions.size();
     if (n + 3 > mesh.positions.capacity() && !mesh.positions.reserve(std::max<size_t>(96, n * 2))) return kInvalid;
-    (void)mesh.positions.resize(n + 3);    // capacity checked above
-    float* q = mesh.positions.data() + n;  // the first-seen coordinates, as written
+    (void)mesh.positions.resize(n + 3);  // capacity checked above
+    float* q = mesh.positions.data() + n;
     q[0] = x;
     q[1] = y;
     q[2] = z;
@@ -238,12 +221,11 @@ struct Builder {
         if (q[c] > mesh.bboxMax[c]) mesh.bboxMax[c] = q[c];
       }
     }
-    k.id = id;
-    table[i] = k;
-    r = k;
-    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
     return id;
   }
+  // Sizes t for forVertices vertices at most half full (mask: its size - 1), keeping the keys
+  // it holds; false (nothing changed) when memory runs out.
+  static bool growSlots(Array<Slot>& t, uint32_t& mask, uint32_t forVertices);
 
   // Opens a solid named [name, name + nameBytes) at the next triangle; color: its binary
   // header's colour (null for ASCII). False (error set to out-of-memory) when the name or
@@ -269,22 +251,13 @@ struct Builder {
         return false;
       }
     }
-#if STLTOPO_THREADS
-    if (table.empty() && !partitioned && !growTable(64)) {
-#else
     if (table.empty() && !growTable(64)) {
-#endif
       error = oom("the weld table");
       return false;
     }
     uint32_t ids[3];
     for (int c = 0; c < 3; ++c) {
-#if STLTOPO_THREADS
-      ids[c] = partitioned ? weldPartitioned(v[3 * c], v[3 * c + 1], v[3 * c + 2])
-                           : weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
-#else
       ids[c] = weld(v[3 * c], v[3 * c + 1], v[3 * c + 2], hashes ? hashes + c : nullptr);
-#endif
       if (ids[c] >= kNonFinite) {
         if (ids[c] == kInvalid) {
           error = oom("the vertex array");
