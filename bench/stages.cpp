@@ -4,7 +4,8 @@
 // --tolerance D: TopologyOptions::tolerance (the tolerance weld runs inside the topology
 // stage; bench/weld.mjs compares it with the exact weld of the read stage).
 // Stages: read (readStl: parse + exact weld), topology (buildTopology: pairing, boundary
-// loops, vertex loops, shells), report (infoJson: the stats). The file is read into memory
+// loops, vertex loops, shells), report (infoJson: the stats; with --threads other than 1, after
+// checkTriangles on the threads, as the CLI does). The file is read into memory
 // first, so no disk I/O is timed. Repetition 1 is the "first" call (fresh allocations, page
 // faults); "warm" is the median of repetitions 2..REPS; the plain fields are the median of
 // all repetitions. cpuMs: process CPU time of read + topology + report (unaffected by
@@ -341,7 +342,17 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", s.message.c_str());
       return 1;
     }
-    std::string j = stltopo::infoJson(argv[1], mesh, &topo);
+    // The report as the CLI makes it: with threads, the triangle checks on the threads first
+    // (tools/cli.cpp); on one thread, inside infoJson.
+    std::string j;
+    if (threads != 1) {
+      stltopo::TriangleChecks checks;
+      stltopo::ReportExtras extras;
+      if (stltopo::checkTriangles(mesh, &topo, checks, threads).ok()) extras.checks = &checks;
+      j = stltopo::infoJson(argv[1], mesh, &topo, extras);
+    } else {
+      j = stltopo::infoJson(argv[1], mesh, &topo);
+    }
     auto t3 = Clock::now();
     double c1 = cpuMs();
     if (r == 0) rssAfterFirst = maxRssKiB();

@@ -160,40 +160,31 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
   if (!out.triangleDegenerate.resize(nt) || !w.offsets.assign(size_t(nv) + 1, 0)) return detail::oom(kArrays);
   uint8_t* degen = out.triangleDegenerate.data();
   Array<uint32_t>& offsets = w.offsets;
-  // Threaded: each part owns a range of vertices, reads every triangle and counts and puts
-  // only the sides whose smaller vertex it owns, in file order; so every bucket is the same.
-  // Without branches on the owner (in a shuffled file it is a coin toss per side): a side
-  // of another part is counted into, and put at, a place of this part's own, 64 bytes
-  // apart from the other parts' places (no false sharing).
+  // Threaded: each part takes a range of triangles, counts its sides per bucket in an array
+  // of its own, and then puts them at its own cursors: a bucket holds part 0's sides, then
+  // part 1's, and so on, each in file order, which is the file order of the one-part pass.
   const unsigned n = detail::partsFor(threads, nt, detail::parallelGrain(65536));
-  if (n > 1 && 3 * uint64_t(nt) + 8 * n <= 0xFFFFFFFFu) {  // the places past the keys have uint32 cursors
+  if (n > 1) {
     uint32_t live[detail::kMaxThreads] = {}, degenerate[detail::kMaxThreads] = {};
-    constexpr uint32_t kPad = 16;  // uint32 slots per part's own place (64 bytes)
-    alignas(64) uint32_t sink[detail::kMaxThreads * kPad];
+    Array<uint32_t> counts[detail::kMaxThreads];  // per part: its sides per bucket, then its cursors
+    for (unsigned part = 0; part < n; ++part)
+      if (!counts[part].assign(nv, 0)) return detail::oom(kArrays);
     detail::runParts(n, [&](unsigned part) {
-      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
       const uint32_t t0 = uint32_t(detail::partBegin(nt, n, part)), t1 = uint32_t(detail::partBegin(nt, n, part + 1));
-      uint32_t* o = offsets.data();
-      uint32_t* own = sink + kPad * part;
-      const uint32_t span = v1 - v0;
-      auto count = [&](uint32_t m) {
-        uint32_t* at = m - v0 < span ? o + m + 1 : own;
-        ++*at;
-      };
+      uint32_t* o = counts[part].data();
       uint32_t nLive = 0, nDegenerate = 0;
       for (uint32_t t = t0; t < t1; ++t) {
         uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
         bool d = a == b || b == c || a == c;
         degen[t] = d;
-        nDegenerate += d;
-        nLive += d ? 0 : 3;
-      }
-      for (uint32_t t = 0; t < nt; ++t) {
-        uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
-        if (a == b || b == c || a == c) continue;  // rare: predicted
-        count(std::min(a, b));
-        count(std::min(b, c));
-        count(std::min(c, a));
+        if (d) {
+          ++nDegenerate;
+          continue;
+        }
+        ++o[std::min(a, b)];
+        ++o[std::min(b, c)];
+        ++o[std::min(c, a)];
+        nLive += 3;
       }
       live[part] = nLive;
       degenerate[part] = nDegenerate;
@@ -203,30 +194,47 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
       nLive += live[part];
       out.nDegenerate += degenerate[part];
     }
-    for (uint32_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
     w.nLive = nLive;
-    // Past the nLive keys: each part's own place for the sides of the others (8 keys, 64
-    // bytes, apiece); past the nv cursors: each part's own cursor to it (16 apart).
-    if (!w.keys.resize(size_t(nLive) + 8 * size_t(n))) return detail::oom(kArrays);
-    (void)w.keys.resize(nLive);  // the capacity stays: the places past the end
-    Array<uint32_t> cursor;
-    if (!cursor.resize(size_t(nv) + kPad * size_t(n))) return detail::oom(kArrays);
-    if (nv > 0) std::memcpy(cursor.data(), offsets.data(), size_t(nv) * sizeof(uint32_t));
-    for (unsigned part = 0; part < n; ++part) cursor[nv + kPad * part] = nLive + 8 * part;
+    if (!w.keys.resize(nLive)) return detail::oom(kArrays);
+    // The bucket starts and each part's cursors, by ranges of vertices: each range's total,
+    // then the prefix sums from the range's start.
+    uint32_t total[detail::kMaxThreads + 1] = {};
+    const unsigned nr = detail::partsFor(threads, nv, detail::parallelGrain(65536));
+    detail::runParts(nr, [&](unsigned range) {
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, nr, range)), v1 = uint32_t(detail::partBegin(nv, nr, range + 1));
+      uint32_t sum = 0;
+      for (unsigned part = 0; part < n; ++part) {
+        const uint32_t* c = counts[part].data();
+        for (uint32_t v = v0; v < v1; ++v) sum += c[v];
+      }
+      total[range + 1] = sum;
+    });
+    for (unsigned range = 0; range < nr; ++range) total[range + 1] += total[range];
+    detail::runParts(nr, [&](unsigned range) {
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, nr, range)), v1 = uint32_t(detail::partBegin(nv, nr, range + 1));
+      uint32_t* o = offsets.data();
+      uint32_t at = total[range];
+      for (uint32_t v = v0; v < v1; ++v) {
+        o[v] = at;
+        for (unsigned part = 0; part < n; ++part) {
+          const uint32_t k = counts[part][v];
+          counts[part][v] = at;
+          at += k;
+        }
+      }
+    });
+    offsets[nv] = nLive;
     uint64_t* K = w.keys.data();
     detail::runParts(n, [&](unsigned part) {
-      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)),
-                     span = uint32_t(detail::partBegin(nv, n, part + 1)) - v0;
-      uint32_t* cur = cursor.data();
-      const uint32_t ownCursor = nv + kPad * part;
-      auto put = [&](uint32_t s, uint32_t a, uint32_t b) {
-        const uint32_t lo = std::min(a, b), hi = std::max(a, b);
-        const uint32_t mine = lo - v0 < span;
-        const uint32_t at = mine ? lo : ownCursor;
-        K[cur[at]] = (uint64_t(hi) << 31) | (uint64_t(s) << 1) | uint64_t(a < b);
-        cur[at] += mine;
+      const uint32_t t0 = uint32_t(detail::partBegin(nt, n, part)), t1 = uint32_t(detail::partBegin(nt, n, part + 1));
+      uint32_t* cur = counts[part].data();
+      auto put = [K, cur](uint32_t s, uint32_t a, uint32_t b) {
+        if (a < b)
+          K[cur[a]++] = (uint64_t(b) << 31) | (uint64_t(s) << 1) | 1u;
+        else
+          K[cur[b]++] = (uint64_t(a) << 31) | (uint64_t(s) << 1);
       };
-      for (uint32_t t = 0; t < nt; ++t) {
+      for (uint32_t t = t0; t < t1; ++t) {
         if (degen[t]) continue;
         uint32_t a = C[3 * t], b = C[3 * t + 1], c = C[3 * t + 2];
         put(3 * t, a, b);
