@@ -31,8 +31,8 @@ const USAGE =
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
   "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n" +
-  "  --threads N uses N threads per file (default 1; 0: the machine's cores); the output\n" +
-  "  is the same for every N (the npm CLI: the threaded wasm module when N > 1).\n" +
+  "  --threads N uses N threads per file (0, the default: the machine's cores; the npm\n" +
+  "  CLI's default is 1, and N > 1 runs its threaded wasm module); the output is the same.\n" +
   "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n" +
   "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n" +
   "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n" +

@@ -44,8 +44,8 @@ const char* kUsage =
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
     "  whether the mesh is solid; --max-pairs N is its work limit (default 4000000).\n"
-    "  --threads N uses N threads per file (default 1; 0: the machine's cores); the output\n"
-    "  is the same for every N (the npm CLI: the threaded wasm module when N > 1).\n"
+    "  --threads N uses N threads per file (0, the default: the machine's cores; the npm\n"
+    "  CLI's default is 1, and N > 1 runs its threaded wasm module); the output is the same.\n"
     "  Exit status: 0 when every file was read, 1 when a file failed, 2 on usage errors.\n"
     "usage: stltopo convert IN OUT [--ascii|--binary] [--colors viscam|magics|none] [--name NAME]\n"
     "  Writes IN as STL to OUT ('-': standard input/output), in IN's format unless told.\n"
@@ -73,7 +73,7 @@ struct Args {
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
   unsigned jobs = 1;
-  unsigned threads = 1;  // per file; 0: the machine's cores
+  unsigned threads = 0;  // per file; 0 (the default): the machine's cores
   // The inputs in the order given: a FILE or DIR argument, or (list true) a --list LIST.
   struct Arg {
     std::string path;
@@ -585,6 +585,7 @@ std::vector<std::string> splitList(const std::string& v) {
 int repair(int argc, char** argv) {
   std::vector<std::string> files;
   stltopo::RepairOptions ro;
+  ro.threads = 0;  // the default: the machine's cores (--threads)
   stltopo::WriteOptions wo;
   bool formatGiven = false, planOnly = false;
   auto usage = [](const std::string& msg) {
