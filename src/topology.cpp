@@ -40,11 +40,14 @@ constexpr uint32_t kNone = 0x3FFFFFFFu;
 //                        NonManifold), payload = the later side
 //   unpaired(kind)       a side without partner: tag = Boundary, Inconsistent or
 //                        NonManifold, payload = kNone
+//   later(kind)          the later side of a pair until its partner is numbered: payload
+//                        kLater (no side or pair id: both are < kNone - 1, as 3 nt < kNone)
 //   pushed(k)            the later side of a pair, after its partner was numbered: payload
 //                        = the pair id k. Tag kPushedTag with a payload other than kNone
 //                        (the tag value is Boundary's, which is otherwise only ever
 //                        stored with kNone).
 namespace partner {
+constexpr uint32_t kLater = kNone - 1;
 constexpr uint32_t kPushedTag = uint32_t(EdgeKind::Boundary);
 constexpr uint32_t paired(EdgeKind kind, uint32_t later) { return (uint32_t(kind) << 30) | later; }
 constexpr uint32_t unpaired(EdgeKind kind) { return (uint32_t(kind) << 30) | kNone; }
@@ -52,6 +55,8 @@ constexpr uint32_t pushed(uint32_t pairId) { return (kPushedTag << 30) | pairId;
 constexpr uint32_t tag(uint32_t w) { return w >> 30; }
 constexpr uint32_t payload(uint32_t w) { return w & kNone; }
 constexpr bool isPushed(uint32_t w) { return tag(w) == kPushedTag && payload(w) != kNone; }
+constexpr uint32_t later(EdgeKind kind) { return (uint32_t(kind) << 30) | kLater; }
+constexpr bool isLater(uint32_t w) { return payload(w) == kLater; }
 }  // namespace partner
 
 struct UnionFind {
@@ -295,8 +300,8 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
 // m = 1 boundary; m = 2 interior when the sides run opposite ways, else inconsistent (both
 // unpaired); m >= 3 non-manifold, where the first unpaired side pairs with the first
 // unpaired side running the other way, in file order. Leaves the partner words of every
-// live side except the later side of each pair (numberHalfedges pushes that one before it
-// reads it), w.nCouples, the edge counts in `out`, and the unions of the triangles that
+// live side (later(kind) for the later side of each pair, which numberHalfedges replaces by
+// pushed(k) before it reads it), w.nCouples, the edge counts in `out`, and the unions of the triangles that
 // share an edge queued or done in w.uf (flushed at the end). Frees the CSR.
 // The counts of pairSides over a range of vertices.
 struct PairCounts {
@@ -355,7 +360,9 @@ struct SharedUnionFind {
 // their sides, queues the unions in `uf`, adds to `c`. False when a queue cannot grow.
 // (Always inlined: GCC left it out of line once it was called from a lambda, which cost
 // the topology 2% natively.)
-template <class UF>
+// kMarkLater: pairSides' markLater (a template parameter: a run-time flag cost the one-thread
+// pairing 10% on the 4M torus).
+template <bool kMarkLater, class UF>
 #if defined(__GNUC__)
 __attribute__((always_inline)) inline
 #endif
@@ -395,6 +402,7 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
         uint32_t s1 = side(g0 + 1);
         if (dir(g0) != dir(g0 + 1)) {
           P[s0] = partner::paired(EdgeKind::Interior, s1);  // s0 < s1 (a group is sorted by side)
+          if constexpr (kMarkLater) P[s1] = partner::later(EdgeKind::Interior);
           ++c.nCouples;
         } else {
           ++c.nInconsistentEdges;
@@ -412,6 +420,7 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
           if (head[1 - d] < queue[1 - d].size()) {
             uint32_t o = queue[1 - d][head[1 - d]++];
             P[o] = partner::paired(EdgeKind::NonManifold, s);  // o < s (a group is sorted by side)
+            if constexpr (kMarkLater) P[s] = partner::later(EdgeKind::NonManifold);
             ++c.nCouples;
           } else if (!queue[d].push_back(s)) {
             return false;
@@ -425,8 +434,10 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
   return true;
 }
 
+// markLater: write later(kind) into the later side of each pair, which numberHalfedges needs
+// only when it runs in parts (the one-thread numbering pushes into that word before it reads it).
 template <bool kChunked>
-Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work& w) {
+Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, bool markLater, Topology& out, Work& w) {
   if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
   UnionFind& uf = w.uf;
   const uint32_t* offsets = w.offsets.data();
@@ -444,8 +455,9 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
       // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
       Array<uint32_t> queue[2];
       SharedUnionFind shared(uf.parent.data());
-      ok[part] = pairRange(uint32_t(detail::partBegin(nv, n, part)), uint32_t(detail::partBegin(nv, n, part + 1)),
-                           offsets, keys, P, shared, counts[part], queue);
+      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
+      ok[part] = markLater ? pairRange<true>(v0, v1, offsets, keys, P, shared, counts[part], queue)
+                           : pairRange<false>(v0, v1, offsets, keys, P, shared, counts[part], queue);
       shared.flush();
     });
     for (unsigned part = 0; part < n; ++part) {
@@ -462,7 +474,8 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, Topology& out, Work
     bool ok = true;
     // (in chunks: vertex ranges of about kChunkItems sides each, in order)
     detail::forChunksIf<kChunked>(0, nv, [&](size_t v0, size_t v1) {
-      ok = ok && pairRange(uint32_t(v0), uint32_t(v1), offsets, keys, P, uf, c, queue);
+      ok = ok && (markLater ? pairRange<true>(uint32_t(v0), uint32_t(v1), offsets, keys, P, uf, c, queue)
+                            : pairRange<false>(uint32_t(v0), uint32_t(v1), offsets, keys, P, uf, c, queue));
     }, detail::kChunkItems / 6);
     if (!ok) return detail::oom(kArrays);
   }
@@ -512,6 +525,137 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
   out.triangleShell = std::move(w.uf.parent);
 }
 
+// numberHalfedges on n threads, by ranges of triangles, with the same result. (A) Each range
+// counts its opening sides (those whose word is not later(kind)) and its unpaired ones: a
+// prefix sum gives each range its first pair id and its first place in w.boundary. (B) Each
+// range numbers its opening sides in file order, as one thread does, and pushes each pair id
+// into the later side's word (whose range reads words with relaxed atomics meanwhile: a word
+// pushed or later is a closing side, skipped here). (C) With every word pushed, each range
+// numbers its triangles' half-edges again, writes them, and gathers per vertex, in an array
+// of its own, its outgoing half-edges' least (an unpaired side's twin, a boundary-loop
+// half-edge, before any other: the one-thread choice, as the ids grow in file order) and its
+// out-degree; (D) the arrays are merged by vertex ranges.
+Status numberHalfedgesInParts(unsigned n, uint32_t nt, uint32_t nv, bool full, Topology& out, Work& w) {
+  const uint32_t* C = w.C;
+  const uint8_t* degen = out.triangleDegenerate.data();
+  uint32_t* next = out.next.data();
+  uint32_t* prev = out.prev.data();
+  uint32_t* vert = out.vert.data();
+  uint32_t* face = out.face.data();
+  uint64_t* ubits = w.unlabelled.data();
+  uint8_t* pairKind = out.pairKind.data();
+  uint32_t* P = w.partner.data();
+  uint32_t* bnd = w.boundary.data();
+  // The vertices' choices while the ranges run: key = the boundary-loop half-edge's id, or
+  // kOther | another half-edge's id, so that the least key is the one-thread choice.
+  constexpr uint32_t kOther = 0x80000000u;
+  Array<Work::VertexInfo> own[detail::kMaxThreads];
+  for (unsigned part = 1; part < n; ++part)
+    if (!own[part].assign(nv, Work::VertexInfo{kInvalid, 0})) return detail::oom(kArrays);
+  uint32_t opens[detail::kMaxThreads + 1] = {}, unpaired[detail::kMaxThreads + 1] = {};
+  auto range = [&](unsigned part, uint32_t& t0, uint32_t& t1) {
+    t0 = uint32_t(detail::partBegin(nt, n, part));
+    t1 = uint32_t(detail::partBegin(nt, n, part + 1));
+  };
+  detail::runParts(n, [&](unsigned part) {  // (A)
+    uint32_t t0, t1, o = 0, u = 0;
+    range(part, t0, t1);
+    for (uint32_t t = t0; t < t1; ++t) {
+      if (degen[t]) continue;
+      for (uint32_t c = 0; c < 3; ++c) {
+        const uint32_t x = P[3 * t + c];
+        o += !partner::isLater(x);
+        u += partner::payload(x) == kNone;
+      }
+    }
+    opens[part + 1] = o;
+    unpaired[part + 1] = u;
+  });
+  for (unsigned part = 0; part < n; ++part) {
+    opens[part + 1] += opens[part];
+    unpaired[part + 1] += unpaired[part];
+  }
+  detail::runParts(n, [&](unsigned part) {  // (B)
+    uint32_t t0, t1, k = opens[part], nb = unpaired[part];
+    range(part, t0, t1);
+    for (uint32_t t = t0; t < t1; ++t) {
+      if (degen[t]) continue;
+      for (uint32_t c = 0; c < 3; ++c) {
+        const uint32_t s = 3 * t + c, x = __atomic_load_n(P + s, __ATOMIC_RELAXED), p = partner::payload(x);
+        if (partner::isLater(x) || partner::isPushed(x)) continue;
+        const uint32_t he = 2 * k;
+        pairKind[k] = uint8_t(partner::tag(x));
+        vert[he + 1] = C[dstSide(s)];
+        if (p == kNone) {
+          __atomic_fetch_or(ubits + ((he + 1) >> 6), uint64_t(1) << ((he + 1) & 63), __ATOMIC_RELAXED);
+          bnd[nb++] = he + 1;
+        } else {
+          __atomic_store_n(P + p, partner::pushed(k), __ATOMIC_RELAXED);
+          if (full) face[he + 1] = p / 3;
+        }
+        ++k;
+      }
+    }
+  });
+  Work::VertexInfo* vi = w.vinfo.data();
+  detail::runParts(n, [&](unsigned part) {  // (C)
+    uint32_t t0, t1, k = opens[part], sink = 0;
+    range(part, t0, t1);
+    Work::VertexInfo* mine = part == 0 ? vi : own[part].data();
+    auto choose = [mine](uint32_t v, uint32_t key) {
+      if (key < mine[v].he) mine[v].he = key;
+      ++mine[v].deg;
+    };
+    for (uint32_t t = t0; t < t1; ++t) {
+      for (auto [u, ue] = detail::aheadOf(t, t0, t1, detail::kAhead); u < ue; ++u)
+        for (uint32_t c = 0; c < 3; ++c) detail::touch(&mine[C[3 * size_t(u) + c]], sink);
+      if (degen[t]) {
+        out.triangleHalfedge[t] = kInvalid;
+        continue;
+      }
+      uint32_t h[3];
+      for (uint32_t c = 0; c < 3; ++c) {
+        const uint32_t s = 3 * t + c, x = P[s];
+        if (partner::isPushed(x)) {
+          h[c] = 2 * partner::payload(x) + 1;
+          continue;
+        }
+        h[c] = 2 * k++;
+        if (partner::payload(x) == kNone) choose(C[dstSide(s)], h[c] + 1);
+      }
+      out.triangleHalfedge[t] = h[0];
+      for (uint32_t c = 0; c < 3; ++c) {
+        const uint32_t e = h[c], v = C[3 * t + c];
+        next[e] = h[c == 2 ? 0 : c + 1];
+        if (full) prev[e] = h[c == 0 ? 2 : c - 1];
+        if (!(e & 1u)) {
+          vert[e] = v;
+          if (full) face[e] = t;
+        }
+        choose(v, kOther | e);
+      }
+    }
+    detail::keepAlive(sink);
+  });
+  const unsigned nr = detail::partsFor(n, nv, detail::parallelGrain(65536));
+  detail::runParts(nr, [&](unsigned part) {  // (D)
+    const uint32_t v1 = uint32_t(detail::partBegin(nv, nr, part + 1));
+    for (uint32_t v = uint32_t(detail::partBegin(nv, nr, part)); v < v1; ++v) {
+      uint32_t key = vi[v].he, deg = vi[v].deg;
+      for (unsigned q = 1; q < n; ++q) {
+        key = std::min(key, own[q][v].he);
+        deg += own[q][v].deg;
+      }
+      vi[v].he = key == kInvalid ? kInvalid : (key & kOther) ? key & ~kOther : key | kBoundaryBit;
+      vi[v].deg = deg;
+    }
+  });
+  w.partner.release();
+  w.remapped.release();
+  w.C = nullptr;
+  return Status{};
+}
+
 // Pass numberHalfedges. Needs the partner words. One pass over the live sides in file
 // order: a side either opens a new pair k (half-edge 2k, pairKind[k] from its word) or, when
 // its word is pushed(k), closes pair k (half-edge 2k + 1). The opening side pushes k into
@@ -523,8 +667,10 @@ void numberShells(uint32_t nt, bool keep, Topology& out, Work& w) {
 // w.vinfo: per vertex its lowest-id outgoing boundary half-edge (with kBoundaryBit), else
 // its lowest-id outgoing half-edge, and its out-degree. Frees the partner words and w.C's
 // storage.
+// parts: the number of triangle ranges it runs in (numberHalfedgesInParts when 2 or more, after
+// pairSides with markLater).
 template <bool kChunked>
-Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work& w) {
+Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topology& out, Work& w) {
   const uint32_t nLive = w.nLive, nCouples = w.nCouples;
   const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
@@ -546,6 +692,7 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, Topology& out, Work&
   Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
+  if (parts > 1) return numberHalfedgesInParts(parts, nt, nv, full, out, w);
   uint32_t nextPair = 0, nextBoundary = 0;
   detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t k = nextPair, nb = nextBoundary, sink = 0;
@@ -776,9 +923,10 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
   if (!(s = groupSidesByEdge<kChunked>(nt, nv, threads, out, w)).ok()) return s;
-  if (!(s = pairSides<kChunked>(nt, nv, threads, out, w)).ok()) return s;
+  const unsigned numberParts = detail::partsFor(threads, nt, detail::parallelGrain(65536));
+  if (!(s = pairSides<kChunked>(nt, nv, threads, numberParts > 1, out, w)).ok()) return s;
   numberShells<kChunked>(nt, options.triangleShell, out, w);
-  if (!(s = numberHalfedges<kChunked>(nt, nv, full, out, w)).ok()) return s;
+  if (!(s = numberHalfedges<kChunked>(nt, nv, full, numberParts, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
   return classifyVertices<kChunked>(nv, threads, out, w);
