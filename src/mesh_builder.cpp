@@ -77,6 +77,9 @@ inline void touchSlots(const Builder::Slot* t, uint32_t mask, const uint32_t* ha
 }
 }  // namespace
 
+static_assert(sizeof(Builder::RangeWeld::hash) == 3 * Builder::kBatchRecords * sizeof(uint32_t),
+              "a range's group of hashes is a batch of records");
+
 bool Builder::weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32_t* tri, uint16_t* attrs,
                         float* normals) {
   w.stopped = true;

@@ -923,7 +923,15 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
   if (!(s = groupSidesByEdge<kChunked>(nt, nv, threads, out, w)).ok()) return s;
-  const unsigned numberParts = detail::partsFor(threads, nt, detail::parallelGrain(65536));
+  // The numbering in parts (numberHalfedgesInParts): natively always; in wasm only in the full
+  // module's instantiation (kChunked), as it cost the threaded core module 2.8 kB gzipped
+  // and pushed it over its download budget (tests/js/modules.test.mjs).
+#if defined(__EMSCRIPTEN__)
+  constexpr bool kNumberInParts = kChunked;
+#else
+  constexpr bool kNumberInParts = true;
+#endif
+  const unsigned numberParts = kNumberInParts ? detail::partsFor(threads, nt, detail::parallelGrain(65536)) : 1;
   if (!(s = pairSides<kChunked>(nt, nv, threads, numberParts > 1, out, w)).ok()) return s;
   numberShells<kChunked>(nt, options.triangleShell, out, w);
   if (!(s = numberHalfedges<kChunked>(nt, nv, full, numberParts, out, w)).ok()) return s;
