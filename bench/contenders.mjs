@@ -29,7 +29,8 @@ export function contendersFor(c) {
 // ---------------------------------------------------------------------------
 // One measurement per contender
 
-// The CLI with its default threads (1), or with `--threads N` (0: the machine's cores).
+// The CLI with `--threads N` (1: one thread; 0: the machine's cores, the CLI's default since
+// stop 41; null: no flag, the default).
 export const cliArgs = (file, threads = null) => [BIN.cli, 'info', '--json', ...(threads !== null ? ['--threads', String(threads)] : []), file];
 export const admeshArgs = (file) => [BIN.admesh, '-e', file];
 
@@ -65,7 +66,7 @@ export const measure = {
     return { ...lastJsonLine(r.stdout), streamed: lastJsonLine(p.stdout) };
   },
   'native-cli'(c) {
-    const p = procstatMedian(c, cliArgs(c.file));
+    const p = procstatMedian(c, cliArgs(c.file, 1));  // one thread, as the figures before stop 41
     if (p.status !== 0) throw new Error(`stltopo info exited ${p.status} (signal ${p.signal})`);
     const j = lastJsonLine(p.stdout);
     // The same on every core, --threads 0 (issue 24: the threads' speed-up over one thread).

@@ -62,8 +62,8 @@ const node = process.execPath;
 const CORES = os.availableParallelism ? os.availableParallelism() : os.cpus().length;
 const npmCli = path.join(root, 'bin/stltopo.mjs');
 const contenders = {
-  info: (f) => [BIN.cli, 'info', '--json', f],
-  intersections: (f) => [BIN.cli, 'info', '--json', '--intersections', f],
+  info: (f) => [BIN.cli, 'info', '--json', '--threads', '1', f],
+  intersections: (f) => [BIN.cli, 'info', '--json', '--intersections', '--threads', '1', f],
   // The same on the machine's cores (--threads 0): the read, the topology, the report's
   // checks and the intersection pass split (README, Threads).
   ...(CORES > 1 ? {
@@ -75,8 +75,8 @@ const contenders = {
   // With --shells on both sides, the npm CLI runs the full module for both (plain info runs the
   // core module, whose topology is not chunked: bench/PROFILE.md, *Chunked loops*), so their
   // difference is the pass itself (the hierarchy, the certificates, the join, the nesting).
-  shells: (f) => [BIN.cli, 'info', '--json', '--shells', f],
-  'intersections shells': (f) => [BIN.cli, 'info', '--json', '--shells', '--intersections', f],
+  shells: (f) => [BIN.cli, 'info', '--json', '--shells', '--threads', '1', f],
+  'intersections shells': (f) => [BIN.cli, 'info', '--json', '--shells', '--intersections', '--threads', '1', f],
   'npm shells': (f) => [node, npmCli, 'info', '--json', '--shells', f],
   'npm intersections shells': (f) => [node, npmCli, 'info', '--json', '--shells', '--intersections', f],
   // CGAL's search three times in its process: the first call, and the median of the other two
