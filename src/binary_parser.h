@@ -39,13 +39,8 @@ struct BinaryParser {
 
   inline void record(const uint8_t* r, uint64_t recOffset, const uint32_t* hashes = nullptr) {
     float f[12];
-    std::memcpy(f, r, 48);
     uint16_t attr;
-    std::memcpy(&attr, r + 48, 2);
-    if constexpr (std::endian::native == std::endian::big) {
-      for (float& x : f) x = detail::bitCast<float>(__builtin_bswap32(detail::bitCast<uint32_t>(x)));
-      attr = __builtin_bswap16(attr);
-    }
+    Builder::decodeRecord(r, f, attr);
     if (!b.add(f, f + 3, attr, recOffset, 0, hashes)) addFailed();
   }
 

@@ -55,15 +55,6 @@ bool Builder::growTable(uint32_t forVertices) {
 
 #if STLTOPO_THREADS
 namespace {
-inline void decodeRecord(const uint8_t* r, float f[12], uint16_t& attr) {
-  std::memcpy(f, r, 48);
-  std::memcpy(&attr, r + 48, 2);
-  if constexpr (std::endian::native == std::endian::big) {
-    for (int i = 0; i < 12; ++i) f[i] = bitCast<float>(__builtin_bswap32(bitCast<uint32_t>(f[i])));
-    attr = __builtin_bswap16(attr);
-  }
-}
-
 // Starts loading the slots of `n` hashes in t (see prepareBatch).
 inline void touchSlots(const Builder::Slot* t, uint32_t mask, const uint32_t* hash, uint32_t n, uint32_t& sink) {
 #if defined(__EMSCRIPTEN__)

@@ -147,6 +147,16 @@ struct Builder {
     if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap32(w);
     return detail::bitCast<float>(w);
   }
+  // A binary record (50 bytes at r): its 12 floats (normal, then the corners) and its
+  // attribute word, from little-endian.
+  static inline void decodeRecord(const uint8_t* r, float f[12], uint16_t& attr) {
+    std::memcpy(f, r, 48);
+    std::memcpy(&attr, r + 48, 2);
+    if constexpr (std::endian::native == std::endian::big) {
+      for (int i = 0; i < 12; ++i) f[i] = detail::bitCast<float>(__builtin_bswap32(detail::bitCast<uint32_t>(f[i])));
+      attr = __builtin_bswap16(attr);
+    }
+  }
   // Fills batchHash for `count` (<= kBatchRecords) records at rec; the table must exist.
   void prepareBatch(const uint8_t* rec, uint32_t count) {
     uint32_t acc = 0;
