@@ -796,22 +796,69 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   if (columnar)
     for (int k = 0; k < 6; ++k)  // [0, n) of each column is written below
       for (uint32_t i = 0; i < kLeaf; ++i) bvh.columns.v[size_t(k) * bvh.columns.stride + n + i] = std::nanf("");
-  // How far ahead the gather below starts loading a position's triangle record (2 kBoxLead)
-  // and then its corners (kBoxLead). Natively 4 kAhead: the record's load, which the
-  // corners' prefetch waits on, was the loop's largest stall at kAhead (perf), and the 1M
-  // tori's pass took 5-7 ms less (67.4-69.3 -> 61.8-64.4 ms in grid order, 90.8-97.0 ->
-  // 84.8-87.7 ms shuffled, warm, alternated; 8 kAhead gained no more). wasm keeps kAhead
-  // (its touches are loads that the loop waits on, in groups).
-#if defined(__EMSCRIPTEN__)
-  constexpr uint32_t kBoxLead = kAhead;
-#else
-  constexpr uint32_t kBoxLead = 4 * kAhead;
-#endif
   const unsigned boxParts = detail::partsFor(detail::threadCount(threads), n, detail::parallelGrain(32768));
+  // One sorted position: its box, and with `corner` its corners and sign mask.
+  auto emit = [&](uint32_t j, const uint32_t* id, const float* const* p) {
+    Box b;
+#if defined(__wasm_simd128__)
+    const v128_t p0 = xyz(p[0]), p1 = xyz(p[1]), p2 = xyz(p[2]);
+    b = boxOf(wasm_f32x4_pmin(wasm_f32x4_pmin(p0, p1), p2), wasm_f32x4_pmax(wasm_f32x4_pmax(p0, p1), p2));
+#else
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
+      b.hi[k] = std::max({p[0][k], p[1][k], p[2][k]});
+    }
+#endif
+    if (corner) {
+      for (int c = 0; c < 3; ++c) (*corner)[3 * size_t(j) + c] = id[c];
+      (*signs)[j] = signMask(p[0], p[1], p[2]);
+    }
+    if (columnar) {
+      for (int k = 0; k < 3; ++k) {
+        bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
+        bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
+      }
+    } else {
+      bvh.box[j] = b;
+    }
+  };
   detail::runParts(boxParts, [&](unsigned id) {
     const uint32_t end = uint32_t(detail::partBegin(n, boxParts, id + 1));
     const uint32_t begin = uint32_t(detail::partBegin(n, boxParts, id));
     detail::forChunks(begin, end, [&](size_t cb, size_t ce) {
+#if defined(__EMSCRIPTEN__)
+      // wasm has no prefetch, and a touch is a load that the loop waits on (perf of V8's code:
+      // a third of the gather's samples on the touches). In blocks instead: first every
+      // record of the block, then every corner's position, each a run of independent loads
+      // whose misses overlap, then the boxes from the copies, which are in cache.
+      constexpr uint32_t kBlock = 64;
+      uint32_t ids[3 * kBlock];
+      float pos[9 * kBlock];
+      for (uint32_t j0 = uint32_t(cb); j0 < ce; j0 += kBlock) {
+        const uint32_t m = std::min<uint32_t>(kBlock, uint32_t(ce) - j0);
+        const uint32_t* tris = w.mesh.triangles.data();
+        for (uint32_t i = 0; i < m; ++i) {
+          const uint32_t* r = tris + 3 * size_t(sorted[j0 + i]);
+          ids[3 * i] = r[0], ids[3 * i + 1] = r[1], ids[3 * i + 2] = r[2];
+        }
+        if (w.weld)
+          for (uint32_t i = 0; i < 3 * m; ++i) ids[i] = w.weld[ids[i]];
+        for (uint32_t i = 0; i < 3 * m; ++i) {
+          const float* q = w.p(ids[i]);
+          pos[3 * i] = q[0], pos[3 * i + 1] = q[1], pos[3 * i + 2] = q[2];
+        }
+        for (uint32_t i = 0; i < m; ++i) {
+          const float* p[3] = {pos + 9 * i, pos + 9 * i + 3, pos + 9 * i + 6};
+          emit(j0 + i, ids + 3 * i, p);
+        }
+      }
+#else
+      // Natively, prefetches: a position's triangle record 2 kBoxLead positions ahead, then
+      // its corners kBoxLead ahead. 4 kAhead: the record's load, which the corners' prefetch
+      // waits on, was the loop's largest stall at kAhead (perf), and the 1M tori's pass took
+      // 5-7 ms less (67.4-69.3 -> 61.8-64.4 ms in grid order, 90.8-97.0 -> 84.8-87.7 ms
+      // shuffled, warm, alternated; 8 kAhead gained no more).
+      constexpr uint32_t kBoxLead = 4 * kAhead;
       uint32_t sink = 0;
       for (uint32_t j = uint32_t(cb); j < ce; ++j) {
         // A chain of two: a triangle's record, then its corners' positions.
@@ -824,30 +871,10 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
         const uint32_t t = sorted[j];
         const uint32_t id[3] = {w.v(t, 0), w.v(t, 1), w.v(t, 2)};
         const float* p[3] = {w.p(id[0]), w.p(id[1]), w.p(id[2])};
-        Box b;
-#if defined(__wasm_simd128__)
-        const v128_t p0 = xyz(p[0]), p1 = xyz(p[1]), p2 = xyz(p[2]);
-        b = boxOf(wasm_f32x4_pmin(wasm_f32x4_pmin(p0, p1), p2), wasm_f32x4_pmax(wasm_f32x4_pmax(p0, p1), p2));
-#else
-        for (int k = 0; k < 3; ++k) {
-          b.lo[k] = std::min({p[0][k], p[1][k], p[2][k]});
-          b.hi[k] = std::max({p[0][k], p[1][k], p[2][k]});
-        }
-#endif
-        if (corner) {
-          for (int c = 0; c < 3; ++c) (*corner)[3 * size_t(j) + c] = id[c];
-          (*signs)[j] = signMask(p[0], p[1], p[2]);
-        }
-        if (columnar) {
-          for (int k = 0; k < 3; ++k) {
-            bvh.columns.v[size_t(k) * bvh.columns.stride + j] = b.lo[k];
-            bvh.columns.v[size_t(k + 3) * bvh.columns.stride + j] = b.hi[k];
-          }
-        } else {
-          bvh.box[j] = b;
-        }
+        emit(j, id, p);
       }
       keepAlive(sink);
+#endif
     });
   });
   if (n == 0) return {};  // no node
