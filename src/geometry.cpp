@@ -717,12 +717,18 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   if (columnar) {
     bvh.columns.stride = size_t(n) + kLeaf;
     if (!bvh.columns.v.resize(6 * bvh.columns.stride)) return oom("the intersection hierarchy");
+    detail::adviseSmallPages(bvh.columns.v.data(), bvh.columns.v.size() * sizeof(float));
     keys = reinterpret_cast<uint64_t*>(bvh.columns.v.data());
   } else {
     if (!bvh.box.resize(n) || !ownKeys.resize(2 * size_t(n))) return oom("the intersection hierarchy");
     keys = ownKeys.data();
   }
   if (!bvh.tri.resize(n)) return oom("the intersection hierarchy");
+  // The pass's arrays (the columns, the sorted ids, the corners and the nodes) on small pages:
+  // they are written in order once a call, and huge pages gave no warm gain there, while on a
+  // VM a fresh huge page can cost 512 host faults: a process's first pass of the 1M tori took
+  // 57-157 ms (bimodal) with them and 70-86 ms without (bench/PROFILE.md, *Stop 42*).
+  if (columnar) detail::adviseSmallPages(bvh.tri.data(), bvh.tri.size() * sizeof(uint32_t));
   uint64_t* tmp = keys + n;
   const MortonFrame frame(w.mesh);
   detail::runParts(parts, [&](unsigned id) {
@@ -791,6 +797,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
 #endif
   if (corner) {
     if (!corner->resize(3 * size_t(n) + 1) || !signs->resize(n)) return oom("the intersection hierarchy");
+    detail::adviseSmallPages(corner->data(), corner->size() * sizeof(uint32_t));
     (*corner)[3 * size_t(n)] = 0;
   }
   if (columnar)
@@ -880,6 +887,7 @@ Status buildBvh(const Welded& w, const Array<uint8_t>& valid, Bvh& bvh, bool col
   if (n == 0) return {};  // no node
   const uint32_t leaves = (n + kLeaf - 1) / kLeaf;
   if (!bvh.nodes.resize(2 * size_t(leaves))) return oom("the intersection hierarchy");
+  if (columnar) detail::adviseSmallPages(bvh.nodes.data(), bvh.nodes.size() * sizeof(Node));
   uint32_t next = 0;
   buildNodes(bvh, 0, n, next);
   bvh.nodes.shrink(next);

@@ -112,18 +112,25 @@ bool detail::tryAssign(std::string& s, const char* p, size_t n) {
 
 Status detail::oom(const char* what) { return Status::error(Code::OutOfMemory, format("could not allocate %s", what)); }
 
-void detail::adviseHugePages(void* p, size_t bytes) {
+namespace {
+// Advice for the whole 2 MiB-aligned stretches of [p, p + bytes): only those can be huge pages.
+void advisePages(void* p, size_t bytes, bool huge) {
 #if defined(__linux__) && !defined(__EMSCRIPTEN__) && defined(MADV_HUGEPAGE)
-  // Only whole 2 MiB-aligned stretches can become huge pages; advise those.
-  const uintptr_t huge = uintptr_t(2) << 20;
-  uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + huge - 1) & ~(huge - 1);
-  uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(huge - 1);
-  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  const uintptr_t size = uintptr_t(2) << 20;
+  uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + size - 1) & ~(size - 1);
+  uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(size - 1);
+  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
 #else
   (void)p;
   (void)bytes;
+  (void)huge;
 #endif
 }
+}  // namespace
+
+void detail::adviseHugePages(void* p, size_t bytes) { advisePages(p, bytes, true); }
+
+void detail::adviseSmallPages(void* p, size_t bytes) { advisePages(p, bytes, false); }
 
 namespace {
 // Indexed by Code; the static_assert keeps it in step with the enum.

@@ -72,4 +72,11 @@ bool tryReserve(std::string& s, size_t n);
 // Never throws (the message is cut when even it cannot be allocated).
 Status oom(const char* what);
 
+// The opposite of adviseHugePages (stltopo/array.h), for an array that huge pages do not help:
+// Linux native builds ask for small pages over the array's whole 2 MiB-aligned stretches; a
+// no-op elsewhere. For arrays written once in order and then read, which a call allocates
+// and frees: the intersection pass's hierarchy. There huge pages gave no warm gain and made a
+// process's first pass bimodal (bench/PROFILE.md, *Stop 42*).
+void adviseSmallPages(void* p, size_t bytes);
+
 }  // namespace stltopo::detail
