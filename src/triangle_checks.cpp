@@ -87,6 +87,37 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
   // a range of triangles, and the lists are joined in range order.
   Array<uint32_t> cand;
   auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) __attribute__((flatten)) -> Status {
+#if defined(__EMSCRIPTEN__)
+    // wasm has no prefetch, and its touches are loads that the loop waits on: in a file in
+    // spatial order they made this pass take 1.7x its time (bench/PROFILE.md, *Stop 42*). In
+    // blocks instead: first canHaveDuplicate's reads for the block, in two runs of independent
+    // loads (the edge's kind and the side across, then for an interior edge the third corner
+    // of the triangle across), whose misses overlap in a scattered file; then the tests.
+    constexpr uint32_t kBlock = 64;
+    uint32_t across[kBlock];
+    uint8_t state[kBlock];  // canHaveDuplicate: 0 no, 1 yes, 2 when across[i] is the third corner
+    for (uint32_t b0 = t0; b0 < t1; b0 += kBlock) {
+      const uint32_t m = std::min(kBlock, t1 - b0);
+      if (useTopology) {
+        for (uint32_t i = 0; i < m; ++i) {
+          const uint32_t e = topo->triangleHalfedge[b0 + i];
+          const EdgeKind k = e == kInvalid ? EdgeKind::Boundary : EdgeKind(topo->pairKind[e >> 1]);
+          state[i] = k == EdgeKind::Boundary ? 0 : k == EdgeKind::Interior ? 2 : 1;
+          across[i] = e == kInvalid ? 0 : topo->next[e ^ 1u] ^ 1u;
+        }
+        for (uint32_t i = 0; i < m; ++i)
+          if (state[i] == 2) across[i] = topo->vert[across[i]];
+      }
+      for (uint32_t i = 0; i < m; ++i) {
+        const uint32_t t = b0 + i, a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+        if (a == b || b == c || a == c) continue;  // degenerate
+        if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
+        const bool maybe = !useTopology || state[i] == 1 || (state[i] == 2 && across[i] == c);
+        if (maybe && !candidates.push_back(t)) return oom("the duplicate candidates");
+      }
+    }
+    return {};
+#else
     uint32_t sink = 0;
     for (uint32_t t = t0; t < t1; ++t) {
       // The corners (and the edge canHaveDuplicate reads) of a triangle a few ahead: in a
@@ -115,6 +146,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
     }
     detail::keepAlive(sink);
     return {};
+#endif
   };
   const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
   if (n <= 1) {

@@ -176,6 +176,98 @@ TEST(Geometry, CornerPushedThroughAFace) {
   EXPECT_GT(r.geo.intersections.nCrossing, 0u);
 }
 
+// The triangle checks on a large file in no spatial order, against a brute force: in wasm
+// such a file takes the checks' blocked loop (triangle_checks.cpp), natively the plain one.
+// A torus with holes, plus duplicates (same and opposite winding, groups of three, two-sided
+// sheets whose edges are interior), exactly collinear triangles, degenerate ones and fins
+// (edges of three sides), shuffled.
+TEST(Geometry, TriangleChecksOfAScatteredFileAreTheBruteForceOnes) {
+  Soup soup = gen::torus(300, 150, {7, 4000, 22222});
+  const uint32_t nTorus = uint32_t(soup.f.size());
+  std::mt19937 rng(42);
+  for (int k = 0; k < 200; ++k) {
+    const auto f = soup.f[rng() % nTorus];
+    soup.f.push_back(k % 2 ? f : std::array<uint32_t, 3>{f[0], f[2], f[1]});
+    if (k % 50 == 0) soup.f.push_back({f[1], f[2], f[0]});  // a third member
+  }
+  for (int k = 1; k <= 100; ++k) {  // exactly collinear: (k, 2k, 3k) (2k, 4k, 6k) (5k, 10k, 15k)
+    const uint32_t b = uint32_t(soup.v.size());
+    for (float m : {1.0f, 2.0f, 5.0f}) soup.v.push_back({m * k, 2 * m * k, 3 * m * k});
+    soup.f.push_back({b, b + 1, b + 2});
+    if (k % 10 == 0) soup.f.push_back({b + 2, b, b + 1});  // a zero-area duplicate too
+  }
+  for (int k = 0; k < 50; ++k) {
+    const auto f = soup.f[rng() % nTorus];
+    soup.f.push_back({f[0], f[0], f[1]});  // degenerate
+    const uint32_t b = uint32_t(soup.v.size());
+    soup.v.push_back({100.0f + k, -50.0f, 7.0f});
+    soup.f.push_back({f[0], f[1], b});  // a fin: a third side on the edge f[0] f[1]
+  }
+  for (int k = 0; k < 30; ++k) {  // a two-sided sheet: a duplicate pair whose edges are interior
+    const uint32_t b = uint32_t(soup.v.size());
+    soup.v.push_back({-100.0f - k, 0.0f, 0.0f});
+    soup.v.push_back({-100.0f - k, 1.0f, 0.0f});
+    soup.v.push_back({-100.0f - k, 0.0f, 1.0f});
+    soup.f.push_back({b, b + 1, b + 2});
+    soup.f.push_back({b, b + 2, b + 1});
+  }
+  std::shuffle(soup.f.begin(), soup.f.end(), rng);
+  stltopo::Mesh mesh;
+  ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+  stltopo::Topology topo;
+  ASSERT_TRUE(stltopo::buildTopology(mesh, topo).ok());
+  const uint32_t nt = mesh.nTriangles();
+  // The brute force: zero-area triangles are the collinear ones added (the torus has none),
+  // found by their corners' positions; duplicate groups by the sorted corner ids.
+  std::vector<uint32_t> zeroArea;
+  std::map<std::array<uint32_t, 3>, std::vector<uint32_t>> bySet;
+  for (uint32_t t = 0; t < nt; ++t) {
+    std::array<uint32_t, 3> v{mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+    const float* p = mesh.positions.data() + 3 * size_t(v[0]);
+    if (p[1] == 2 * p[0] && p[2] == 3 * p[0] && p[0] >= 1) zeroArea.push_back(t);
+    std::sort(v.begin(), v.end());
+    bySet[v].push_back(t);
+  }
+  ASSERT_EQ(zeroArea.size(), 110u);
+  std::vector<std::vector<uint32_t>> groups;
+  for (auto& [set, members] : bySet)
+    if (members.size() > 1) groups.push_back(members);
+  std::sort(groups.begin(), groups.end());  // by their lowest triangle
+  ASSERT_GE(groups.size(), 230u);
+  const stltopo::Topology* topologies[] = {&topo, nullptr};
+  for (const stltopo::Topology* tp : topologies) {
+    for (unsigned threads : {1u, 2u}) {
+      stltopo::TriangleChecks checks;
+      ASSERT_TRUE(stltopo::checkTriangles(mesh, tp, checks, threads).ok());
+      EXPECT_EQ(std::vector<uint32_t>(checks.zeroArea.begin(), checks.zeroArea.end()), zeroArea);
+      ASSERT_EQ(checks.nDuplicateGroups(), groups.size());
+      uint32_t extra = 0;
+      for (size_t g = 0; g < groups.size(); ++g) {
+        const uint32_t* b = checks.duplicateTriangles.data() + checks.duplicateOffsets[g];
+        const uint32_t* e = checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1];
+        EXPECT_EQ(std::vector<uint32_t>(b, e), groups[g]) << "group " << g;
+        extra += uint32_t(groups[g].size()) - 1;
+        auto corners = [&](uint32_t t) {
+          return std::array<uint32_t, 3>{mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]};
+        };
+        bool allSame = true;
+        for (uint32_t t : groups[g]) {
+          auto x = corners(groups[g][0]), y = corners(t);
+          bool same = false;
+          for (int r = 0; r < 3; ++r, std::rotate(y.begin(), y.begin() + 1, y.end())) same |= x == y;
+          allSame &= same;
+        }
+        const auto want = allSame ? stltopo::DuplicateOrientation::Same
+                          : groups[g].size() == 2 ? stltopo::DuplicateOrientation::Opposite
+                                                  : stltopo::DuplicateOrientation::Mixed;
+        EXPECT_EQ(checks.duplicateOrientation[g], uint8_t(want)) << "group " << g;
+      }
+      EXPECT_EQ(checks.nDuplicateTriangles, extra);
+    }
+  }
+}
+
 TEST(Geometry, FoldOverTJunctionNeedleDuplicates) {
   Result fold;  // across the shared side (0,0,0)-(10,0,0), both on the same side
   analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{10, 0, 0}, {0, 0, 0}, {3, 3, 0}}}}), fold);
