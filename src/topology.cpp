@@ -700,8 +700,10 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topo
       // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
       // are not in spatial order. (Not its partner entries: a later side's holds nothing until
       // its partner's triangle is numbered, and in wasm a touch is a real load.)
+#if !defined(__EMSCRIPTEN__)
       for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
         for (uint32_t c = 0; c < 3; ++c) detail::touch(&vi[C[3 * size_t(u) + c]], sink);
+#endif
       if (degen[t]) {
         out.triangleHalfedge[t] = kInvalid;
         continue;
