@@ -699,7 +699,8 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topo
     for (uint32_t t = uint32_t(t0); t < t1; ++t) {
       // The corners' entries of a triangle a few ahead: random reads in a file whose triangles
       // are not in spatial order. (Not its partner entries: a later side's holds nothing until
-      // its partner's triangle is numbered, and in wasm a touch is a real load.)
+      // its partner's triangle is numbered.) Not in wasm, where a touch is a load that the
+      // loop waits on: without them the 1M tori took 1-7% less (bench/PROFILE.md, *Stop 42*).
 #if !defined(__EMSCRIPTEN__)
       for (auto [u, ue] = detail::aheadOf(t, 0, nt, detail::kAhead); u < ue; ++u)
         for (uint32_t c = 0; c < 3; ++c) detail::touch(&vi[C[3 * size_t(u) + c]], sink);
