@@ -814,9 +814,17 @@ void *emmalloc_malloc(size_t size)
 extern __typeof(emmalloc_malloc) emscripten_builtin_malloc __attribute__((alias("emmalloc_malloc")));
 extern __typeof(emmalloc_malloc) __libc_malloc __attribute__((alias("emmalloc_malloc")));
 
+// stltopo: blocks of 64 KiB and more start on a cache line (64 bytes; emmalloc's own alignment is
+// 16). With 16-byte alignment, where the large arrays fell relative to cache lines depended on
+// everything allocated before them, down to the length of the environment strings (Node puts
+// the script's path in `_`): the 4M-triangle shuffled torus's read took 670-724 ms or 490-520
+// ms depending on the script's path, with the same module (bench/PROFILE.md, *Stop 42*).
+#define STLTOPO_BIG_BLOCK 65536
+#define STLTOPO_LINE 64
+
 void * EMMALLOC_EXPORT malloc(size_t size)
 {
-  return emmalloc_malloc(size);
+  return emmalloc_memalign(size >= STLTOPO_BIG_BLOCK ? STLTOPO_LINE : MALLOC_ALIGNMENT, size);
 }
 
 size_t emmalloc_usable_size(void *ptr)
@@ -1141,7 +1149,17 @@ extern __typeof(emmalloc_realloc) __libc_realloc __attribute__((alias("emmalloc_
 
 void * EMMALLOC_EXPORT realloc(void *ptr, size_t size)
 {
-  return emmalloc_realloc(ptr, size);
+  if (size < STLTOPO_BIG_BLOCK || !ptr || HAS_ALIGNMENT(ptr, STLTOPO_LINE))
+    return emmalloc_aligned_realloc(ptr, size >= STLTOPO_BIG_BLOCK ? STLTOPO_LINE : MALLOC_ALIGNMENT, size);
+  // A block that was not line-aligned grows past STLTOPO_BIG_BLOCK: it moves to one that is
+  // (aligned_realloc keeps a block's alignment).
+  void *newptr = emmalloc_memalign(STLTOPO_LINE, size);
+  if (!newptr)
+    return 0;
+  size_t have = emmalloc_usable_size(ptr);
+  memcpy(newptr, ptr, MIN(size, have));
+  free(ptr);
+  return newptr;
 }
 
 // realloc_uninitialized() is like realloc(), but old memory contents
