@@ -822,9 +822,16 @@ extern __typeof(emmalloc_malloc) __libc_malloc __attribute__((alias("emmalloc_ma
 #define STLTOPO_BIG_BLOCK 65536
 #define STLTOPO_LINE 64
 
+// The alignment malloc, calloc and realloc give a block of `size` bytes (emmalloc_malloc, which
+// Emscripten's own runtime calls, keeps MALLOC_ALIGNMENT).
+static size_t stltopo_alignment(size_t size)
+{
+  return size >= STLTOPO_BIG_BLOCK ? STLTOPO_LINE : MALLOC_ALIGNMENT;
+}
+
 void * EMMALLOC_EXPORT malloc(size_t size)
 {
-  return emmalloc_memalign(size >= STLTOPO_BIG_BLOCK ? STLTOPO_LINE : MALLOC_ALIGNMENT, size);
+  return emmalloc_memalign(stltopo_alignment(size), size);
 }
 
 size_t emmalloc_usable_size(void *ptr)
@@ -1150,7 +1157,7 @@ extern __typeof(emmalloc_realloc) __libc_realloc __attribute__((alias("emmalloc_
 void * EMMALLOC_EXPORT realloc(void *ptr, size_t size)
 {
   if (size < STLTOPO_BIG_BLOCK || !ptr || HAS_ALIGNMENT(ptr, STLTOPO_LINE))
-    return emmalloc_aligned_realloc(ptr, size >= STLTOPO_BIG_BLOCK ? STLTOPO_LINE : MALLOC_ALIGNMENT, size);
+    return emmalloc_aligned_realloc(ptr, stltopo_alignment(size), size);
   // A block that was not line-aligned grows past STLTOPO_BIG_BLOCK: it moves to one that is
   // (aligned_realloc keeps a block's alignment).
   void *newptr = emmalloc_memalign(STLTOPO_LINE, size);
@@ -1186,7 +1193,7 @@ int EMMALLOC_EXPORT posix_memalign(void **memptr, size_t alignment, size_t size)
 void *emmalloc_calloc(size_t num, size_t size)
 {
   size_t bytes = num*size;
-  void *ptr = emmalloc_memalign(MALLOC_ALIGNMENT, bytes);
+  void *ptr = emmalloc_memalign(stltopo_alignment(bytes), bytes);  // stltopo: malloc's alignment
   if (ptr)
     memset(ptr, 0, bytes);
   return ptr;
