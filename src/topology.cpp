@@ -434,10 +434,19 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
   return true;
 }
 
+// The threaded wasm modules number in parts only (one part for a small mesh): one numbering
+// in the module instead of two.
+#if defined(__EMSCRIPTEN__) && STLTOPO_THREADS
+constexpr bool kOnlyInParts = true;
+#else
+constexpr bool kOnlyInParts = false;
+#endif
+
 // markLater: write later(kind) into the later side of each pair, which numberHalfedges needs
 // only when it runs in parts (the one-thread numbering pushes into that word before it reads it).
 template <bool kChunked>
 Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, bool markLater, Topology& out, Work& w) {
+  markLater = markLater || kOnlyInParts;
   if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
   UnionFind& uf = w.uf;
   const uint32_t* offsets = w.offsets.data();
@@ -590,7 +599,11 @@ Status numberHalfedgesInParts(unsigned n, uint32_t nt, uint32_t nv, bool full, T
           __atomic_fetch_or(ubits + ((he + 1) >> 6), uint64_t(1) << ((he + 1) & 63), __ATOMIC_RELAXED);
           bnd[nb++] = he + 1;
         } else {
+#if defined(__EMSCRIPTEN__)
+          *static_cast<volatile uint32_t*>(P + p) = partner::pushed(k);
+#else
           __atomic_store_n(P + p, partner::pushed(k), __ATOMIC_RELAXED);
+#endif
           if (full) face[he + 1] = p / 3;
         }
         ++k;
@@ -692,7 +705,7 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topo
   Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
-  if (parts > 1) return numberHalfedgesInParts(parts, nt, nv, full, out, w);
+  if (parts > 1 || kOnlyInParts) return numberHalfedgesInParts(parts > 1 ? parts : 1, nt, nv, full, out, w);
   uint32_t nextPair = 0, nextBoundary = 0;
   detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t k = nextPair, nb = nextBoundary, sink = 0;
@@ -930,7 +943,7 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
   // module's instantiation (kChunked), as it cost the threaded core module 2.8 kB gzipped
   // and pushed it over its download budget (tests/js/modules.test.mjs).
 #if defined(__EMSCRIPTEN__)
-  constexpr bool kNumberInParts = kChunked;
+  constexpr bool kNumberInParts = kChunked || STLTOPO_THREADS;
 #else
   constexpr bool kNumberInParts = true;
 #endif
