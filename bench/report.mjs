@@ -165,7 +165,9 @@ export function summarize(c, samples, idle) {
   R.wasmFirstOverWarm = C['wasm-full'] ? div(C['wasm-full'].firstMs, C['wasm-full'].warmMs) : null;
   R.nativeCliVsAdmesh = div(t('admesh'), t('native-cli'));
   // Issue 24: the CLI on the machine's cores against --threads 1 (same run, alternated).
-  // The default CLI runs on one thread; --threads 0 on every core.
+  // The CLI's default since stop 41 is --threads 0, every core; nativeCliVsAdmesh keeps the
+  // one-thread figure of the runs before, nativeCliDefaultVsAdmesh is the default's.
+  R.nativeCliDefaultVsAdmesh = C['native-cli'] && C['native-cli'].allThreadsWallMs && C.admesh ? div(C.admesh.wallMs, C['native-cli'].allThreadsWallMs) : null;
   R.nativeCliThreadsSpeedup = C['native-cli'] && C['native-cli'].allThreadsWallMs ? div(C['native-cli'].wallMs, C['native-cli'].allThreadsWallMs) : null;
   R.nativeCliVsAdmeshCpu = C.admesh && C['native-cli'] ? div(C.admesh.cpuMs, C['native-cli'].cpuMs) : null;
   R.nativeInProcessVsAdmesh = C.native ? div(t('admesh'), C.native.warm.totalMs) : null;
@@ -209,6 +211,9 @@ export function evaluateTargets(results) {
     target('native whole-process vs admesh -e, ordered (x faster)', 2, '>=', (r) => bin(r) && r.order === 'ordered', (r) => r.ratios.nativeCliVsAdmesh),
     target('native whole-process vs admesh -e, shuffled (x faster)', 5, '>=', (r) => bin(r) && r.order === 'shuffled', (r) => r.ratios.nativeCliVsAdmesh),
     target('ASCII: native whole-process vs admesh -e (x faster)', 3, '>=', (r) => r.format === 'ascii', (r) => r.ratios.nativeCliVsAdmesh),
+    // Issue 24: `stltopo info` as users run it (the machine's cores) against admesh -e.
+    target('native whole-process, default threads, vs admesh -e, ordered (x faster; issue 24)', 3, '>=', (r) => bin(r) && r.order === 'ordered', (r) => r.ratios.nativeCliDefaultVsAdmesh),
+    target('native whole-process, default threads, vs admesh -e, shuffled (x faster; issue 24)', 10, '>=', (r) => bin(r) && r.order === 'shuffled', (r) => r.ratios.nativeCliDefaultVsAdmesh),
     target('peak RSS above idle, full topology (prev and face included), streamed, C++ API (bytes/triangle)', 110, '<=', bin, (r) => r.ratios.fullTopologyStreamedBytesPerTriangle),
     target('peak RSS above idle, `stltopo info --json` (report-only topology, input mapped and dropped as read) (bytes/triangle)', 110, '<=', bin, (r) => r.ratios.nativeCliBytesPerTriangle),
   ];
@@ -249,7 +254,7 @@ export function reportTables({ env, results, writes, targets }) {
   md.push('### Time (ms; lower is better)');
   md.push('');
   md.push(table(
-    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process; default 1 thread / --threads 0: all cores)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'three.js + halfedge', '`admesh -e` (process)'],
+    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process; --threads 1 / the default, --threads 0: all cores)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'three.js + halfedge', '`admesh -e` (process)'],
     results.map((r) => [
       r.id, mt(r.triangles || 0),
       C(r, 'native') ? ms(C(r, 'native').warm.totalMs) : '–',
@@ -328,7 +333,7 @@ export function reportTables({ env, results, writes, targets }) {
     }),
   ));
   md.push('');
-  md.push('### Targets (issue 7)');
+  md.push('### Targets (issues 7 and 24)');
   md.push('');
   md.push(table(
     ['target', 'goal', 'worst', 'status', 'values'],
