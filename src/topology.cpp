@@ -434,19 +434,10 @@ bool pairRange(uint32_t v0, uint32_t v1, const uint32_t* offsets, uint64_t* keys
   return true;
 }
 
-// The threaded wasm modules number in parts only (one part for a small mesh): one numbering
-// in the module instead of two.
-#if defined(__EMSCRIPTEN__) && STLTOPO_THREADS
-constexpr bool kOnlyInParts = true;
-#else
-constexpr bool kOnlyInParts = false;
-#endif
-
 // markLater: write later(kind) into the later side of each pair, which numberHalfedges needs
 // only when it runs in parts (the one-thread numbering pushes into that word before it reads it).
 template <bool kChunked>
 Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, bool markLater, Topology& out, Work& w) {
-  markLater = markLater || kOnlyInParts;
   if (!w.partner.resize(size_t(nt) * 3) || !w.uf.init(nt)) return detail::oom(kArrays);
   UnionFind& uf = w.uf;
   const uint32_t* offsets = w.offsets.data();
@@ -600,6 +591,10 @@ Status numberHalfedgesInParts(unsigned n, uint32_t nt, uint32_t nv, bool full, T
           bnd[nb++] = he + 1;
         } else {
 #if defined(__EMSCRIPTEN__)
+          // wasm's atomics are all sequentially consistent, and V8 compiles this store to
+          // xchg, a full barrier per pair (7-10 ms of a 1M shuffled numbering on 2 threads,
+          // bench/PROFILE.md, *Stop 43*). The ranges reading this word meanwhile skip it
+          // whether they see later(kind) or pushed(k), so an aligned word's plain store does.
           *static_cast<volatile uint32_t*>(P + p) = partner::pushed(k);
 #else
           __atomic_store_n(P + p, partner::pushed(k), __ATOMIC_RELAXED);
@@ -705,7 +700,7 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topo
   Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* P = w.partner.data();
   uint32_t* bnd = w.boundary.data();
-  if (parts > 1 || kOnlyInParts) return numberHalfedgesInParts(parts > 1 ? parts : 1, nt, nv, full, out, w);
+  if (parts > 1) return numberHalfedgesInParts(parts, nt, nv, full, out, w);
   uint32_t nextPair = 0, nextBoundary = 0;
   detail::forChunksIf<kChunked>(0, nt, [&](size_t t0, size_t t1) {
     uint32_t k = nextPair, nb = nextBoundary, sink = 0;
@@ -939,9 +934,9 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
   Status s;
   if (!(s = weldCorners(mesh, options, out, w)).ok()) return s;
   if (!(s = groupSidesByEdge<kChunked>(nt, nv, threads, out, w)).ok()) return s;
-  // The numbering in parts (numberHalfedgesInParts): natively always; in wasm only in the full
-  // module's instantiation (kChunked), as it cost the threaded core module 2.8 kB gzipped
-  // and pushed it over its download budget (tests/js/modules.test.mjs).
+  // The numbering in parts (numberHalfedgesInParts): natively always; in wasm in the threaded
+  // modules and in the full module's instantiation (kChunked), not in the single-threaded
+  // core, which runs on one thread (about 2 kB gzipped: tests/js/modules.test.mjs).
 #if defined(__EMSCRIPTEN__)
   constexpr bool kNumberInParts = kChunked || STLTOPO_THREADS;
 #else

@@ -27,12 +27,15 @@ test('the core module, .wasm + glue, is at most 70 kB gzipped (gzip -9)', () => 
 });
 
 // The threaded core (stltopo-wasm-mt: pthreads, shared memory; issue 24), fetched only by
-// pages that are cross-origin isolated, has a budget of its own: .wasm + glue + its pool
-// workers' script, measured at 89,959 B when it was added (the pthread runtime: about 20 kB over the core).
-test('the threaded core module, .wasm + glue + worker script, is at most 92 kB gzipped', () => {
+// pages that are cross-origin isolated and load with threads, has a budget of its own: .wasm +
+// glue + its pool workers' script, measured at 89,959 B when it was added (the pthread
+// runtime: about 20 kB over the core). 92,000 until stop 43, when the half-edge numbering on
+// threads joined it (92,238 B): 13% off a 1M shuffled load on 2 threads, and the one-thread
+// numbering kept beside it for meshes under two parts (bench/PROFILE.md, *Stop 43*).
+test('the threaded core module, .wasm + glue + worker script, is at most 93 kB gzipped', () => {
   const gz = (f) => gzipSync(readFileSync(path.join(root, 'dist', f)), { level: 9 }).length;
   const mt = gz('stltopo-wasm-mt.wasm') + gz('stltopo-wasm-mt.js') + gz('stltopo-wasm-mt.worker.js');
-  assert.ok(mt <= 92_000, `stltopo-wasm-mt .wasm + .js + .worker.js are ${mt} B gzipped, over 92000`);
+  assert.ok(mt <= 93_000, `stltopo-wasm-mt .wasm + .js + .worker.js are ${mt} B gzipped, over 93000`);
 });
 
 test('plain loads use the core only; shells, fromIndexed, writing instantiate the full module', async () => {
