@@ -22,7 +22,7 @@ node -e '
     const x = c.contenders[k];
     if (!x || !(x.timeMs > 0)) bad.push(`${c.id} ${k}`);
   }
-  if (r.cases.length !== 5 || r.targets.length !== 9 || bad.length) {
+  if (r.cases.length !== 5 || r.targets.length !== 11 || bad.length) {
     console.error("bench smoke: missing figures:", bad.join(", ") || `${r.cases.length} cases, ${r.targets.length} targets`);
     process.exit(1);
   }
