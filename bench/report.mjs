@@ -167,7 +167,7 @@ export function summarize(c, samples, idle) {
   // Issue 24: the CLI on the machine's cores against --threads 1 (same run, alternated).
   // The CLI's default since stop 41 is --threads 0, every core; nativeCliVsAdmesh keeps the
   // one-thread figure of the runs before, nativeCliDefaultVsAdmesh is the default's.
-  R.nativeCliDefaultVsAdmesh = C['native-cli'] && C['native-cli'].allThreadsWallMs && C.admesh ? div(C.admesh.wallMs, C['native-cli'].allThreadsWallMs) : null;
+  R.nativeCliDefaultVsAdmesh = C['native-cli'] ? div(t('admesh'), C['native-cli'].allThreadsWallMs) : null;
   R.nativeCliThreadsSpeedup = C['native-cli'] && C['native-cli'].allThreadsWallMs ? div(C['native-cli'].wallMs, C['native-cli'].allThreadsWallMs) : null;
   R.nativeCliVsAdmeshCpu = C.admesh && C['native-cli'] ? div(C.admesh.cpuMs, C['native-cli'].cpuMs) : null;
   R.nativeInProcessVsAdmesh = C.native ? div(t('admesh'), C.native.warm.totalMs) : null;
