@@ -51,17 +51,30 @@ const char* duplicateOrientationName(DuplicateOrientation o) {
 // ---------------------------------------------------------------------------
 // Zero-area and duplicate triangles.
 
-// Whether the topology can rule duplicates out: a duplicate of t has t's side corner0 ->
-// corner1 too. When that edge is a boundary edge, t has none; when it is interior (exactly two
-// opposite sides), its only other triangle is the one across, a duplicate of t exactly when
-// its third corner is t's. Only a cut edge (more sides) leaves the question open.
+// What the topology says of t's duplicates, from e, t's side corner0 -> corner1 (kInvalid for
+// a degenerate t): a duplicate of t has that side too. When its edge is a boundary edge, t has
+// none; when it is interior (exactly two opposite sides), its only other triangle is the one
+// across, a duplicate of t exactly when its third corner is t's (ThirdCorner: compare it, see
+// sideAcross); only a cut edge (more sides) leaves the question open (Maybe).
+namespace {
+enum class DuplicateTest : uint8_t { None, Maybe, ThirdCorner };
+inline DuplicateTest duplicateTest(const Topology& topo, uint32_t e) {
+  if (e == kInvalid) return DuplicateTest::None;
+  switch (EdgeKind(topo.pairKind[e >> 1])) {
+    case EdgeKind::Boundary: return DuplicateTest::None;
+    case EdgeKind::Interior: return DuplicateTest::ThirdCorner;
+    default: return DuplicateTest::Maybe;
+  }
+}
+// The other triangle's side leaving e's origin: it runs to that triangle's third corner.
+inline uint32_t sideAcross(const Topology& topo, uint32_t e) { return topo.next[e ^ 1u] ^ 1u; }
+}  // namespace
+
 bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
   const uint32_t e = topo.triangleHalfedge[t];
-  if (e == kInvalid) return false;
-  switch (EdgeKind(topo.pairKind[e >> 1])) {
-    case EdgeKind::Boundary: return false;
-    // The other triangle's side leaving this edge's origin runs to its third corner.
-    case EdgeKind::Interior: return topo.vert[topo.next[e ^ 1u] ^ 1u] == thirdCorner;
+  switch (duplicateTest(topo, e)) {
+    case DuplicateTest::None: return false;
+    case DuplicateTest::ThirdCorner: return topo.vert[sideAcross(topo, e)] == thirdCorner;
     default: return true;
   }
 }
@@ -95,24 +108,24 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
     // of the triangle across), whose misses overlap in a scattered file; then the tests.
     constexpr uint32_t kBlock = 64;
     uint32_t across[kBlock];
-    uint8_t state[kBlock];  // canHaveDuplicate: 0 no, 1 yes, 2 when across[i] is the third corner
+    DuplicateTest test[kBlock];  // canHaveDuplicate's, across[i] the third corner across
     for (uint32_t b0 = t0; b0 < t1; b0 += kBlock) {
       const uint32_t m = std::min(kBlock, t1 - b0);
       if (useTopology) {
         for (uint32_t i = 0; i < m; ++i) {
           const uint32_t e = topo->triangleHalfedge[b0 + i];
-          const EdgeKind k = e == kInvalid ? EdgeKind::Boundary : EdgeKind(topo->pairKind[e >> 1]);
-          state[i] = k == EdgeKind::Boundary ? 0 : k == EdgeKind::Interior ? 2 : 1;
-          across[i] = e == kInvalid ? 0 : topo->next[e ^ 1u] ^ 1u;
+          test[i] = duplicateTest(*topo, e);
+          across[i] = e == kInvalid ? 0 : sideAcross(*topo, e);
         }
         for (uint32_t i = 0; i < m; ++i)
-          if (state[i] == 2) across[i] = topo->vert[across[i]];
+          if (test[i] == DuplicateTest::ThirdCorner) across[i] = topo->vert[across[i]];
       }
       for (uint32_t i = 0; i < m; ++i) {
         const uint32_t t = b0 + i, a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
         if (a == b || b == c || a == c) continue;  // degenerate
         if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
-        const bool maybe = !useTopology || state[i] == 1 || (state[i] == 2 && across[i] == c);
+        const bool maybe = !useTopology || test[i] == DuplicateTest::Maybe ||
+                           (test[i] == DuplicateTest::ThirdCorner && across[i] == c);
         if (maybe && !candidates.push_back(t)) return oom("the duplicate candidates");
       }
     }
@@ -127,7 +140,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
         for (int i = 0; i < 3; ++i) detail::touch(w.p(w.v(u, i)), sink);
         if (useTopology) {
           const uint32_t e = topo->triangleHalfedge[u];
-          if (e != kInvalid) detail::touch(&topo->vert[topo->next[e ^ 1u] ^ 1u], sink);
+          if (e != kInvalid) detail::touch(&topo->vert[sideAcross(*topo, e)], sink);
         }
       }
       if (useTopology)
