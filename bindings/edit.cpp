@@ -92,6 +92,8 @@ class EditSession {
                                          : stltopo::Format::Unknown;
     staged_.colorConvention = js::colorConvention(colors);
   }
+  // The editor of the staged mesh. On failure the staged arrays stay (a deferred init,
+  // below, may be tried again).
   val init(double tolerance) {
     Status s = checkStaged();
     if (s.ok()) {
@@ -99,14 +101,29 @@ class EditSession {
       o.tolerance = tolerance > 0 ? tolerance : 0;
       s = em_.init(staged_, o);
     }
-    staged_ = stltopo::Mesh{};
+    if (s.ok()) {
+      staged_ = stltopo::Mesh{};
+      deferred_ = false;
+    }
     return js::status(s);
   }
+  // A deferred init (EditableMesh.from() without a tolerance): checks the staged arrays as
+  // init() does and keeps them; JS calls init(0) before the first call that needs the
+  // editor. planRepairStaged(opts, true) and applyRepairStaged() work on the staged mesh
+  // itself, so that from() + planRepair() + applyRepair() never builds the editor of the
+  // input (applyRepair takes the plan's result).
+  val defer() {
+    Status s = checkStaged();
+    deferred_ = s.ok();
+    return js::status(s);
+  }
+  bool deferred() const { return deferred_; }
   // planRepair of the staged mesh itself, instead of init() and planRepair(): the plan of
   // the EditableMesh init(0) would make (the same plan: tests/js/repair.test.mjs compares
   // both ways, and tests/test_repair.cpp the C++ calls under them), without building that
-  // EditableMesh first. The session stays empty.
-  val planRepairStaged(val opts) {
+  // EditableMesh first. `keep`: the staged arrays stay (a deferred session); else the
+  // session stays empty.
+  val planRepairStaged(val opts, bool keep) {
     Status s = checkStaged();
     stltopo::RepairOptions o;
     if (s.ok()) s = repairOptions(opts, o);
@@ -115,8 +132,27 @@ class EditSession {
       lastPlannedResult.reset();  // the last plan's result goes first: one at a time
       s = stltopo::planRepair(staged_, o, p);
     }
-    staged_ = stltopo::Mesh{};
+    if (!keep) staged_ = stltopo::Mesh{};
     return planned(s, p, o);
+  }
+  // applyRepair of a deferred session: stltopo::applyRepair(staged mesh, plan, em, log),
+  // which takes the plan's result without an editor of the input when it can, and builds
+  // one and runs the steps otherwise. When it carried out nothing (a refused plan, out of
+  // memory before any step), the session stays deferred, as it was.
+  val applyRepairStaged(val opts, const std::string& fingerprint) {
+    if (!deferred_) return js::status(Status::error(Code::InvalidArgument, "the editable mesh is not deferred"));
+    stltopo::RepairPlan p;
+    Status s = repairPlanOf(opts, fingerprint, p);
+    if (!s.ok()) return js::status(s);
+    stltopo::RepairLog log;
+    EditableMesh out;
+    s = stltopo::applyRepair(staged_, p, out, log);
+    if (p.resultTaken()) lastPlannedResult.reset();
+    if (!s.ok() && log.steps.empty() && !p.resultTaken()) return js::status(s);
+    em_ = std::move(out);
+    staged_ = stltopo::Mesh{};
+    deferred_ = false;
+    return logged(s, std::move(log));
   }
 
   // Edits. Results: null (done), a number (new id), a Uint32Array (new triangles) or a status.
@@ -319,27 +355,12 @@ class EditSession {
   }
   val applyRepair(val opts, const std::string& fingerprint) {
     stltopo::RepairPlan p;
-    Status s = repairOptions(opts, p.options);
+    Status s = repairPlanOf(opts, fingerprint, p);
     if (!s.ok()) return js::status(s);
-    char* end = nullptr;
-    p.fingerprint = std::strtoull(fingerprint.c_str(), &end, 16);
-    if (fingerprint.size() != 16 || *end)
-      return js::status(Status::error(Code::InvalidArgument, "the plan has no fingerprint"));
-    if (lastPlanned.valid && lastPlanned.fingerprint == p.fingerprint &&
-        lastPlanned.intersections == p.options.intersections && lastPlanned.maxPairs == p.options.maxPairs) {
-      p.beforeKnown = p.afterKnown = true;
-      p.before = lastPlanned.before;
-      p.after = lastPlanned.after;
-      p.fingerprintAfter = lastPlanned.fingerprintAfter;
-    }
-    p.result = lastPlannedResult;
     stltopo::RepairLog log;
     s = stltopo::applyRepair(em_, p, log);
     if (p.resultTaken()) lastPlannedResult.reset();
-    std::string json = stltopo::repairLogJson(log);
-    if (!log.steps.empty()) logs_.push_back(std::move(log));
-    while (!logs_.empty() && logs_.back().steps.empty()) logs_.pop_back();
-    return s.ok() ? val(json) : js::status(s);
+    return logged(s, std::move(log));
   }
   // Undoes the last repair step (of the last repair that has one): its name, null when
   // there is none, or a status.
@@ -365,6 +386,7 @@ class EditSession {
   EditableMesh em_;
   Array<uint32_t> faceIds_;               // faceIds()
   std::vector<stltopo::RepairLog> logs_;  // applyRepair's, for undo
+  bool deferred_ = false;                 // defer(): the staged arrays wait for init(0)
 
   // The staged arrays as init() and planRepairStaged() take them: whole elements, every
   // corner a vertex.
@@ -380,6 +402,33 @@ class EditSession {
         return s;
       }
     return Status{};
+  }
+  // The plan JS hands back (its options and fingerprint), with what this module knows of it:
+  // the figures and the result of the last plan made here.
+  static Status repairPlanOf(val opts, const std::string& fingerprint, stltopo::RepairPlan& p) {
+    Status s = repairOptions(opts, p.options);
+    if (!s.ok()) return s;
+    char* end = nullptr;
+    p.fingerprint = std::strtoull(fingerprint.c_str(), &end, 16);
+    if (fingerprint.size() != 16 || *end)
+      return Status::error(Code::InvalidArgument, "the plan has no fingerprint");
+    if (lastPlanned.valid && lastPlanned.fingerprint == p.fingerprint &&
+        lastPlanned.intersections == p.options.intersections && lastPlanned.maxPairs == p.options.maxPairs) {
+      p.beforeKnown = p.afterKnown = true;
+      p.before = lastPlanned.before;
+      p.after = lastPlanned.after;
+      p.fingerprintAfter = lastPlanned.fingerprintAfter;
+    }
+    p.result = lastPlannedResult;
+    return Status{};
+  }
+  // What applyRepair (status s, log) gives JS: the log's JSON or the error; the log is kept
+  // for undo when it has a step.
+  val logged(const Status& s, stltopo::RepairLog log) {
+    std::string json = stltopo::repairLogJson(log);
+    if (!log.steps.empty()) logs_.push_back(std::move(log));
+    while (!logs_.empty() && logs_.back().steps.empty()) logs_.pop_back();
+    return s.ok() ? val(json) : js::status(s);
   }
   // What planRepair (status s, plan p, options o) gives JS: the plan's JSON, its figures
   // and result kept for applyRepair (module-wide), or the error.
@@ -457,6 +506,9 @@ EMSCRIPTEN_BINDINGS(stltopo_edit) {
       .function("addSolid", &EditSession::addSolid)
       .function("setFormat", &EditSession::setFormat)
       .function("init", &EditSession::init)
+      .function("defer", &EditSession::defer)
+      .function("deferred", &EditSession::deferred)
+      .function("applyRepairStaged", &EditSession::applyRepairStaged)
       .function("reserve", &EditSession::reserve)
       .function("setPosition", &EditSession::setPosition)
       .function("removeTriangle", &EditSession::removeTriangle)

@@ -73,6 +73,32 @@ test('out-of-memory in the full module (editing) is an error, not an abort, and 
   small.dispose();
 });
 
+test('from() without a tolerance builds the editor at first use: out of memory then is that call\'s error, and a retry works', async () => {
+  const n = 120;
+  const grid = await loadStl(gridStl(n));
+  const entry = await getFull();
+  const M = entry.module;
+  const em = await EditableMesh.from(grid); // the arrays are staged and checked, the editor not built
+  try {
+    try {
+      M._testFill(0);
+      assert.throws(() => em.nTriangles, (e) => e instanceof StlError && e.code === 'out-of-memory');
+      assert.throws(() => em.validate(), (e) => e instanceof StlError && e.code === 'out-of-memory');
+    } finally {
+      M._testRelease();
+    }
+    assert.equal(await getFull(), entry);
+    assert.equal(em.nTriangles, 2 * n * n);
+    assert.deepEqual(em.validate(), { ok: true });
+    assert.deepEqual(em.stats.triangles, 2 * n * n);
+  } finally {
+    em.dispose();
+  }
+  // A bad id is still refused by from() itself.
+  await assert.rejects(EditableMesh.from({ positions: new Float32Array(9), triangles: Uint32Array.of(0, 1, 3) }),
+    (e) => e instanceof StlError && e.code === 'invalid-argument' && e.triangle === 0);
+});
+
 test('a wasm abort of the full module: the next EditableMesh.from() gets a fresh instance', async () => {
   const mesh = await loadStlFile(cubeFile());
   const entry = await getFull();

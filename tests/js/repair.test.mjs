@@ -81,6 +81,49 @@ test('planRepair(mesh) plans from the arrays what the EditableMesh made from the
     (e) => e.code === 'invalid-argument' && e.triangle === 0);
 });
 
+test('a deferred EditableMesh (planRepair and applyRepair as its first calls) repairs as a built one: plan, log, bytes, undo', async () => {
+  const t = damagedTorus(30, 12, 5);
+  const mesh = await fromIndexed(t.positions, t.triangles);
+  const input = await bytesOf(mesh);
+  const options = { steps: ['duplicates', 'zero-area', 'stitch', 'split-nonmanifold', 'fill-holes', 'orient'] };
+  // built: an editor read before it plans; deferred: planRepair and applyRepair first.
+  const run = async (build, planOn) => {
+    const em = await EditableMesh.from(mesh);
+    try {
+      if (build) assert.equal(em.stats.triangles, mesh.stats.triangles);
+      const plan = planOn === 'em' ? em.planRepair(options) : await planRepair(mesh, options);
+      const log = em.applyRepair(plan);
+      const out = { plan, log, bytes: new Uint8Array(em.toStl()), stats: em.stats, undoable: em.undoableSteps };
+      assert.deepEqual(em.validate(), { ok: true });
+      while (em.undo() !== null) assert.deepEqual(em.validate(), { ok: true });
+      out.undone = new Uint8Array(em.toStl());
+      return out;
+    } finally {
+      em.dispose();
+    }
+  };
+  const built = await run(true, 'em');
+  assert.deepEqual(built.undone, input);
+  for (const planOn of ['em', 'mesh']) {
+    const deferred = await run(false, planOn);
+    assert.deepEqual(deferred, built, planOn);
+  }
+  // Refused on a deferred editor: nothing changes, and it still works.
+  const other = await fromIndexed(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]), new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
+  const plan = await planRepair(other);
+  const em = await EditableMesh.from(mesh);
+  try {
+    assert.equal(em.undoableSteps, 0);
+    assert.equal(em.undo(), null);
+    assert.throws(() => em.applyRepair(plan), (e) => e.code === 'invalid-argument' && /another mesh/.test(e.message));
+    assert.throws(() => em.applyRepair({}), (e) => e.code === 'invalid-argument');
+    assert.deepEqual(new Uint8Array(em.toStl()), input);
+    assert.deepEqual(em.applyRepair(em.planRepair(options)), built.log);
+  } finally {
+    em.dispose();
+  }
+});
+
 // Two boxes that cross (self-intersections), one face flipped and one removed: a repair
 // that changes the mesh and leaves pairs for the intersection pass.
 async function crossingBoxes() {

@@ -139,14 +139,21 @@ export function createEditableMesh(getModule) {
      * An editable copy of a Mesh (from loadStl) or of an indexed mesh
      * { positions: Float32Array, triangles: Uint32Array, attributes?, colors?, colorValid?,
      *   solids? }. options.tolerance welds for the topology as loadStl does. Resolves when
-     * the topology is built.
+     * the arrays are checked (a bad id rejects here). With a tolerance the topology is built
+     * before it resolves; without one, at the first call that reads or edits the mesh (whose
+     * error, such as out of memory, then comes from that call). planRepair() and
+     * applyRepair() as the first calls never build the editor of the input: applyRepair
+     * takes the repaired mesh the plan made.
      */
     static async from(source, options = {}) {
       if (!source || !source.positions || !source.triangles) throw invalid('EditableMesh.from() needs a Mesh or { positions, triangles }');
       const entry = await getModule();
       const s = stage(entry.module, source);
       try {
-        check(s.init(options.tolerance || 0));
+        // Without a tolerance the editor is built at the first call that needs it (#live):
+        // from() + planRepair() + applyRepair() then never builds the editor of the input
+        // (applyRepair takes the plan's result). The arrays are checked here either way.
+        check(options.tolerance ? s.init(options.tolerance) : s.defer());
       } catch (e) {
         s.delete();
         throw e;
@@ -164,7 +171,7 @@ export function createEditableMesh(getModule) {
       const entry = await getModule();
       const s = stage(entry.module, source);
       try {
-        return repairPlanFrom(check(s.planRepairStaged(o)), o);
+        return repairPlanFrom(check(s.planRepairStaged(o, false)), o);
       } finally {
         s.delete();
       }
@@ -172,7 +179,13 @@ export function createEditableMesh(getModule) {
 
     #live() {
       if (this.#disposed) throw invalid('the editable mesh was disposed');
+      // A deferred from(): the editor now (an error, such as out of memory, leaves it deferred).
+      if (this.#session.deferred()) check(this.#session.init(0));
       return this.#session;
+    }
+    #deferred() {
+      if (this.#disposed) throw invalid('the editable mesh was disposed');
+      return this.#session.deferred();
     }
     #edit(r) {
       this.#cache.clear();
@@ -326,7 +339,10 @@ export function createEditableMesh(getModule) {
      */
     planRepair(options = {}) {
       const o = normalizeRepairOptions(options);
-      return repairPlanFrom(check(this.#live().planRepair(o)), o);
+      // A deferred editor plans on its staged arrays (the same plan, and applyRepair below
+      // then takes the plan's result without building the editor of the input).
+      const r = this.#deferred() ? this.#session.planRepairStaged(o, true) : this.#live().planRepair(o);
+      return repairPlanFrom(check(r), o);
     }
     /**
      * Carries out a plan made for this mesh (by planRepair() on it, or on the Mesh it was
@@ -336,12 +352,15 @@ export function createEditableMesh(getModule) {
       if (!plan || typeof plan !== 'object' || !plan.options || typeof plan.fingerprint !== 'string') {
         throw invalid('applyRepair() needs a plan from planRepair()');
       }
-      return repairLogFrom(this.#edit(this.#live().applyRepair(plan.options, plan.fingerprint)));
+      const r = this.#deferred()
+        ? this.#session.applyRepairStaged(plan.options, plan.fingerprint)
+        : this.#live().applyRepair(plan.options, plan.fingerprint);
+      return repairLogFrom(this.#edit(r));
     }
     /** Undoes the last repair step still applied: its name, or null when there is none. */
-    undo() { return this.#edit(this.#live().undoRepairStep()); }
+    undo() { return this.#deferred() ? null : this.#edit(this.#live().undoRepairStep()); }
     /** How many repair steps undo() can still take back. */
-    get undoableSteps() { return this.#live().undoableRepairSteps(); }
+    get undoableSteps() { return this.#deferred() ? 0 : this.#live().undoableRepairSteps(); }
 
     /** Frees the wasm memory; the object is unusable afterwards. */
     dispose() {

@@ -713,6 +713,11 @@ export type EditableLoop = BoundaryLoop;
  * after an edit. A refused edit throws StlError('edit-refused') and changes nothing.
  */
 export declare class EditableMesh {
+  /**
+   * Resolves when the arrays are checked. Without a tolerance the editor is built at the
+   * first call that reads or edits it; planRepair() then applyRepair() as the first calls
+   * take the plan's repaired mesh without building the editor of the input.
+   */
   static from(source: Mesh | IndexedMeshInput, options?: { tolerance?: number }): Promise<EditableMesh>;
   /**
    * The plan of EditableMesh.from(source).planRepair(options), made without building that
