@@ -360,6 +360,19 @@ Status runOrient(StepContext& ctx) {
     }
   }
   // 2. Closed shells outward, or inward at odd nesting depth (a cavity stays a cavity).
+  ctx.plan.note =
+      !ctx.options.intersections
+          ? "closed shells are oriented by volume sign only (outward): the intersection pass is off"
+          : "closed shells outward, inward at odd nesting depth (a cavity stays a cavity); shells that overlap "
+            "others are oriented by volume sign only";
+  //    Without a closed shell there is nothing to do, and with at most one shell the
+  //    editor's counts say so (every edge counts in exactly one shell, so a single shell's
+  //    edge counts are the mesh's): no rebuild then.
+  {
+    const EditStats& st = em.stats();
+    if (st.shells == 0 || (st.shells == 1 && st.boundaryEdges + st.nonManifoldEdges + st.inconsistentEdges > 0))
+      return Status{};
+  }
   //    The mesh now, with its shells: built where the runner rebuilds the mesh after the
   //    step (toMesh's topology equals a fresh build's, triangleShell included), which it
   //    keeps when no shell is reversed below.
@@ -391,11 +404,6 @@ Status runOrient(StepContext& ctx) {
     if (!s.ok()) return s;
     nested = true;
   }
-  ctx.plan.note =
-      !ctx.options.intersections
-          ? "closed shells are oriented by volume sign only (outward): the intersection pass is off"
-          : "closed shells outward, inward at odd nesting depth (a cavity stays a cavity); shells that overlap "
-            "others are oriented by volume sign only";
   for (uint32_t k = 0; k < shells.size(); ++k) {
     const Shell& sh = shells[k];
     if (!sh.closed() || !sh.manifold()) continue;

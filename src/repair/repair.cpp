@@ -542,6 +542,29 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   TriangleChecks curChecks;
   bool curChecksKnown = false;
   auto curReport = [&] { return reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr); };
+  // After a step that only reversed triangles (orient, not last), em keeps its edits
+  // instead of being made again from the rebuilt mesh: `cur` is then toMesh's plain mesh of
+  // em, but `topo` is the one before the step (stale) and em is not init()'s state of cur
+  // (its half-edge ids are the edits'; its triangle and vertex ids, loops and counts are a
+  // fresh build's). fill-holes reads only em and runs so; anything else that reads topo or
+  // needs init()'s state refreshes first (one rebuild, as the runner would have made).
+  bool stale = false;
+  auto refresh = [&]() -> Status {
+    if (!stale) return Status{};
+    Status r = em.toMesh(cur, &topo, nullptr, o.intersections);
+    if (r.ok()) r = em.init(cur, topo);
+    if (r.ok()) stale = false;
+    curChecksKnown = false;
+    return r;
+  };
+  // The identity maps of a step that kept every slot (reversal only), for diffStep.
+  auto identity = [&](uint32_t nt, uint32_t nv) -> Status {
+    if (!maps.triangles.resize(nt) || !maps.vertices.resize(nv)) return detail::oom(kRepairArrays);
+    maps.halfedges = Array<uint32_t>{};
+    for (uint32_t t = 0; t < nt; ++t) maps.triangles[t] = t;
+    for (uint32_t v = 0; v < nv; ++v) maps.vertices[v] = v;
+    return Status{};
+  };
   if (made && made->beforeKnown) {
     before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
@@ -571,7 +594,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     if (!(o.steps & (1u << k))) continue;
     RepairStepPlan sp;
     sp.kind = RepairStepKind(k);
-    repair_detail::StepContext ctx{em, o, sp, &cur, &topo, &next, &nextTopo, &maps};
+    if (sp.kind != RepairStepKind::FillHoles) s = refresh();
+    if (!s.ok()) return s;
+    repair_detail::StepContext ctx{em, o, sp, stale ? nullptr : &cur, stale ? nullptr : &topo, &next, &nextTopo, &maps};
     ctx.checks = curChecksKnown ? &curChecks : nullptr;
     if (o.onStep) o.onStep(o.user, sp.kind, false);
     s = runStep(sp.kind, ctx);
@@ -586,8 +611,37 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
       for (const RepairItem& it : sp.items)
         if (!it.skipped) L.maxMoved = std::max(L.maxMoved, it.moved);
     }
-    // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
-    if (s.ok() && L.itemsDone > 0) {
+    // Orient, not the last step, that kept its edits unbuilt (its shells needed no rebuild)
+    // and every slot: the mesh is toMesh's plain one, em stays as the edits left it (see
+    // `stale`), and the figures the plan needs of it are the editor's counts and the
+    // triangle checks' counts, which reversing triangles keeps (zero-area and duplicate
+    // triangles do not depend on the orientation).
+    const bool reversedOnly = s.ok() && L.itemsDone > 0 && sp.kind == RepairStepKind::Orient && k != lastStep &&
+                              !ctx.rebuilt && em.nTriangles() == cur.nTriangles() &&
+                              em.nVertices() == cur.nVertices() && em.nLiveTriangles() == cur.nTriangles() &&
+                              em.nLiveVertices() == cur.nVertices();
+    if (reversedOnly) {
+      s = em.toMesh(next, nullptr, nullptr);
+      if (s.ok() && log) s = identity(cur.nTriangles(), cur.nVertices());
+      if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
+      if (s.ok()) {
+        std::swap(cur, next);
+        stale = true;
+        curChecksKnown = false;
+        if (log) curFingerprint = fingerprintOf(cur);
+        L.fingerprintAfter = curFingerprint;
+        changed = true;
+        if (plan) {
+          // (The carried pairs keep their ids: every triangle keeps its slot.)
+          RepairFigures f;
+          f.stats = em.stats();
+          f.zeroAreaTriangles = figures.zeroAreaTriangles;
+          f.duplicateTriangles = figures.duplicateTriangles;
+          figures = f;
+        }
+      }
+    } else if (s.ok() && L.itemsDone > 0) {
+      // A step that did no item changed nothing (a skipped item changes nothing): no rebuild.
       const bool shells = o.intersections && k == lastStep;
       if (!ctx.rebuilt)
         s = em.toMesh(next, &nextTopo, &maps, shells);
@@ -599,6 +653,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         // The state before the step becomes the memory of the next step's rebuild.
         std::swap(cur, next);
         std::swap(topo, nextTopo);
+        stale = false;
         curChecksKnown = false;
         if (log) curFingerprint = fingerprintOf(cur);
         L.fingerprintAfter = curFingerprint;
@@ -611,13 +666,15 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         }
       }
     } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
-      s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known, &curChecks);
+      s = refresh();
+      if (s.ok()) s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known, &curChecks);
       curChecksKnown = s.ok();
     }
     if (!s.ok()) {
       // Back to the mesh as the step found it (init of a mesh already held cannot need more
-      // memory than it had; if even that fails, the error says so).
-      Status r = em.init(cur, topo);
+      // memory than it had; if even that fails, the error says so). With a stale topology,
+      // init builds cur's.
+      Status r = stale ? em.init(cur) : em.init(cur, topo);
       if (log) {
         L.status = s;
         L.trianglesAfter = L.trianglesBefore;
@@ -636,6 +693,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   }
+  // The result as init() makes it, with its topology (for its report and figures).
+  s = refresh();
+  if (!s.ok()) return s;
   RepairFigures after = before;
   if (plan && lastStep >= 0) {
     after = plan->steps.back().after;
