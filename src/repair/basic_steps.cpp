@@ -256,93 +256,125 @@ Status runOrient(StepContext& ctx) {
   //    against its partner: across a pair whose sides run the same way (a cut, inconsistent
   //    edge) the parities differ, across an ordinary pair they are equal. A component
   //    whose constraints conflict cannot be oriented (a Moebius strip).
-  Array<uint8_t> parity;
-  Array<uint32_t> comp, queue, adjOff, adj;
-  if (!parity.assign(nt, 0) || !comp.assign(nt, kInvalid) || !queue.reserve(nt) || !adjOff.assign(size_t(nt) + 1, 0))
-    return detail::oom(kStepArrays);
+  //    A union-find with parities: parent[t] and rel[t], t's parity relative to its parent;
+  //    a root is its component's lowest triangle (the lower root wins each union), so
+  //    parities relative to the root are relative to that triangle.
+  if (nt >= (1u << 31)) return Status::error(Code::InvalidArgument, "orient: too many triangles");
+  Array<uint32_t> parent;
+  Array<uint8_t> rel, flags;  // flags (per root): kConflict, kMixed
+  constexpr uint8_t kConflict = 1, kMixed = 2;
+  if (!parent.resize(nt) || !rel.assign(nt, 0) || !flags.assign(nt, 0)) return detail::oom(kStepArrays);
+  for (uint32_t t = 0; t < nt; ++t) parent[t] = t;
+  // The root of t, with t's parity relative to it; compresses the path.
+  auto find = [&](uint32_t t, uint8_t& p) {
+    uint32_t r = t;
+    p = 0;
+    while (parent[r] != r) {
+      p ^= rel[r];
+      r = parent[r];
+    }
+    uint32_t x = t;
+    uint8_t px = p;
+    while (x != r && parent[x] != r) {
+      const uint32_t up = parent[x];
+      const uint8_t pu = uint8_t(px ^ rel[x]);
+      parent[x] = r;
+      rel[x] = px;
+      x = up;
+      px = pu;
+    }
+    return r;
+  };
+  // Links a and b: their parities differ when `same` (the two sides run the same way).
+  auto link = [&](uint32_t a, uint32_t b, uint8_t same) {
+    uint8_t pa, pb;
+    uint32_t ra = find(a, pa), rb = find(b, pb);
+    if (ra == rb) {
+      if (uint8_t(pa ^ pb) != same) flags[ra] |= kConflict;
+    } else {
+      if (rb < ra) {
+        std::swap(ra, rb);
+        std::swap(pa, pb);
+      }
+      parent[rb] = ra;
+      rel[rb] = uint8_t(pa ^ pb ^ same);
+      flags[ra] |= flags[rb];
+    }
+    if (same) flags[ra] |= kMixed;
+  };
   // Links: every pair of two triangle sides (they run opposite ways: equal parity), and
   // the cut sides of each inconsistent edge (two sides running the same way, each paired
   // with a seam half-edge: different parity), found by sorting the few cut sides by edge.
   const uint32_t nPairs = uint32_t(T.next.size() / 2);
-  struct Cut {
-    uint64_t key;
-    uint32_t t, from;
-  };
-  std::vector<Cut> cuts;
-  STLTOPO_TRY {
-    for (uint32_t e = 0; e < 2 * nPairs; ++e) {
-      if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
-      uint32_t u = T.vert[e], v = T.vert[T.next[e]];
-      cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
-    }
+  for (uint32_t k = 0; k < nPairs; ++k) {
+    uint32_t a = T.face[2 * k], b = T.face[2 * k + 1];
+    if (a < nt && b < nt && a != b) link(a, b, 0);
   }
-  STLTOPO_CATCH { return detail::oom(kStepArrays); }
-  std::sort(cuts.begin(), cuts.end(),
-            [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
-  auto eachLink = [&](auto&& f) {
-    for (uint32_t k = 0; k < nPairs; ++k) {
-      uint32_t a = T.face[2 * k], b = T.face[2 * k + 1];
-      if (a < nt && b < nt && a != b) f(a, b, 0u);
+  {
+    struct Cut {
+      uint64_t key;
+      uint32_t t, from;
+    };
+    std::vector<Cut> cuts;
+    STLTOPO_TRY {
+      for (uint32_t e = 0; e < 2 * nPairs; ++e) {
+        if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
+        uint32_t u = T.vert[e], v = T.vert[T.next[e]];
+        cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+      }
     }
+    STLTOPO_CATCH { return detail::oom(kStepArrays); }
+    std::sort(cuts.begin(), cuts.end(),
+              [](const Cut& a, const Cut& b) { return a.key < b.key || (a.key == b.key && a.t < b.t); });
     for (size_t i = 0; i + 1 < cuts.size(); ++i)
       if (cuts[i].key == cuts[i + 1].key && (i + 2 >= cuts.size() || cuts[i + 2].key != cuts[i].key) &&
           (i == 0 || cuts[i - 1].key != cuts[i].key) && cuts[i].t != cuts[i + 1].t)
-        f(cuts[i].t, cuts[i + 1].t, cuts[i].from == cuts[i + 1].from ? 1u : 0u);
-  };
-  eachLink([&](uint32_t a, uint32_t b, uint32_t) {
-    ++adjOff[a + 1];
-    ++adjOff[b + 1];
-  });
-  for (uint32_t t = 0; t < nt; ++t) adjOff[t + 1] += adjOff[t];
-  if (!adj.resize(adjOff[nt])) return detail::oom(kStepArrays);
+        link(cuts[i].t, cuts[i + 1].t, cuts[i].from == cuts[i + 1].from ? 1 : 0);
+  }
+  // The components with a cut link (the others are consistent already), in order of their
+  // lowest triangle: sizes, parity-1 counts and members (ascending), parities relative to
+  // the lowest triangle.
+  Array<uint32_t> slot, count1, offsets, members;  // slot: per root, its mixed component
+  uint32_t nMixed = 0;
+  if (!slot.assign(nt, kInvalid)) return detail::oom(kStepArrays);
+  for (uint32_t t = 0; t < nt; ++t) {
+    uint8_t p;
+    const uint32_t r = find(t, p);
+    rel[t] = p;  // now relative to the root (parent[t] is the root, or t is)
+    if (r == t && (flags[t] & kMixed) && !T.triangleDegenerate[t]) slot[t] = nMixed++;
+  }
+  if (!offsets.assign(size_t(nMixed) + 1, 0) || !count1.assign(nMixed, 0)) return detail::oom(kStepArrays);
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t c = slot[parent[t]];
+    if (c == kInvalid) continue;
+    ++offsets[c + 1];
+    count1[c] += rel[t];
+  }
+  for (uint32_t c = 0; c < nMixed; ++c) offsets[c + 1] += offsets[c];
+  if (!members.resize(offsets[nMixed])) return detail::oom(kStepArrays);
   {
     Array<uint32_t> fill;
-    if (!fill.resize(nt)) return detail::oom(kStepArrays);
-    for (uint32_t t = 0; t < nt; ++t) fill[t] = adjOff[t];
-    // The neighbour, with the low bit: 1 when the two sides run the same way.
-    eachLink([&](uint32_t a, uint32_t b, uint32_t same) {
-      adj[fill[a]++] = (b << 1) | same;
-      adj[fill[b]++] = (a << 1) | same;
-    });
-  }
-  if (nt >= (1u << 31)) return Status::error(Code::InvalidArgument, "orient: too many triangles");
-  uint32_t nComp = 0;
-  for (uint32_t seed = 0; seed < nt; ++seed) {
-    if (comp[seed] != kInvalid || T.triangleDegenerate[seed]) continue;
-    const uint32_t id = nComp++;
-    queue.clear();
-    (void)queue.push_back(seed);
-    comp[seed] = id;
-    bool conflict = false, mixed = false;
-    uint32_t n1 = 0;
-    for (size_t i = 0; i < queue.size(); ++i) {
-      uint32_t t = queue[i];
-      n1 += parity[t];
-      for (uint32_t j = adjOff[t]; j < adjOff[t + 1]; ++j) {
-        uint32_t u = adj[j] >> 1;
-        uint8_t want = uint8_t(parity[t] ^ (adj[j] & 1u));
-        if (adj[j] & 1u) mixed = true;
-        if (comp[u] == kInvalid) {
-          comp[u] = id;
-          parity[u] = want;
-          (void)queue.push_back(u);
-        } else if (parity[u] != want) {
-          conflict = true;
-        }
-      }
+    if (!fill.resize(nMixed)) return detail::oom(kStepArrays);
+    for (uint32_t c = 0; c < nMixed; ++c) fill[c] = offsets[c];
+    for (uint32_t t = 0; t < nt; ++t) {
+      const uint32_t c = slot[parent[t]];
+      if (c != kInvalid) members[fill[c]++] = t;
     }
-    if (!mixed) continue;  // already consistent
-    const uint32_t n = uint32_t(queue.size()), n0 = n - n1;
-    // Flip the smaller side; on a tie, the side without the component's lowest triangle.
-    const uint8_t flipParity = n1 < n0 ? 1 : n0 < n1 ? 0 : uint8_t(parity[seed] ^ 1u);
+  }
+  for (uint32_t c = 0; c < nMixed; ++c) {
+    const uint32_t seed = members[offsets[c]];
+    const bool conflict = flags[seed] & kConflict;
+    const uint32_t n = offsets[c + 1] - offsets[c], n1 = count1[c], n0 = n - n1;
+    // Flip the smaller side; on a tie, the side without the component's lowest triangle
+    // (whose parity is 0).
+    const uint8_t flipParity = n1 < n0 ? 1 : n0 < n1 ? 0 : 1;
     std::vector<uint32_t> flip;
     if (!conflict) {
       STLTOPO_TRY {
-        for (uint32_t t : queue)
-          if (parity[t] == flipParity) flip.push_back(t);
+        for (uint32_t i = offsets[c]; i < offsets[c + 1]; ++i)
+          if (rel[members[i]] == flipParity) flip.push_back(members[i]);
       }
       STLTOPO_CATCH { return detail::oom(kStepArrays); }
-      std::sort(flip.begin(), flip.end());
     }
     const uint32_t kept = n - uint32_t(flip.size());
     ctx.begin(conflict ? detail::format("orient the shell of triangle %u consistently", seed)

@@ -376,7 +376,25 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
       if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
     L.areaRemoved += meshTriangleArea(before, t);
   }
+  // A block of triangles whose corners and attribute bytes are all as before has no changed
+  // triangle (a removed one has kInvalid corners): most blocks, skipped whole.
+  constexpr uint32_t kBlock = 256;
+  auto sameTriangles = [&](uint32_t t0, uint32_t n) {
+    if (std::memcmp(T.data() + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n)) != 0)
+      return false;
+    for (size_t a = 0; a < lay.names.size(); ++a) {
+      const AttributeView* v = views[a];
+      if (v && std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t0) * lay.strides[a],
+                           meshAttr(before, lay.names[a], t0), lay.strides[a] * n) != 0)
+        return false;
+    }
+    return true;
+  };
   for (uint32_t t = 0; t < nTb; ++t) {
+    if (t % kBlock == 0 && sameTriangles(t, std::min(kBlock, nTb - t))) {
+      t += std::min(kBlock, nTb - t) - 1;
+      continue;
+    }
     uint32_t w = maps.triangles[t];
     if (w == kInvalid) continue;
     bool changed = std::memcmp(T.data() + 3 * size_t(t), before.triangles.data() + 3 * size_t(t), 12) != 0;
@@ -399,7 +417,17 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
       ++L.addedTriangles;
       L.areaAdded += meshTriangleArea(after, maps.triangles[t]);
     }
+  // Likewise a block of vertices that all stay, at the same positions.
+  auto sameVertices = [&](uint32_t v0, uint32_t n) {
+    for (uint32_t i = 0; i < n; ++i)
+      if (maps.vertices[v0 + i] == kInvalid) return false;
+    return std::memcmp(P.data() + 3 * size_t(v0), before.positions.data() + 3 * size_t(v0), 12 * size_t(n)) == 0;
+  };
   for (uint32_t v = 0; v < nVb; ++v) {
+    if (v % kBlock == 0 && sameVertices(v, std::min(kBlock, nVb - v))) {
+      v += std::min(kBlock, nVb - v) - 1;
+      continue;
+    }
     const float* b = before.positions.data() + 3 * size_t(v);
     if (maps.vertices[v] == kInvalid) {
       if (!L.removedVertices.push_back(v) || !append(L.removedPositions, b, 3)) return oom();
