@@ -49,7 +49,14 @@ uint64_t mix(uint64_t h, uint64_t x) {
   return h * 0xFF51AFD7ED558CCDull;
 }
 
-uint64_t fingerprintOf(const Mesh& m) {
+// A sequential hash of the counts, then the positions, then the triangles. `positionsState`
+// (when given) receives the hash after the positions, which is the same for every mesh with
+// m's counts and positions: fingerprintAfterPositions continues from it.
+uint64_t fingerprintAfterPositions(uint64_t h, const Mesh& m) {
+  for (size_t i = 0; i < m.triangles.size(); ++i) h = mix(h, m.triangles[i]);
+  return h;
+}
+uint64_t fingerprintOf(const Mesh& m, uint64_t* positionsState = nullptr) {
   uint64_t h = mix(0x5354'4C54'4F50'4F21ull, m.nVertices());
   h = mix(h, m.nTriangles());
   for (size_t i = 0; i < m.positions.size(); ++i) {
@@ -58,8 +65,8 @@ uint64_t fingerprintOf(const Mesh& m) {
     std::memcpy(&u, &f, 4);
     h = mix(h, u);
   }
-  for (size_t i = 0; i < m.triangles.size(); ++i) h = mix(h, m.triangles[i]);
-  return h;
+  if (positionsState) *positionsState = h;
+  return fingerprintAfterPositions(h, m);
 }
 
 // fingerprintOf (positions, triangles) and everything else of the Mesh that a repair
@@ -376,35 +383,34 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
       if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
     L.areaRemoved += meshTriangleArea(before, t);
   }
+  // The attribute columns compared: em's bytes (now) against the mesh's (was), per triangle.
+  struct Column {
+    const uint8_t* now;
+    const uint8_t* was;
+    size_t stride;
+  };
+  std::vector<Column> columns;
+  for (size_t a = 0; a < lay.names.size(); ++a)
+    if (views[a] && nTb > 0)
+      columns.push_back(
+          Column{static_cast<const uint8_t*>(views[a]->data), meshAttr(before, lay.names[a], 0), lay.strides[a]});
   // A block of triangles whose corners and attribute bytes are all as before has no changed
   // triangle (a removed one has kInvalid corners): most blocks, skipped whole.
-  constexpr uint32_t kBlock = 256;
-  auto sameTriangles = [&](uint32_t t0, uint32_t n) {
+  constexpr uint32_t kBlock = 64;
+  auto same = [&](uint32_t t0, uint32_t n) {
     if (std::memcmp(T.data() + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n)) != 0)
       return false;
-    for (size_t a = 0; a < lay.names.size(); ++a) {
-      const AttributeView* v = views[a];
-      if (v && std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t0) * lay.strides[a],
-                           meshAttr(before, lay.names[a], t0), lay.strides[a] * n) != 0)
-        return false;
-    }
+    for (const Column& c : columns)
+      if (std::memcmp(c.now + size_t(t0) * c.stride, c.was + size_t(t0) * c.stride, c.stride * n) != 0) return false;
     return true;
   };
   for (uint32_t t = 0; t < nTb; ++t) {
-    if (t % kBlock == 0 && sameTriangles(t, std::min(kBlock, nTb - t))) {
+    if (t % kBlock == 0 && same(t, std::min(kBlock, nTb - t))) {
       t += std::min(kBlock, nTb - t) - 1;
       continue;
     }
     uint32_t w = maps.triangles[t];
-    if (w == kInvalid) continue;
-    bool changed = std::memcmp(T.data() + 3 * size_t(t), before.triangles.data() + 3 * size_t(t), 12) != 0;
-    for (size_t a = 0; a < lay.names.size() && !changed; ++a) {
-      const AttributeView* v = views[a];
-      if (!v) continue;
-      changed = std::memcmp(static_cast<const uint8_t*>(v->data) + size_t(t) * lay.strides[a],
-                            meshAttr(before, lay.names[a], t), lay.strides[a]) != 0;
-    }
-    if (!changed) continue;
+    if (w == kInvalid || same(t, 1)) continue;
     if (!L.changedTriangles.push_back(t) || !append(L.changedCorners, before.triangles.data() + 3 * size_t(t), 3))
       return oom();
     for (size_t a = 0; a < lay.names.size(); ++a)
@@ -548,7 +554,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   Status s = given ? em.toMesh(cur, nullptr, nullptr) : em.toMesh(cur, &topo, nullptr, o.intersections);
   if (!s.ok()) return s;
   if (given) topo = std::move(*given);
-  const uint64_t fingerprint = fingerprintOf(cur);
+  // The fingerprint's state after cur's positions (fingerprintOf), for a step that keeps them.
+  uint64_t curPositionsState = 0;
+  const uint64_t fingerprint = fingerprintOf(cur, &curPositionsState);
   if (inputKey) *inputKey = meshKey(cur, fingerprint);
   if (made && fingerprint != made->fingerprint)
     return Status::error(Code::InvalidArgument, "the plan was made for another mesh (its fingerprint differs)");
@@ -656,7 +664,11 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         std::swap(cur, next);
         stale = true;
         curChecksKnown = false;
-        if (log) curFingerprint = fingerprintOf(cur);
+        // Reversing triangles keeps the counts and positions: the hash resumes after them.
+        if (log)
+          curFingerprint = L.changedVertices.empty() && L.removedVertices.empty() && L.addedVertices == 0
+                               ? fingerprintAfterPositions(curPositionsState, cur)
+                               : fingerprintOf(cur, &curPositionsState);
         L.fingerprintAfter = curFingerprint;
         changed = true;
         if (plan) {
@@ -683,7 +695,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         std::swap(topo, nextTopo);
         stale = false;
         curChecksKnown = false;
-        if (log) curFingerprint = fingerprintOf(cur);
+        if (log) curFingerprint = fingerprintOf(cur, &curPositionsState);
         L.fingerprintAfter = curFingerprint;
         changed = true;
         // The figures after each step are the plan's; the log needs only the last ones.
