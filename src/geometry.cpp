@@ -1133,7 +1133,13 @@ struct EdgeSums {
   bool prepare(size_t adds) {
     size_t cap = 64;
     while (cap < 2 * adds) cap *= 2;
-    if (key.size() < cap && (!key.assign(cap, 0) || !net.assign(cap, 0))) return false;
+    // Both tables or neither: a failed second allocation must not leave `key` grown past
+    // `net` (the next prepare would then skip the allocation and write through an empty net).
+    if ((key.size() < cap || net.size() < cap) && (!key.assign(cap, 0) || !net.assign(cap, 0))) {
+      key = Array<uint64_t>{};
+      net = Array<int32_t>{};
+      return false;
+    }
     if (filled.size() < adds + 1 && !filled.resize(adds + 1)) return false;
     mask = cap - 1;
     nFilled = 0;

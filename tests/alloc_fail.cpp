@@ -4,6 +4,7 @@
 // allocation had a fallback) and never throw, abort or crash, and the next read must work.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <functional>
 #include <string>
@@ -297,5 +298,136 @@ TEST(AllocFail, ShellsDefectsAndExtractShell) {
     std::string again;
     EXPECT_TRUE(once(0, again).ok());
     EXPECT_EQ(again, good);
+  }
+}
+
+namespace {
+bool sameMesh(const Mesh& a, const Mesh& b) {
+  return a.positions.size() == b.positions.size() && a.triangles.size() == b.triangles.size() &&
+         std::equal(a.positions.begin(), a.positions.end(), b.positions.begin()) &&
+         std::equal(a.triangles.begin(), a.triangles.end(), b.triangles.begin());
+}
+}  // namespace
+
+// The repair (issue 23): each allocation of planRepair, and of an applyRepair that runs the
+// steps itself (keepResult off), fails in turn. A plan is then out-of-memory or the good
+// plan; an apply is out-of-memory, with the editor valid and as the completed steps left it
+// (undoing the log gives back the input), or the good result and log. The default steps on
+// a torus with two holes, three flipped triangles and a duplicate: duplicates, orient (not
+// the last step: the runner keeps its edits unbuilt for fill-holes) and fill-holes all do
+// items, so a failure lands in each of them and between them.
+TEST(AllocFail, RepairFailsCleanly) {
+  gen::Soup s = gen::torus(12, 8, {13, 60});
+  for (size_t k : {7u, 40u, 101u}) std::swap(s.f[k][1], s.f[k][2]);
+  s.f.push_back(s.f[50]);
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(s), m).ok());
+  RepairOptions o;
+  o.keepResult = false;
+  Mesh input;
+  {
+    EditableMesh em;
+    ASSERT_TRUE(em.init(m).ok());
+    ASSERT_TRUE(em.toMesh(input).ok());
+  }
+  auto armFor = [](long k) {
+    seen = 0;
+    countdown = k;
+    armed = true;
+  };
+  auto disarm = [] {
+    armed = false;
+    countdown = 0;
+  };
+  // The plan.
+  RepairPlan plan;
+  armFor(0);
+  ASSERT_TRUE(planRepair(m, o, plan).ok());
+  disarm();
+  const long nPlan = seen;
+  const std::string goodPlan = repairPlanJson(plan);
+  ASSERT_GT(nPlan, 20);
+  for (long k = 1; k <= nPlan; ++k) {
+    SCOPED_TRACE("plan allocation " + std::to_string(k) + " of " + std::to_string(nPlan));
+    RepairPlan p;
+    armFor(k);
+    Status st = planRepair(m, o, p);
+    disarm();
+    if (!st.ok())
+      EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    else
+      EXPECT_EQ(repairPlanJson(p), goodPlan);
+  }
+  for (const RepairStepPlan& sp : plan.steps)
+    if (sp.kind == RepairStepKind::Duplicates || sp.kind == RepairStepKind::Orient ||
+        sp.kind == RepairStepKind::FillHoles)
+      ASSERT_GT(sp.nDone(), 0u) << repairStepName(sp.kind);
+  // The apply.
+  Mesh goodMesh;
+  std::string goodLog;
+  {
+    EditableMesh em;
+    ASSERT_TRUE(em.init(m).ok());
+    RepairLog log;
+    armFor(0);
+    ASSERT_TRUE(applyRepair(em, plan, log).ok());
+    disarm();
+    ASSERT_TRUE(em.toMesh(goodMesh).ok());
+    goodLog = repairLogJson(log);
+  }
+  const long nApply = seen;
+  ASSERT_GT(nApply, 20);
+  long failures = 0;
+  for (long k = 1; k <= nApply; ++k) {
+    SCOPED_TRACE("apply allocation " + std::to_string(k) + " of " + std::to_string(nApply));
+    EditableMesh em;
+    ASSERT_TRUE(em.init(m).ok());
+    RepairLog log;
+    armFor(k);
+    Status st = applyRepair(em, plan, log);
+    disarm();
+    EXPECT_TRUE(em.validate().ok());
+    Mesh now;
+    ASSERT_TRUE(em.toMesh(now).ok());
+    if (st.ok()) {
+      EXPECT_TRUE(sameMesh(now, goodMesh));
+      EXPECT_EQ(repairLogJson(log), goodLog);
+      continue;
+    }
+    ++failures;
+    EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    const std::string logJson = repairLogJson(log);
+    Status undone = undoRepair(em, log);
+    ASSERT_TRUE(undone.ok()) << undone.message << "\n" << st.message << "\n" << logJson;
+    Mesh back;
+    ASSERT_TRUE(em.toMesh(back).ok());
+    EXPECT_TRUE(sameMesh(back, input)) << st.message << "\n" << logJson;
+  }
+  EXPECT_GT(failures, nApply / 2);
+  // Undo: each allocation of undoRepair fails in turn; the mesh stays valid, in a state the
+  // log still undoes (a step is undone whole or not at all), so that an undo after it gives
+  // back the input.
+  long nUndo = 0;
+  for (long k = 0; k == 0 || k <= nUndo; ++k) {
+    SCOPED_TRACE("undo allocation " + std::to_string(k) + " of " + std::to_string(nUndo));
+    EditableMesh em;
+    ASSERT_TRUE(em.init(m).ok());
+    RepairLog log;
+    ASSERT_TRUE(applyRepair(em, plan, log).ok());
+    armFor(k);
+    Status st = undoRepair(em, log);
+    disarm();
+    if (k == 0) {
+      ASSERT_TRUE(st.ok());
+      nUndo = seen;
+      ASSERT_GT(nUndo, 5);
+    } else if (!st.ok()) {
+      EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    }
+    EXPECT_TRUE(em.validate().ok());
+    ASSERT_TRUE(undoRepair(em, log).ok());
+    Mesh back;
+    ASSERT_TRUE(em.toMesh(back).ok());
+    EXPECT_TRUE(sameMesh(back, input));
   }
 }

@@ -104,9 +104,9 @@ Status runDuplicates(StepContext& ctx) {
     std::vector<uint32_t> members(checks.duplicateTriangles.data() + checks.duplicateOffsets[g],
                                   checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
     const bool wall = DuplicateOrientation(checks.duplicateOrientation[g]) != DuplicateOrientation::Same;
-    std::string action = wall ? detail::format("remove the %zu triangles of a zero-thickness wall (%s)", members.size(),
+    std::string action = wall ? text("remove the %zu triangles of a zero-thickness wall (%s)", members.size(),
                                                idText(members, 0).c_str())
-                              : detail::format("remove triangle%s %s, a copy of %u", members.size() > 2 ? "s" : "",
+                              : text("remove triangle%s %s, a copy of %u", members.size() > 2 ? "s" : "",
                                                idText(members, 1).c_str(), members[0]);
     ctx.begin(std::move(action), members);
     if (ctx.excluded()) continue;
@@ -187,13 +187,13 @@ Status runZeroArea(StepContext& ctx) {
       } else {
         why = "the longest edge is on a boundary";
       }
-      ctx.begin(detail::format("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z},
+      ctx.begin(text("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z},
                 {m, p, q});
       if (ctx.excluded()) continue;
       if (flippable) {
         s = em.flipEdge(e);
         if (s.ok()) {
-          ctx.plan.items.back().action += detail::format(": flip edge %u-%u", p, q);
+          ctx.plan.items.back().action += text(": flip edge %u-%u", p, q);
           progress = true;
           continue;
         }
@@ -209,7 +209,7 @@ Status runZeroArea(StepContext& ctx) {
       for (uint32_t end : ends) {
         double moved = dist(pos(em, m), pos(em, end));
         if (moved > 0.1 * length) {
-          why += detail::format(
+          why += text(
               "; not a needle: collapsing %u onto %u would move it by %g, more than a tenth of the "
               "triangle's length %g",
               m, end, moved, length);
@@ -225,14 +225,14 @@ Status runZeroArea(StepContext& ctx) {
         s = em.collapseEdge(h, t);
         if (s.ok()) {
           RepairItem& it = ctx.plan.items.back();
-          it.action += detail::format(": collapse edge %u-%u (moves %g)", m, end, moved);
+          it.action += text(": collapse edge %u-%u (moves %g)", m, end, moved);
           it.moved = moved;
           done = true;
           progress = true;
           break;
         }
         if (s.code != Code::EditRefused) return s;
-        why += "; collapse " + detail::format("%u-%u: ", m, end) + s.message;
+        why += "; collapse " + text("%u-%u: ", m, end) + s.message;
       }
       if (!done) ctx.skip(why);
     }
@@ -377,8 +377,8 @@ Status runOrient(StepContext& ctx) {
       STLTOPO_CATCH { return detail::oom(kStepArrays); }
     }
     const uint32_t kept = n - uint32_t(flip.size());
-    ctx.begin(conflict ? detail::format("orient the shell of triangle %u consistently", seed)
-                       : detail::format("flip %zu triangle%s of the shell of triangle %u to match the other %u",
+    ctx.begin(conflict ? text("orient the shell of triangle %u consistently", seed)
+                       : text("flip %zu triangle%s of the shell of triangle %u to match the other %u",
                                         flip.size(), flip.size() == 1 ? "" : "s", seed, kept),
               conflict ? std::vector<uint32_t>{seed} : flip);
     if (ctx.excluded()) continue;
@@ -449,8 +449,8 @@ Status runOrient(StepContext& ctx) {
     }
     STLTOPO_CATCH { return detail::oom(kStepArrays); }
     std::string why = depth == kInvalid ? (nested ? "it overlaps another shell; by volume sign" : "by volume sign")
-                                        : detail::format("at nesting depth %u", depth);
-    ctx.begin(detail::format("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
+                                        : text("at nesting depth %u", depth);
+    ctx.begin(text("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
                              sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
               std::move(tris));
     if (ctx.excluded()) continue;
@@ -470,8 +470,8 @@ Status runSmallShells(StepContext& ctx) {
   Status s = shellsNow(ctx.em, mesh, topo, shells, ctx.options.threads);
   if (!s.ok()) return s;
   const RepairOptions& o = ctx.options;
-  ctx.plan.note = detail::format("removes shells of fewer than %u triangles", o.minShellTriangles);
-  if (o.minShellVolume > 0) ctx.plan.note += detail::format(" or less than %g volume", o.minShellVolume);
+  ctx.plan.note = text("removes shells of fewer than %u triangles", o.minShellTriangles);
+  if (o.minShellVolume > 0) ctx.plan.note += text(" or less than %g volume", o.minShellVolume);
   ctx.plan.note += "; the largest shell always stays";
   uint32_t largest = kInvalid;
   for (uint32_t k = 0; k < shells.size(); ++k)
@@ -497,7 +497,7 @@ Status runSmallShells(StepContext& ctx) {
     std::vector<uint32_t> tris;
     STLTOPO_TRY { tris.assign(members.data() + offsets[k], members.data() + offsets[k + 1]); }
     STLTOPO_CATCH { return detail::oom(kStepArrays); }
-    ctx.begin(detail::format("remove shell %u (%u triangles, volume %g)", k, sh.triangles, sh.volume), std::move(tris));
+    ctx.begin(text("remove shell %u (%u triangles, volume %g)", k, sh.triangles, sh.volume), std::move(tris));
     if (ctx.excluded()) continue;
     if (k == largest) {
       ctx.skip("it is the largest shell");

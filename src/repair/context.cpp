@@ -1,5 +1,7 @@
 // The repair steps' frame: items, exclusions, snapshots (steps.h).
 #include <algorithm>
+#include <cstdarg>
+#include <cstdio>
 #include <limits>
 
 #include "repair/steps.h"
@@ -57,6 +59,24 @@ bool StepContext::excluded() {
       return true;
     }
   return false;
+}
+
+std::string text(const char* f, ...) {
+  char buf[256];
+  va_list ap, again;
+  va_start(ap, f);
+  va_copy(again, ap);
+  const int n = std::vsnprintf(buf, sizeof buf, f, ap);
+  va_end(ap);
+  std::string out;
+  if (n >= 0 && size_t(n) < sizeof buf) {
+    out.assign(buf, size_t(n));
+  } else if (n >= 0) {
+    out.resize(size_t(n));
+    std::vsnprintf(out.data(), size_t(n) + 1, f, again);
+  }
+  va_end(again);
+  return out;
 }
 
 Status snapshot(const EditableMesh& em, Mesh& mesh, Topology& topo) { return em.toMesh(mesh, &topo, nullptr); }

@@ -787,7 +787,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
   for (uint32_t t = 0; t < nt; ++t) {
     const uint32_t* C = p.tris.data() + 3 * size_t(t);
     if (pred::collinear(P(C[0]), P(C[1]), P(C[2]))) {
-      why = detail::format("a new triangle (%u, %u, %u) would have zero area (collinear corners)", C[0], C[1], C[2]);
+      why = text("a new triangle (%u, %u, %u) would have zero area (collinear corners)", C[0], C[1], C[2]);
       return Status{};
     }
   }
@@ -797,7 +797,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const int64_t nb = p.nbr[s];
     const uint32_t a = p.tris[s], b = p.tris[3 * (s / 3) + nextC(s % 3)];
     if (nb == std::numeric_limits<int64_t>::min()) {
-      why = detail::format(
+      why = text(
           "the fill would make edge %u-%u non-manifold or inconsistent (new triangles do not pair on it)", a, b);
       return Status{};
     }
@@ -808,7 +808,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
   for (size_t i = 0; i < inner.size(); ++i) {
     const uint32_t a = uint32_t(inner[i] >> 32), b = uint32_t(inner[i]);
     if ((i > 0 && inner[i] == inner[i - 1]) || (a < p.base && b < p.base && F.edgeExists(a, b))) {
-      why = detail::format("a new inner edge %u-%u would land on an existing edge (non-manifold)", a, b);
+      why = text("a new inner edge %u-%u would land on an existing edge (non-manifold)", a, b);
       return Status{};
     }
   }
@@ -820,7 +820,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const uint32_t* C = p.tris.data() + 3 * size_t(s / 3);
     const uint32_t* M = T + 3 * size_t(m);
     if (pred::normalsDot(F.pos(M[0]), F.pos(M[1]), F.pos(M[2]), P(C[0]), P(C[1]), P(C[2])) < 0) {
-      why = detail::format("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)",
+      why = text("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)",
                            p.tris[s], p.tris[3 * (s / 3) + nextC(s % 3)], m);
       return Status{};
     }
@@ -833,7 +833,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       area += triArea(vof(P(C[0])), vof(P(C[1])), vof(P(C[2])));
     }
     if (area > F.ctx.options.maxHoleArea) {
-      why = detail::format("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area,
+      why = text("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area,
                            F.ctx.options.maxHoleArea);
       return Status{};
     }
@@ -867,7 +867,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
   double point[3];
   auto meets = [&](const Tri& a, uint32_t m) {
     if (geometry_detail::trianglePairTest(a, triOfMesh(m), point) < 0) return false;
-    why = detail::format("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1],
+    why = text("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1],
                          a.v[2], m);
     return true;
   };
@@ -903,7 +903,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       for (int c = 0; c < 3; ++c) extend(bb, b.p[c]);
       for (uint32_t t = 0; t < nt && why.empty(); ++t)
         if (overlaps(boxes[t], bb) && geometry_detail::trianglePairTest(triOfPatch(t), b, point) >= 0)
-          why = detail::format("the fill would cross an earlier fill (triangle %u)", m);
+          why = text("the fill would cross an earlier fill (triangle %u)", m);
     }
   }
   if (!why.empty()) return Status{};
@@ -921,7 +921,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       if (boxes[y].lo[0] > boxes[x].hi[0]) break;
       if (!overlaps(boxes[x], boxes[y])) continue;
       if (geometry_detail::trianglePairTest(triOfPatch(x), triOfPatch(y), point) >= 0) {
-        why = detail::format("the fill would cross itself (new triangles (%u, %u, %u) and (%u, %u, %u))", p.tris[3 * x],
+        why = text("the fill would cross itself (new triangles (%u, %u, %u) and (%u, %u, %u))", p.tris[3 * x],
                              p.tris[3 * x + 1], p.tris[3 * x + 2], p.tris[3 * y], p.tris[3 * y + 1], p.tris[3 * y + 2]);
         break;
       }
@@ -949,7 +949,7 @@ Status Filler::fillItem(uint32_t h) {
   // The item's box comes from the vertices: begin() would read a loop's from em.loops(),
   // which an earlier fill renumbered (and reading it would renumber the loops, O(n), per item).
   std::vector<uint32_t> verts(lv, lv + it.n);
-  RepairItem& item = ctx.begin(detail::format("fill hole %u (%u edges)", h, it.n), {}, std::move(verts));
+  RepairItem& item = ctx.begin(text("fill hole %u (%u edges)", h, it.n), {}, std::move(verts));
   item.loops.push_back(h);
   if (ctx.excluded()) return Status{};
   if (loopIsSeam[h]) {
@@ -959,11 +959,11 @@ Status Filler::fillItem(uint32_t h) {
     return Status{};
   }
   if (it.n > ctx.options.maxHoleEdges) {
-    ctx.skip(detail::format("%u edges, over the limit of %u (maxHoleEdges)", it.n, ctx.options.maxHoleEdges));
+    ctx.skip(text("%u edges, over the limit of %u (maxHoleEdges)", it.n, ctx.options.maxHoleEdges));
     return Status{};
   }
   if (ctx.options.maxHolePerimeter > 0 && loopPerimeter[h] > ctx.options.maxHolePerimeter) {
-    ctx.skip(detail::format("perimeter %.6g, over the limit of %.6g (maxHolePerimeter)", loopPerimeter[h],
+    ctx.skip(text("perimeter %.6g, over the limit of %.6g (maxHolePerimeter)", loopPerimeter[h],
                             ctx.options.maxHolePerimeter));
     return Status{};
   }
@@ -1028,7 +1028,7 @@ Status Filler::fillItem(uint32_t h) {
       const uint32_t m = parts.offsets[p + 1] - parts.offsets[p];
       if (m < 3) {
         ctx.skip(
-            detail::format("the loop passes vertex %u more than once, with a part of %u edges between: no "
+            text("the loop passes vertex %u more than once, with a part of %u edges between: no "
                            "triangle can fill it",
                            lv[parts.pos[parts.offsets[p]]], m));
         return Status{};
@@ -1166,8 +1166,8 @@ Status Filler::fillItem(uint32_t h) {
     for (uint32_t c = 0; c < 3; ++c) extend(box, pos(em.triangles()[3 * size_t(t) + c]));
   }
   if (!addedItemOffsets.push_back(uint32_t(addedTriangles.size())) || !addedItemBoxes.push_back(box)) return oom();
-  std::string action = detail::format("fill hole %u (%u edges) with %u triangles", h, it.n, patch.nTris());
-  if (patch.nNew() > 0) action += detail::format(" and %u new vertices", patch.nNew());
+  std::string action = text("fill hole %u (%u edges) with %u triangles", h, it.n, patch.nTris());
+  if (patch.nNew() > 0) action += text(" and %u new vertices", patch.nNew());
   action += byMinWeight && byEars ? " (minimum weight and ear clipping"
             : byEars              ? " (ear clipping"
             : fellBack            ? " (minimum weight, as ear clipping failed the checks"

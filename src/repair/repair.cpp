@@ -180,16 +180,19 @@ Status checkOptions(const RepairOptions& o) {
 
 // Only the file's attributes are carried (repair rebuilds the mesh between steps).
 Status checkAttributes(const EditableMesh& em) {
-  for (const std::string& n : em.attributeNames())
-    if (!fileAttribute(n))
-      return Status::error(
-          Code::InvalidArgument,
-          "repair carries only the file's attributes (attribute, color, colorValid, normal); remove \"" + n +
-              "\" first");
+  STLTOPO_TRY {
+    for (const std::string& n : em.attributeNames())
+      if (!fileAttribute(n))
+        return Status::error(
+            Code::InvalidArgument,
+            "repair carries only the file's attributes (attribute, color, colorValid, normal); remove \"" + n +
+                "\" first");
+  }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
   return Status{};
 }
 
-Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
+Status runStepIn(RepairStepKind k, repair_detail::StepContext& ctx) {
   switch (k) {
     case RepairStepKind::Duplicates: return repair_detail::runDuplicates(ctx);
     case RepairStepKind::ZeroArea: return repair_detail::runZeroArea(ctx);
@@ -200,6 +203,15 @@ Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
     case RepairStepKind::SmallShells: return repair_detail::runSmallShells(ctx);
   }
   return Status::error(Code::InvalidArgument, "no such repair step");
+}
+
+// A step, with its items' lists and texts (std containers) failing to allocate as out of
+// memory: the runner then restores the mesh as it was before the step. (The wasm build has
+// no exceptions: there such a failure aborts, and the JS layer starts a fresh module.)
+Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
+  STLTOPO_TRY { return runStepIn(k, ctx); }
+  STLTOPO_CATCH { return detail::oom("a repair step's items"); }
+  return Status{};
 }
 
 // The pass's pairs carried through the steps (run()): the pairs of the mesh as it is now,
@@ -309,11 +321,21 @@ Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const
 
 // infoJson of mesh (with topo), given its triangle checks when they are known (the same
 // report: infoJson runs them itself otherwise).
-std::string reportOf(const Mesh& mesh, const Topology& topo, const TriangleChecks* checks) {
-  if (!checks) return infoJson("", mesh, &topo);
+// The checks are run here when unknown (infoJson would run them, and report their figures
+// as unknown when they cannot allocate: here that is out of memory).
+Status reportOf(const Mesh& mesh, const Topology& topo, const TriangleChecks* checks, unsigned threads,
+                std::string& out) {
+  TriangleChecks own;
+  if (!checks) {
+    Status s = checkTriangles(mesh, &topo, own, threads);
+    if (!s.ok()) return s;
+    checks = &own;
+  }
   ReportExtras e;
   e.checks = checks;
-  return infoJson("", mesh, &topo, e);
+  STLTOPO_TRY { out = infoJson("", mesh, &topo, e); }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+  return Status{};
 }
 
 // The attribute values of triangle t of a Mesh, in the order `names` lists them.
@@ -358,8 +380,8 @@ bool append(Array<T>& a, const T* p, size_t n) {
 // What the step changed: `before` is the mesh as the step found it (em then held exactly
 // it), em the mesh after the step (slots: survivors keep ids, removed ones dead, new ones
 // appended), `maps` and `after` toMesh's compaction of em.
-Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& maps, const Mesh& after,
-                RepairStepLog& L) {
+Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps& maps, const Mesh& after,
+                  RepairStepLog& L) {
   const uint32_t nTb = before.nTriangles(), nVb = before.nVertices();
   L.trianglesBefore = nTb;
   L.verticesBefore = nVb;
@@ -454,8 +476,16 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
   return Status{};
 }
 
+// diffStepIn, with its std containers (the attribute layout) failing as out of memory.
+Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& maps, const Mesh& after,
+                RepairStepLog& L) {
+  STLTOPO_TRY { return diffStepIn(before, em, maps, after, L); }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+  return Status{};
+}
+
 // The mesh before step L, from the mesh after it. InvalidArgument when they do not fit.
-Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
+Status meshBeforeIn(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   auto mismatch = [] { return Status::error(Code::InvalidArgument, "the change log does not fit this mesh"); };
   const uint32_t nTb = L.trianglesBefore, nVb = L.verticesBefore;
   if (after.nTriangles() != L.trianglesAfter || after.nVertices() != L.verticesAfter) return mismatch();
@@ -537,6 +567,13 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   return Status{};
 }
 
+// meshBeforeIn, with its std containers (the attribute layout) failing as out of memory.
+Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
+  STLTOPO_TRY { return meshBeforeIn(after, L, b); }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+  return Status{};
+}
+
 // Runs the chosen steps on em: the plan into `plan`, the change log into `log` (a plan
 // that keeps its result makes both). For apply, `made` is the plan: its fingerprint is
 // checked before anything changes, and the figures it knows are those of the same meshes
@@ -547,6 +584,18 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 // is); run() takes it. `source`: the mesh em was just made from (init(source, *given)).
 Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, const RepairPlan* made = nullptr,
            uint64_t* inputKey = nullptr, Topology* given = nullptr, const Mesh* source = nullptr) {
+  // Room for every step's entry first: a step's changes and its entry in the log go together
+  // (an entry that could not be added after its step had changed the mesh would leave a
+  // change the log cannot undo).
+  {
+    size_t nSteps = 0;
+    for (int k = 0; k < kRepairStepCount; ++k) nSteps += (o.steps >> k) & 1u;
+    STLTOPO_TRY {
+      if (plan) plan->steps.reserve(nSteps);
+      if (log) log->steps.reserve(log->steps.size() + nSteps);
+    }
+    STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+  }
   Mesh cur;
   Topology topo;
   // With the intersection pass, the topologies the figures are computed on carry
@@ -563,8 +612,15 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // Compacted: the steps see dense ids, and the state is init()'s of `cur`, which is what a
   // failed step restores and what undo rebuilds.
   // (em holds that state already when it was just made from a mesh with cur's content.)
-  if (!(given && source && sameContent(cur, *source))) s = em.init(cur, topo);
-  if (!s.ok()) return s;
+  if (!(given && source && sameContent(cur, *source))) {
+    s = em.init(cur, topo);
+    if (!s.ok()) {
+      // A failed init leaves em empty: back to cur (the memory init freed is what it needs;
+      // if even that fails, the error says so), which is em as it was, compacted.
+      Status r = em.init(cur, topo);
+      return r.ok() ? s : r;
+    }
+  }
   // The fingerprint of cur, for the log (a plan needs only the first).
   uint64_t curFingerprint = fingerprint;
   // Each changing step rebuilds into these (toMesh keeps their memory), then swaps them with cur.
@@ -577,7 +633,10 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // The triangle checks of `cur`, when the figures of cur made them (for its report).
   TriangleChecks curChecks;
   bool curChecksKnown = false;
-  auto curReport = [&] { return reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr); };
+  // cur's report into `out` (a std::string: out of memory as a status).
+  auto curReport = [&](std::string& out) -> Status {
+    return reportOf(cur, topo, curChecksKnown ? &curChecks : nullptr, o.threads, out);
+  };
   // After a step that only reversed triangles (orient, not last), em keeps its edits
   // instead of being made again from the rebuilt mesh: `cur` is then toMesh's plain mesh of
   // em, but `topo` is the one before the step (stale) and em is not init()'s state of cur
@@ -621,7 +680,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     log->before = before;
     log->fingerprintBefore = fingerprint;
     // what em.infoJson gives: cur is its toMesh
-    log->beforeReport = curReport();
+    s = curReport(log->beforeReport);
+    if (!s.ok()) return s;
   }
   int lastStep = -1;
   for (int k = 0; k < kRepairStepCount; ++k)
@@ -756,17 +816,31 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     plan->afterKnown = true;
     plan->fingerprintAfter = !changed ? fingerprint : log ? curFingerprint : fingerprintOf(cur);
     plan->after = after;
-    plan->afterReport = curReport();
-    if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0)
-      plan->remaining = detail::format(
-          "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
-          "merge them with a boolean union (for example manifold-3d's Manifold.union).",
-          after.selfIntersections);
+    s = curReport(plan->afterReport);
+    if (!s.ok()) return s;
+    if (o.intersections && after.selfIntersections != kInvalid && after.selfIntersections > 0) {
+      STLTOPO_TRY {
+        plan->remaining = repair_detail::text(
+            "%u self-intersecting triangle pairs remain: repair does not change them. Where closed shells overlap, "
+            "merge them with a boolean union (for example manifold-3d's Manifold.union).",
+            after.selfIntersections);
+      }
+      STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+    }
   }
   if (log) {
     log->after = after;
     log->fingerprintAfter = curFingerprint;
-    log->afterReport = !changed ? log->beforeReport : plan ? plan->afterReport : curReport();
+    STLTOPO_TRY {
+      if (!changed)
+        log->afterReport = log->beforeReport;
+      else if (plan)
+        log->afterReport = plan->afterReport;
+      else
+        s = curReport(log->afterReport);
+    }
+    STLTOPO_CATCH { s = detail::oom(kRepairArrays); }
+    if (!s.ok()) return s;
   }
   return Status{};
 }

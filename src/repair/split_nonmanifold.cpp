@@ -98,7 +98,7 @@ Status runSplitNonManifold(StepContext& ctx) {
     for (uint32_t i = 0; i < cand.size(); ++i) {
       const uint32_t v = cand[i];
       if (v < handled.size() && handled[v]) continue;
-      ctx.begin(detail::format("split vertex %u (%s) into one vertex per fan", v, describe(why[v])), trisAt[i], {v});
+      ctx.begin(text("split vertex %u (%s) into one vertex per fan", v, describe(why[v])), trisAt[i], {v});
       if (ctx.excluded()) {
         handled[v] = 1;
         continue;
@@ -112,9 +112,9 @@ Status runSplitNonManifold(StepContext& ctx) {
       if (!s.ok()) return s;
       RepairItem& item = ctx.plan.items.back();
       item.action = count == 1
-                        ? detail::format("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
+                        ? text("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
                                          describe(why[v]), first)
-                        : detail::format("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position",
+                        : text("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position",
                                          v, describe(why[v]), count + 1, first, first + count - 1);
       for (uint32_t k = 0; k < count; ++k) item.vertices.push_back(first + k);
       progress = true;
@@ -126,7 +126,7 @@ Status runSplitNonManifold(StepContext& ctx) {
   if (!s.ok()) return s;
   for (uint32_t v : cand) {
     if (v < handled.size() && handled[v]) continue;
-    ctx.begin(detail::format("split vertex %u (%s) into one vertex per fan", v, describe(why[v])), {}, {v});
+    ctx.begin(text("split vertex %u (%s) into one vertex per fan", v, describe(why[v])), {}, {v});
     if (ctx.excluded()) continue;
     Status r = em.splitVertex(v);
     if (r.ok())
@@ -137,7 +137,7 @@ Status runSplitNonManifold(StepContext& ctx) {
   }
   const EditStats& st = em.stats();
   if (st.nonManifoldVertices > 0 || st.nonManifoldEdges > 0)
-    ctx.plan.note = detail::format("%u non-manifold vertices and %u non-manifold edges remain", st.nonManifoldVertices,
+    ctx.plan.note = text("%u non-manifold vertices and %u non-manifold edges remain", st.nonManifoldVertices,
                                    st.nonManifoldEdges);
   return Status{};
 }

@@ -63,6 +63,13 @@ Status runFillHoles(StepContext& ctx);
 Status runOrient(StepContext& ctx);
 Status runSmallShells(StepContext& ctx);
 
+// printf into a std::string for the plan's texts (actions, reasons, notes). Unlike
+// detail::format (for error messages, which it cuts rather than fail), it never cuts: when
+// the string cannot be allocated it throws natively, and the runner's catch makes that the
+// step's out-of-memory error (runStep); in the wasm build, as for every std container there,
+// it aborts.
+std::string text(const char* f, ...) __attribute__((format(printf, 1, 2)));
+
 // The compacted mesh and topology of em (for steps that read Topology, shells, checks).
 Status snapshot(const EditableMesh& em, Mesh& mesh, Topology& topo);
 

@@ -347,8 +347,8 @@ Status mergePairs(StepContext& ctx) {
     std::vector<uint32_t> keep, gone, tris, verts, edgesT, vertsT;
     std::string action =
         tsOf.empty() ? (e - b == 1 ? std::string("merge vertex")
-                                   : detail::format("close a crack: merge %u vertices:", uint32_t(e - b)))
-                     : detail::format("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
+                                   : text("close a crack: merge %u vertices:", uint32_t(e - b)))
+                     : text("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
                                       uint32_t(e - b), uint32_t(tsOf.size()));
     double maxD = 0;
     for (size_t i = b; i < e; ++i) {
@@ -455,8 +455,8 @@ Status closeTJunctions(StepContext& ctx) {
       const uint32_t o = C[0] != c.a && C[0] != c.b ? C[0] : C[1] != c.a && C[1] != c.b ? C[1] : C[2];
       std::string action =
           c.d == 0
-              ? detail::format("close T-junction: split boundary edge %u-%u at vertex %u (on the edge)", c.a, c.b, c.v)
-              : detail::format("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v,
+              ? text("close T-junction: split boundary edge %u-%u at vertex %u (on the edge)", c.a, c.b, c.v)
+              : text("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v,
                                c.d);
       ctx.begin(std::move(action), {tri}, {c.v, c.a, c.b});
       if (ctx.excluded()) continue;
