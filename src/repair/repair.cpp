@@ -644,12 +644,19 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // fresh build's). fill-holes reads only em and runs so; anything else that reads topo or
   // needs init()'s state refreshes first (one rebuild, as the runner would have made).
   bool stale = false;
+  // (A failed toMesh leaves em as it was; a failed init leaves it empty, and it is made from
+  // cur again, as a failed step's restore does: the mesh stays as the log says.)
   auto refresh = [&]() -> Status {
     if (!stale) return Status{};
-    Status r = em.toMesh(cur, &topo, nullptr, o.intersections);
-    if (r.ok()) r = em.init(cur, topo);
-    if (r.ok()) stale = false;
     curChecksKnown = false;
+    Status r = em.toMesh(cur, &topo, nullptr, o.intersections);
+    if (!r.ok()) return r;
+    r = em.init(cur, topo);
+    if (!r.ok()) {
+      Status back = em.init(cur, topo);
+      return back.ok() ? r : back;
+    }
+    stale = false;
     return r;
   };
   // The identity maps of a step that kept every slot (reversal only), for diffStep.
