@@ -469,3 +469,60 @@ TEST(AllocFail, RepairFailsCleanlyOnAdmeshFiles) {
     sweepRepair(m, allSteps());
   }
 }
+
+// The intersection pass (analyzeGeometry, with the shell list and nesting): each allocation
+// fails in turn. Out of memory, or the report of the good run. A torus with holes, flipped
+// triangles and a duplicate (patches that certify and patches that do not: a failed edge
+// table there once left the next certificate writing through an empty array), and the same
+// beside two crossing cubes (pairs, nesting).
+TEST(AllocFail, IntersectionPassFailsCleanly) {
+  gen::Soup s = gen::torus(12, 8, {13, 60});
+  for (size_t k : {7u, 40u, 101u}) std::swap(s.f[k][1], s.f[k][2]);
+  s.f.push_back(s.f[50]);
+  gen::Soup crossing = s;
+  gen::append(crossing, gen::cube(10, 0, 0, 2));
+  gen::append(crossing, gen::cube(11, 1, 1, 2));
+  for (const gen::Soup* soup : {&s, &crossing}) {
+    SCOPED_TRACE(soup == &s ? "torus" : "torus and crossing cubes");
+    Mesh m;
+    ASSERT_TRUE(gen::read(gen::binary(*soup), m).ok());
+    TopologyOptions to;
+    to.triangleShell = true;
+    auto once = [&](long k, std::string& out) {
+      Topology t;
+      GeometryReport g;
+      seen = 0;
+      countdown = k;
+      armed = true;
+      Status st = buildTopology(m, t, to);
+      if (st.ok()) st = analyzeGeometry(m, t, g, IntersectionOptions{});
+      armed = false;
+      countdown = 0;
+      out.clear();
+      if (st.ok()) {
+        ReportExtras e;
+        e.shells = &g.shells;
+        e.checks = &g.checks;
+        e.intersections = &g.intersections;
+        e.nesting = &g.nesting;
+        e.solid = g.solid;
+        out = infoJson("f", m, &t, e);
+      }
+      return st;
+    };
+    std::string good;
+    ASSERT_TRUE(once(0, good).ok());
+    ASSERT_EQ(good.find("\"selfIntersections\":0,") == std::string::npos, soup == &crossing) << good;
+    const long n = seen;
+    ASSERT_GT(n, 20);
+    for (long k = 1; k <= n; ++k) {
+      SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+      std::string got;
+      Status st = once(k, got);
+      if (!st.ok())
+        EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+      else
+        EXPECT_EQ(got, good);
+    }
+  }
+}
