@@ -526,3 +526,108 @@ TEST(AllocFail, IntersectionPassFailsCleanly) {
     }
   }
 }
+
+// meshFromIndexed (both welds, with solids and colours) and writeStl
+// (binary with colours, and ASCII with the solids' names): each allocation fails in turn.
+// Out of memory, or the good result.
+TEST(AllocFail, IndexedAndWriteFailCleanly) {
+  gen::Soup s = gen::torus(8, 6, {5});
+  std::vector<float> positions;
+  for (const auto& v : s.v) positions.insert(positions.end(), {v[0], v[1], v[2]});
+  positions.insert(positions.end(), positions.begin(), positions.begin() + 6);  // repeated positions
+  std::vector<uint32_t> triangles;
+  for (const auto& f : s.f) triangles.insert(triangles.end(), {f[0], f[1], f[2]});
+  const uint32_t nt = uint32_t(s.f.size());
+  std::vector<uint8_t> colors(3 * size_t(nt), 200), valid(nt, 1);
+  Solid parts[2];
+  parts[0].name = std::string(40, 'a');  // longer than a short string's buffer
+  parts[0].firstTriangle = 0;
+  parts[0].triangleCount = nt / 2;
+  parts[1].name = "second part";
+  parts[1].firstTriangle = nt / 2;
+  parts[1].triangleCount = nt - nt / 2;
+  IndexedMesh in;
+  in.positions = positions.data();
+  in.positionsLength = positions.size();
+  in.triangles = triangles.data();
+  in.trianglesLength = triangles.size();
+  in.colors = colors.data();
+  in.colorValid = valid.data();
+  in.solids = parts;
+  in.nSolids = 2;
+  auto arm = [](long k) {
+    seen = 0;
+    countdown = k;
+    armed = true;
+  };
+  auto disarm = [] {
+    armed = false;
+    countdown = 0;
+  };
+  for (Weld weld : {Weld::Exact, Weld::None}) {
+    SCOPED_TRACE(weld == Weld::Exact ? "exact weld" : "no weld");
+    IndexedOptions io;
+    io.weld = weld;
+    auto once = [&](long k, std::string& out) {
+      Mesh m;
+      Array<uint32_t> map;
+      arm(k);
+      Status st = meshFromIndexed(in, m, &map, io);
+      disarm();
+      out.clear();
+      if (st.ok()) out = infoJson("f", m, nullptr) + std::to_string(map.size());
+      return st;
+    };
+    std::string good;
+    Status first = once(0, good);
+    ASSERT_TRUE(first.ok()) << first.message;
+    const long n = seen;
+    ASSERT_GT(n, 3);
+    for (long k = 1; k <= n; ++k) {
+      SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+      std::string got;
+      Status st = once(k, got);
+      if (!st.ok())
+        EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+      else
+        EXPECT_EQ(got, good);
+    }
+  }
+  Mesh m;
+  ASSERT_TRUE(meshFromIndexed(in, m).ok());
+  for (bool ascii : {false, true}) {
+    SCOPED_TRACE(ascii ? "ascii" : "binary");
+    WriteOptions wo;
+    wo.format = ascii ? Format::Ascii : Format::Binary;
+    auto once = [&](long k, std::string& out) {
+      out.clear();
+      arm(k);
+      Status st = writeStl(
+          m,
+          [](void* user, const uint8_t* data, size_t size) {
+            const bool was = armed;  // the test's own buffer is not the writer's
+            armed = false;
+            static_cast<std::string*>(user)->append(reinterpret_cast<const char*>(data), size);
+            armed = was;
+            return true;
+          },
+          &out, wo);
+      disarm();
+      return st;
+    };
+    std::string good;
+    ASSERT_TRUE(once(0, good).ok());
+    ASSERT_GT(good.size(), 84u);
+    const long n = seen;
+    ASSERT_GT(n, 0);  // the writer's chunk buffer at least
+    for (long k = 1; k <= n; ++k) {
+      SCOPED_TRACE("allocation " + std::to_string(k) + " of " + std::to_string(n));
+      std::string got;
+      Status st = once(k, got);
+      if (!st.ok())
+        EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+      else
+        EXPECT_EQ(got, good);
+    }
+  }
+}
