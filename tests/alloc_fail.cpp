@@ -454,6 +454,20 @@ TEST(AllocFail, RepairFailsCleanly) {
     SCOPED_TRACE("every step");
     sweepRepair(m, allSteps());
   }
+  // split-nonmanifold with items: two cubes sharing a vertex, and three sharing an edge.
+  gen::Soup pinch = gen::cube();
+  gen::append(pinch, gen::cube(1, 1, 1));
+  for (const gen::Soup* soup : {static_cast<const gen::Soup*>(&pinch), static_cast<const gen::Soup*>(nullptr)}) {
+    SCOPED_TRACE(soup ? "two cubes sharing a vertex" : "three cubes sharing an edge");
+    Mesh c;
+    ASSERT_TRUE(gen::read(gen::binary(soup ? *soup : cubesSharingAnEdge()), c).ok());
+    RepairPlan p;
+    ASSERT_TRUE(planRepair(c, allSteps(), p).ok());
+    bool split = false;
+    for (const RepairStepPlan& sp : p.steps) split |= sp.kind == RepairStepKind::SplitNonManifold && sp.nDone() > 0;
+    ASSERT_TRUE(split);
+    sweepRepair(c, allSteps());
+  }
 }
 
 // admesh's own damaged files (tests/judge/admesh), every step: stitch (block exact),
