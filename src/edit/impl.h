@@ -132,7 +132,8 @@ struct EditableMesh::Impl {
   // Computed when read.
   bool loopsStale_ = true, statsStale_ = true;
   // The shell count of the topology init() was given (its nShells), until the first change
-  // (whatever makes the stats stale forgets it): stats() then needs no shell pass.
+  // that can change it (whatever makes the stats stale forgets it, but reversing triangles,
+  // which keeps every shared edge): stats() then needs no shell pass.
   uint32_t knownShells_ = kInvalid;
   EditLoops loops_;
   EditStats stats_;

@@ -550,7 +550,11 @@ Status EditableMesh::Impl::reverseTriangle(uint32_t t) {
     Impl::clearChange(*this);
     return detail::oom(kEditArrays);
   }
+  // A reversed triangle shares the same edges as before: the shells (edge-connected
+  // components) and so a known shell count stay.
+  const uint32_t shells = knownShells_;
   Impl::apply(*this);
+  knownShells_ = shells;
   negateNormal(attribute(kAttrNormal), t);
   return Status{};
 }
@@ -587,7 +591,9 @@ Status EditableMesh::Impl::reverseShell(uint32_t t) {
     return detail::oom(kEditArrays);
   }
   std::memcpy(done.data(), chRewritten_.data(), chRewritten_.size() * 4);
+  const uint32_t shells = knownShells_;  // as for reverseTriangle: the shells stay
   Impl::apply(*this);
+  knownShells_ = shells;
   const AttributeView* n = attribute(kAttrNormal);
   for (uint32_t tr : done) negateNormal(n, tr);
   return Status{};
