@@ -402,6 +402,62 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     EXPECT_TRUE(sameMesh(back, input)) << st.message << "\n" << logJson;
   }
   EXPECT_GT(failures, nApply / 2);
+  // The CLI's way, applyRepair(mesh, plan, em, log): it builds the editor of the mesh and
+  // runs the steps (the plan kept no result). On failure em is empty with no step logged
+  // (nothing was built), or the editor as the completed steps left it.
+  long nCli = 0;
+  for (long k = 0; k == 0 || k <= nCli; ++k) {
+    SCOPED_TRACE("CLI-way apply allocation " + std::to_string(k) + " of " + std::to_string(nCli));
+    EditableMesh em;
+    RepairLog log;
+    armFor(k);
+    Status st = applyRepair(m, plan, em, log);
+    disarm();
+    if (k == 0) nCli = seen;
+    EXPECT_TRUE(em.validate().ok());
+    Mesh now;
+    ASSERT_TRUE(em.toMesh(now).ok());
+    if (st.ok()) {
+      EXPECT_TRUE(sameMesh(now, goodMesh));
+      EXPECT_EQ(repairLogJson(log), goodLog);
+      continue;
+    }
+    EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+    if (log.steps.empty() && em.nTriangles() == 0) continue;
+    ASSERT_TRUE(undoRepair(em, log).ok());
+    Mesh back;
+    ASSERT_TRUE(em.toMesh(back).ok());
+    EXPECT_TRUE(sameMesh(back, input)) << st.message;
+  }
+  EXPECT_GT(nCli, 20);
+  // Taking the plan's result (keepResult on): a failed apply leaves the editor as it was.
+  RepairOptions keep = o;
+  keep.keepResult = true;
+  long nTake = 0;
+  for (long k = 0; k == 0 || k <= nTake; ++k) {
+    SCOPED_TRACE("apply taking the result, allocation " + std::to_string(k) + " of " + std::to_string(nTake));
+    RepairPlan kept;
+    ASSERT_TRUE(planRepair(m, keep, kept).ok());
+    EditableMesh em;
+    ASSERT_TRUE(em.init(m).ok());
+    RepairLog log;
+    armFor(k);
+    Status st = applyRepair(em, kept, log);
+    disarm();
+    if (k == 0) nTake = seen;
+    EXPECT_TRUE(em.validate().ok());
+    Mesh now;
+    ASSERT_TRUE(em.toMesh(now).ok());
+    if (st.ok()) {
+      EXPECT_TRUE(sameMesh(now, goodMesh));
+      EXPECT_EQ(repairLogJson(log), goodLog);
+    } else {
+      EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+      EXPECT_TRUE(sameMesh(now, input));
+      EXPECT_FALSE(kept.resultTaken());
+    }
+  }
+  EXPECT_GT(nTake, 0);
   // Undo.
   long nUndo = 0;
   for (long k = 0; k == 0 || k <= nUndo; ++k) {
