@@ -375,6 +375,15 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
   }
   const long nApply = seen;
   ASSERT_GT(nApply, 20);
+  // The editor after an apply: valid, its mesh into `now`; and whether that is the good result.
+  auto meshOf = [](EditableMesh& em, Mesh& now) {
+    EXPECT_TRUE(em.validate().ok());
+    EXPECT_TRUE(em.toMesh(now).ok());
+  };
+  auto expectGood = [&](const Mesh& now, const RepairLog& log) {
+    EXPECT_TRUE(sameMesh(now, goodMesh));
+    EXPECT_EQ(repairLogJson(log), goodLog);
+  };
   long failures = 0;
   for (long k = 1; k <= nApply; ++k) {
     SCOPED_TRACE("apply allocation " + std::to_string(k) + " of " + std::to_string(nApply));
@@ -384,12 +393,10 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     armFor(k);
     Status st = applyRepair(em, plan, log);
     disarm();
-    EXPECT_TRUE(em.validate().ok());
     Mesh now;
-    ASSERT_TRUE(em.toMesh(now).ok());
+    meshOf(em, now);
     if (st.ok()) {
-      EXPECT_TRUE(sameMesh(now, goodMesh));
-      EXPECT_EQ(repairLogJson(log), goodLog);
+      expectGood(now, log);
       continue;
     }
     ++failures;
@@ -414,12 +421,10 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     Status st = applyRepair(m, plan, em, log);
     disarm();
     if (k == 0) nCli = seen;
-    EXPECT_TRUE(em.validate().ok());
     Mesh now;
-    ASSERT_TRUE(em.toMesh(now).ok());
+    meshOf(em, now);
     if (st.ok()) {
-      EXPECT_TRUE(sameMesh(now, goodMesh));
-      EXPECT_EQ(repairLogJson(log), goodLog);
+      expectGood(now, log);
       continue;
     }
     EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
@@ -445,12 +450,10 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     Status st = applyRepair(em, kept, log);
     disarm();
     if (k == 0) nTake = seen;
-    EXPECT_TRUE(em.validate().ok());
     Mesh now;
-    ASSERT_TRUE(em.toMesh(now).ok());
+    meshOf(em, now);
     if (st.ok()) {
-      EXPECT_TRUE(sameMesh(now, goodMesh));
-      EXPECT_EQ(repairLogJson(log), goodLog);
+      expectGood(now, log);
     } else {
       EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
       EXPECT_TRUE(sameMesh(now, input));
