@@ -46,6 +46,16 @@ void* track(void* p, size_t n) {
   }
   return p;
 }
+// Counts the allocations from here on, and fails the k-th (k > 0) of them.
+void arm(long k) {
+  seen = 0;
+  countdown = k;
+  armed = true;
+}
+void disarm() {
+  armed = false;
+  countdown = 0;
+}
 }  // namespace
 
 extern "C" void* malloc(size_t n) { return failNow(n) ? nullptr : track(__libc_malloc(n), n); }
@@ -70,9 +80,7 @@ Outcome run(const std::string& bytes, const TopologyOptions& to, long k, size_t 
   Outcome r;
   Mesh m;
   Topology t;
-  seen = 0;
-  countdown = k;
-  armed = true;
+  arm(k);
   if (chunk == 0) {
     r.read = readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m);
   } else {
@@ -82,8 +90,7 @@ Outcome run(const std::string& bytes, const TopologyOptions& to, long k, size_t 
     if (r.read.ok()) r.read = reader.finish(m);
   }
   if (r.read.ok()) r.topo = buildTopology(m, t, to);
-  armed = false;
-  countdown = 0;
+  disarm();
   if (r.read.ok() && r.topo.ok()) r.json = infoJson("f", m, &t);
   return r;
 }
@@ -193,11 +200,9 @@ void sweepEdit(const char* name, const Edit& edit) {
   SCOPED_TRACE(name);
   EditableMesh good;
   makeOpenTorus(good);
-  seen = 0;
-  countdown = 0;
-  armed = true;
+  arm(0);
   Status s = edit(good);
-  armed = false;
+  disarm();
   ASSERT_TRUE(s.ok()) << s.message;
   const long n = seen;
   const std::string goodJson = good.infoJson("f");
@@ -207,12 +212,9 @@ void sweepEdit(const char* name, const Edit& edit) {
     EditableMesh em;
     makeOpenTorus(em);
     editcheck::Snapshot before(em);
-    seen = 0;
-    countdown = k;
-    armed = true;
+    arm(k);
     Status r = edit(em);
-    armed = false;
-    countdown = 0;
+    disarm();
     if (!r.ok()) {
       EXPECT_EQ(r.code, Code::OutOfMemory) << r.message;
       EXPECT_TRUE(editcheck::Snapshot(em) == before) << "a failed edit changed the mesh";
@@ -296,14 +298,11 @@ TEST(AllocFail, ShellsDefectsAndExtractShell) {
     Array<Shell> shells;
     Defects d;
     Mesh part;
-    seen = 0;
-    countdown = k;
-    armed = true;
+    arm(k);
     Status st = buildTopology(m, t, to);
     if (st.ok()) st = findShellsAndDefects(m, t, &shells, &d);
     if (st.ok()) st = extractShell(m, t, 1, part);
-    armed = false;
-    countdown = 0;
+    disarm();
     out.clear();
     if (st.ok()) out = infoJson("f", m, &t, ReportExtras{&shells, &d, 1000}) + infoJson("part", part, nullptr);
     return st;
@@ -332,18 +331,9 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     ASSERT_TRUE(em.init(m).ok());
     ASSERT_TRUE(em.toMesh(input).ok());
   }
-  auto armFor = [](long k) {
-    seen = 0;
-    countdown = k;
-    armed = true;
-  };
-  auto disarm = [] {
-    armed = false;
-    countdown = 0;
-  };
   // The plan.
   RepairPlan plan;
-  armFor(0);
+  arm(0);
   ASSERT_TRUE(planRepair(m, o, plan).ok());
   disarm();
   const long nPlan = seen;
@@ -352,7 +342,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
   for (long k = 1; k <= nPlan; ++k) {
     SCOPED_TRACE("plan allocation " + std::to_string(k) + " of " + std::to_string(nPlan));
     RepairPlan p;
-    armFor(k);
+    arm(k);
     Status st = planRepair(m, o, p);
     disarm();
     if (!st.ok())
@@ -367,7 +357,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     EditableMesh em;
     ASSERT_TRUE(em.init(m).ok());
     RepairLog log;
-    armFor(0);
+    arm(0);
     ASSERT_TRUE(applyRepair(em, plan, log).ok());
     disarm();
     ASSERT_TRUE(em.toMesh(goodMesh).ok());
@@ -390,7 +380,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     EditableMesh em;
     ASSERT_TRUE(em.init(m).ok());
     RepairLog log;
-    armFor(k);
+    arm(k);
     Status st = applyRepair(em, plan, log);
     disarm();
     Mesh now;
@@ -417,7 +407,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     SCOPED_TRACE("CLI-way apply allocation " + std::to_string(k) + " of " + std::to_string(nCli));
     EditableMesh em;
     RepairLog log;
-    armFor(k);
+    arm(k);
     Status st = applyRepair(m, plan, em, log);
     disarm();
     if (k == 0) nCli = seen;
@@ -446,7 +436,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     EditableMesh em;
     ASSERT_TRUE(em.init(m).ok());
     RepairLog log;
-    armFor(k);
+    arm(k);
     Status st = applyRepair(em, kept, log);
     disarm();
     if (k == 0) nTake = seen;
@@ -469,7 +459,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     ASSERT_TRUE(em.init(m).ok());
     RepairLog log;
     ASSERT_TRUE(applyRepair(em, plan, log).ok());
-    armFor(k);
+    arm(k);
     Status st = undoRepair(em, log);
     disarm();
     if (k == 0) {
@@ -575,13 +565,10 @@ TEST(AllocFail, IntersectionPassFailsCleanly) {
     auto once = [&](long k, std::string& out) {
       Topology t;
       GeometryReport g;
-      seen = 0;
-      countdown = k;
-      armed = true;
+      arm(k);
       Status st = buildTopology(m, t, to);
       if (st.ok()) st = analyzeGeometry(m, t, g, IntersectionOptions{});
-      armed = false;
-      countdown = 0;
+      disarm();
       out.clear();
       if (st.ok()) {
         ReportExtras e;
@@ -628,15 +615,6 @@ TEST(AllocFail, IndexedAndWriteFailCleanly) {
   in.colorValid = valid.data();
   in.solids = parts;
   in.nSolids = 2;
-  auto arm = [](long k) {
-    seen = 0;
-    countdown = k;
-    armed = true;
-  };
-  auto disarm = [] {
-    armed = false;
-    countdown = 0;
-  };
   for (Weld weld : {Weld::Exact, Weld::None}) {
     SCOPED_TRACE(weld == Weld::Exact ? "exact weld" : "no weld");
     IndexedOptions io;

@@ -211,7 +211,6 @@ Status runStepIn(RepairStepKind k, repair_detail::StepContext& ctx) {
 Status runStep(RepairStepKind k, repair_detail::StepContext& ctx) {
   STLTOPO_TRY { return runStepIn(k, ctx); }
   STLTOPO_CATCH { return detail::oom("a repair step's items"); }
-  return Status{};
 }
 
 // The pass's pairs carried through the steps (run()): the pairs of the mesh as it is now,
@@ -481,7 +480,6 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
                 RepairStepLog& L) {
   STLTOPO_TRY { return diffStepIn(before, em, maps, after, L); }
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
-  return Status{};
 }
 
 // The mesh before step L, from the mesh after it. InvalidArgument when they do not fit.
@@ -571,7 +569,6 @@ Status meshBeforeIn(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   STLTOPO_TRY { return meshBeforeIn(after, L, b); }
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
-  return Status{};
 }
 
 // Runs the chosen steps on em: the plan into `plan`, the change log into `log` (a plan
@@ -598,6 +595,15 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   }
   Mesh cur;
   Topology topo;
+  // em as init() makes it from cur. A failed init leaves em empty: it is then made from cur
+  // again (the memory the failed init freed is what it needs; if even that fails, the error
+  // says so), so that em is as it was, compacted.
+  auto reinit = [&]() -> Status {
+    Status r = em.init(cur, topo);
+    if (r.ok()) return r;
+    Status back = em.init(cur, topo);
+    return back.ok() ? r : back;
+  };
   // With the intersection pass, the topologies the figures are computed on carry
   // triangleShell (figuresOf): this one, and the rebuild after the last step.
   Status s = given ? em.toMesh(cur, nullptr, nullptr) : em.toMesh(cur, &topo, nullptr, o.intersections);
@@ -613,13 +619,8 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // failed step restores and what undo rebuilds.
   // (em holds that state already when it was just made from a mesh with cur's content.)
   if (!(given && source && sameContent(cur, *source))) {
-    s = em.init(cur, topo);
-    if (!s.ok()) {
-      // A failed init leaves em empty: back to cur (the memory init freed is what it needs;
-      // if even that fails, the error says so), which is em as it was, compacted.
-      Status r = em.init(cur, topo);
-      return r.ok() ? s : r;
-    }
+    s = reinit();
+    if (!s.ok()) return s;
   }
   // The fingerprint of cur, for the log (a plan needs only the first).
   uint64_t curFingerprint = fingerprint;
@@ -644,19 +645,14 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   // fresh build's). fill-holes reads only em and runs so; anything else that reads topo or
   // needs init()'s state refreshes first (one rebuild, as the runner would have made).
   bool stale = false;
-  // (A failed toMesh leaves em as it was; a failed init leaves it empty, and it is made from
-  // cur again, as a failed step's restore does: the mesh stays as the log says.)
+  // (A failed toMesh leaves em as it was, and a failed init is undone by reinit: the mesh
+  // stays as the log says.)
   auto refresh = [&]() -> Status {
     if (!stale) return Status{};
     curChecksKnown = false;
     Status r = em.toMesh(cur, &topo, nullptr, o.intersections);
-    if (!r.ok()) return r;
-    r = em.init(cur, topo);
-    if (!r.ok()) {
-      Status back = em.init(cur, topo);
-      return back.ok() ? r : back;
-    }
-    stale = false;
+    if (r.ok()) r = reinit();
+    if (r.ok()) stale = false;
     return r;
   };
   // The identity maps of a step that kept every slot (reversal only), for diffStep.

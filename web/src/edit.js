@@ -177,15 +177,14 @@ export function createEditableMesh(getModule) {
       }
     }
 
-    #live() {
-      if (this.#disposed) throw invalid('the editable mesh was disposed');
-      // A deferred from(): the editor now (an error, such as out of memory, leaves it deferred).
-      if (this.#session.deferred()) check(this.#session.init(0));
-      return this.#session;
-    }
     #deferred() {
       if (this.#disposed) throw invalid('the editable mesh was disposed');
       return this.#session.deferred();
+    }
+    #live() {
+      // A deferred from(): the editor now (an error, such as out of memory, leaves it deferred).
+      if (this.#deferred()) check(this.#session.init(0));
+      return this.#session;
     }
     #edit(r) {
       this.#cache.clear();
