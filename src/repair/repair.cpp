@@ -49,22 +49,35 @@ uint64_t mix(uint64_t h, uint64_t x) {
   return h * 0xFF51AFD7ED558CCDull;
 }
 
-// A sequential hash of the counts, then the positions, then the triangles. `positionsState`
-// (when given) receives the hash after the positions, which is the same for every mesh with
-// m's counts and positions: fingerprintAfterPositions continues from it.
+// A hash of the counts, then the positions, then the triangles. The words go two at a time
+// into four independent chains of mix(), folded together at the end of each part: one chain
+// waits on every multiply (the 1M torus: 8.5 ms a fingerprint natively), four chains of
+// pairs take about an eighth of that. `positionsState` (when given) receives the hash after
+// the positions, which is the same for every mesh with m's counts and positions:
+// fingerprintAfterPositions continues from it.
+// The n words word(0), ..., word(n - 1) into h.
+template <class Word>
+uint64_t hashWords(uint64_t h, size_t n, Word&& word) {
+  uint64_t lane[4] = {h, h ^ 0x243F6A8885A308D3ull, h ^ 0x13198A2E03707344ull, h ^ 0xA4093822299F31D0ull};
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    for (size_t k = 0; k < 4; ++k) lane[k] = mix(lane[k], uint64_t(word(i + 2 * k)) << 32 | word(i + 2 * k + 1));
+  for (; i < n; ++i) lane[0] = mix(lane[0], word(i));
+  return mix(mix(mix(mix(lane[0], lane[1]), lane[2]), lane[3]), n);
+}
 uint64_t fingerprintAfterPositions(uint64_t h, const Mesh& m) {
-  for (size_t i = 0; i < m.triangles.size(); ++i) h = mix(h, m.triangles[i]);
-  return h;
+  const uint32_t* t = m.triangles.data();
+  return hashWords(h, m.triangles.size(), [t](size_t i) { return t[i]; });
 }
 uint64_t fingerprintOf(const Mesh& m, uint64_t* positionsState = nullptr) {
   uint64_t h = mix(0x5354'4C54'4F50'4F21ull, m.nVertices());
   h = mix(h, m.nTriangles());
-  for (size_t i = 0; i < m.positions.size(); ++i) {
+  const float* p = m.positions.data();
+  h = hashWords(h, m.positions.size(), [p](size_t i) {
     uint32_t u;
-    float f = m.positions[i] + 0.0f;  // -0 and 0 are one position
-    std::memcpy(&u, &f, 4);
-    h = mix(h, u);
-  }
+    std::memcpy(&u, p + i, 4);
+    return (u << 1) == 0 ? 0u : u;  // -0 and 0 are one position
+  });
   if (positionsState) *positionsState = h;
   return fingerprintAfterPositions(h, m);
 }
