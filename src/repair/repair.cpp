@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <mutex>
+#if defined(__wasm_simd128__)
+#include <wasm_simd128.h>
+#endif
 
 #include "geometry_detail.h"
 #include "repair/steps.h"
@@ -120,11 +123,41 @@ uint64_t meshKey(const Mesh& m, uint64_t fingerprint) {
   return h;
 }
 
+// Whether n bytes at a and b are equal (memcmp(a, b, n) == 0). In wasm, 64 bytes a step
+// with SIMD (8 without): Emscripten's memcmp (musl's) compares 4 bytes a step, which took
+// 9 ms of the 1M torus's wasm plan (sameContent and the change log's diffs).
+bool sameBytes(const void* a, const void* b, size_t n) {
+#if defined(__EMSCRIPTEN__)
+  const uint8_t *x = static_cast<const uint8_t*>(a), *y = static_cast<const uint8_t*>(b);
+  size_t i = 0;
+#if defined(__wasm_simd128__)
+  for (; i + 64 <= n; i += 64) {
+    v128_t d = wasm_v128_xor(wasm_v128_load(x + i), wasm_v128_load(y + i));
+    d = wasm_v128_or(d, wasm_v128_xor(wasm_v128_load(x + i + 16), wasm_v128_load(y + i + 16)));
+    d = wasm_v128_or(d, wasm_v128_xor(wasm_v128_load(x + i + 32), wasm_v128_load(y + i + 32)));
+    d = wasm_v128_or(d, wasm_v128_xor(wasm_v128_load(x + i + 48), wasm_v128_load(y + i + 48)));
+    if (wasm_v128_any_true(d)) return false;
+  }
+#endif
+  for (; i + 8 <= n; i += 8) {
+    uint64_t u, v;
+    std::memcpy(&u, x + i, 8);
+    std::memcpy(&v, y + i, 8);
+    if (u != v) return false;
+  }
+  for (; i < n; ++i)
+    if (x[i] != y[i]) return false;
+  return true;
+#else
+  return n == 0 || std::memcmp(a, b, n) == 0;
+#endif
+}
+
 // Whether EditableMesh::init gives the same state from a and b (with one topology): the
 // same positions, triangles, attribute words, colours, normals, solids, warnings and format.
 template <class T>
 bool sameArray(const Array<T>& a, const Array<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+  return a.size() == b.size() && (a.empty() || sameBytes(a.data(), b.data(), a.size() * sizeof(T)));
 }
 bool sameContent(const Mesh& a, const Mesh& b) {
   if (a.format != b.format || a.colorConvention != b.colorConvention || !sameArray(a.positions, b.positions) ||
@@ -432,10 +465,9 @@ Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps&
   // triangle (a removed one has kInvalid corners): most blocks, skipped whole.
   constexpr uint32_t kBlock = 64;
   auto same = [&](uint32_t t0, uint32_t n) {
-    if (std::memcmp(T.data() + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n)) != 0)
-      return false;
+    if (!sameBytes(T.data() + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n))) return false;
     for (const Column& c : columns)
-      if (std::memcmp(c.now + size_t(t0) * c.stride, c.was + size_t(t0) * c.stride, c.stride * n) != 0) return false;
+      if (!sameBytes(c.now + size_t(t0) * c.stride, c.was + size_t(t0) * c.stride, c.stride * n)) return false;
     return true;
   };
   for (uint32_t t = 0; t < nTb; ++t) {
@@ -461,7 +493,7 @@ Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps&
   auto sameVertices = [&](uint32_t v0, uint32_t n) {
     for (uint32_t i = 0; i < n; ++i)
       if (maps.vertices[v0 + i] == kInvalid) return false;
-    return std::memcmp(P.data() + 3 * size_t(v0), before.positions.data() + 3 * size_t(v0), 12 * size_t(n)) == 0;
+    return sameBytes(P.data() + 3 * size_t(v0), before.positions.data() + 3 * size_t(v0), 12 * size_t(n));
   };
   for (uint32_t v = 0; v < nVb; ++v) {
     if (v % kBlock == 0 && sameVertices(v, std::min(kBlock, nVb - v))) {
@@ -474,7 +506,7 @@ Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps&
       continue;
     }
     const float* p = P.data() + 3 * size_t(v);
-    if (std::memcmp(p, b, 12) != 0) {
+    if (!sameBytes(p, b, 12)) {
       if (!L.changedVertices.push_back(v) || !append(L.changedPositions, b, 3)) return oom();
       double d2 = 0;
       for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - b[k]) * (double(p[k]) - b[k]);
