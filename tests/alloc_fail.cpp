@@ -247,6 +247,10 @@ TEST(AllocFail, EditsFailCleanly) {
   ASSERT_NE(collapsible, kInvalid);
   sweepEdit("collapseEdge", [&](EditableMesh& em) { return em.collapseEdge(em.triangleHalfedge()[collapsible]); });
   sweepEdit("reverseTriangle", [](EditableMesh& em) { return em.reverseTriangle(3); });
+  sweepEdit("reverseTriangles", [](EditableMesh& em) {
+    const uint32_t ids[] = {3, 4, 10};
+    return em.reverseTriangles(ids, 3);
+  });
   sweepEdit("reverseShell", [](EditableMesh& em) { return em.reverseShell(3); });
   sweepEdit("fillHole", [](EditableMesh& em) {
     Array<uint32_t> added;

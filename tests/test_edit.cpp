@@ -359,6 +359,53 @@ TEST(Edit, ReverseTriangleAndShell) {
   EXPECT_EQ(em.stats().shells, 2u);
 }
 
+// reverseTriangles(ids) is reverseTriangle of each id: the same triangles, counts, loops and
+// kept normals (the half-edge slots may differ, as after any edit), checked against a rebuild;
+// a bad list (a repeated, dead or out-of-range id) is refused and changes nothing.
+TEST(Edit, ReverseTrianglesIsReverseTriangleOfEach) {
+  gen::Soup soup = gen::torus(12, 10);
+  gen::append(soup, gen::cube(30, 0, 0));
+  EditableMesh one, many;
+  makeEditable(soup, one);
+  makeEditable(soup, many);
+  for (EditableMesh* em : {&one, &many}) {
+    std::vector<float> normals(3 * size_t(em->nTriangles()));
+    for (size_t i = 0; i < normals.size(); ++i) normals[i] = float(i % 7) - 3.0f;
+    ASSERT_TRUE(em->addAttribute(kAttrNormal, Element::Triangle, ValueType::F32, 3, normals.data()).ok());
+  }
+  // Neighbours (0, 1: their shared edge stays paired), a lone triangle, the cube's side, and an
+  // order that is not increasing.
+  const std::vector<uint32_t> ids = {41, 0, 1, 2, 17, 240, 241, 100};
+  for (uint32_t t : ids) ASSERT_TRUE(one.reverseTriangle(t).ok());
+  ASSERT_TRUE(many.reverseTriangles(ids.data(), uint32_t(ids.size())).ok());
+  EXPECT_EQ(editcheck::differenceFromRebuild(many), "");
+  EXPECT_EQ(one.infoJson("f"), many.infoJson("f"));
+  Mesh a, b;
+  ASSERT_TRUE(one.toMesh(a).ok());
+  ASSERT_TRUE(many.toMesh(b).ok());
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  EXPECT_TRUE(std::equal(a.triangles.begin(), a.triangles.end(), b.triangles.begin()));
+  ASSERT_EQ(a.normals.size(), b.normals.size());
+  EXPECT_TRUE(std::equal(a.normals.begin(), a.normals.end(), b.normals.begin()));
+  EXPECT_EQ(a.normals[3 * 41], -(float(123 % 7) - 3.0f));  // negated
+  EXPECT_EQ(a.volume, b.volume);
+  // Refused, and nothing changes.
+  Snapshot before(many);
+  const uint32_t twice[] = {5, 6, 5};
+  EXPECT_EQ(many.reverseTriangles(twice, 3).code, Code::InvalidArgument);
+  const uint32_t outOfRange[] = {5, many.nTriangles()};
+  EXPECT_EQ(many.reverseTriangles(outOfRange, 2).code, Code::InvalidArgument);
+  EXPECT_EQ(many.reverseTriangles(nullptr, 2).code, Code::InvalidArgument);
+  EXPECT_TRUE(Snapshot(many) == before);
+  ASSERT_TRUE(many.removeTriangle(7).ok());
+  Snapshot removed(many);
+  const uint32_t dead[] = {6, 7};
+  EXPECT_EQ(many.reverseTriangles(dead, 2).code, Code::InvalidArgument);
+  EXPECT_TRUE(Snapshot(many) == removed);
+  EXPECT_TRUE(many.reverseTriangles(nullptr, 0).ok());
+  EXPECT_TRUE(Snapshot(many) == removed);
+}
+
 TEST(Edit, CompactRenumbersDenselyAndReturnsTheMaps) {
   EditableMesh em;
   makeEditable(gen::torus(6, 5), em);

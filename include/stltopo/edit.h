@@ -239,6 +239,11 @@ class EditableMesh {
   // Reverses the winding of triangle t (corners (a, b, c) -> (a, c, b)); a kept normal is
   // negated.
   Status reverseTriangle(uint32_t t);
+  // Reverses the winding of the n triangles ids[0..n), as one edit: the same triangles,
+  // topology, counts and attributes as n reverseTriangle calls (the half-edge slots may
+  // differ, as after any edit). InvalidArgument, and nothing changes, for a dead or
+  // out-of-range id or an id listed twice.
+  Status reverseTriangles(const uint32_t* ids, uint32_t n);
   // Reverses every triangle of the shell of triangle t (triangles connected through shared
   // edges, as Topology::nShells counts them).
   Status reverseShell(uint32_t t);

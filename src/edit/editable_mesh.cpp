@@ -98,6 +98,9 @@ Status EditableMesh::collapseEdge(uint32_t e, double t, uint32_t* remaining) {
   STLTOPO_WRITE(collapseEdge(e, t, remaining), noImpl());
 }
 Status EditableMesh::reverseTriangle(uint32_t t) { STLTOPO_WRITE(reverseTriangle(t), noImpl()); }
+Status EditableMesh::reverseTriangles(const uint32_t* ids, uint32_t n) {
+  STLTOPO_WRITE(reverseTriangles(ids, n), noImpl());
+}
 Status EditableMesh::reverseShell(uint32_t t) { STLTOPO_WRITE(reverseShell(t), noImpl()); }
 Status EditableMesh::fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out) {
   STLTOPO_WRITE(fillHole(e, method, out), noImpl());

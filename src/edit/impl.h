@@ -93,6 +93,7 @@ struct EditableMesh::Impl {
   Status splitEdge(uint32_t e, double t = 0.5, uint32_t* newVertex = nullptr);
   Status collapseEdge(uint32_t e, double t = 0.5, uint32_t* remaining = nullptr);
   Status reverseTriangle(uint32_t t);
+  Status reverseTriangles(const uint32_t* ids, uint32_t n);
   Status reverseShell(uint32_t t);
   Status fillHole(uint32_t e, FillMethod method, Array<uint32_t>* out = nullptr);
   Status fillLoop(uint32_t h, FillMethod method, Array<uint32_t>* out = nullptr);

@@ -559,6 +559,39 @@ Status EditableMesh::Impl::reverseTriangle(uint32_t t) {
   return Status{};
 }
 
+Status EditableMesh::Impl::reverseTriangles(const uint32_t* ids, uint32_t n) {
+  if (n == 0) return Status{};
+  if (!ids) return badArgument("reverseTriangles: no ids");
+  // Every id live and listed once (the stamps mark the ones seen), before anything changes.
+  Impl::newTriangleEpoch(*this);
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t t = ids[i];
+    Status s = Impl::checkTriangle(*this, t);
+    if (!s.ok()) return s;
+    if (triStamp_[t] == triEpoch_) return badArgument(detail::format("triangle %u is listed twice", t));
+    triStamp_[t] = triEpoch_;
+  }
+  Impl::clearChange(*this);
+  bool ok = chRewritten_.reserve(n) && chRewrittenCorners_.reserve(3 * size_t(n));
+  for (uint32_t i = 0; ok && i < n; ++i) {
+    const uint32_t* C = triangles_.data() + 3 * size_t(ids[i]);
+    (void)chRewritten_.push_back(ids[i]);  // reserved
+    (void)chRewrittenCorners_.push_back(C[0]);
+    (void)chRewrittenCorners_.push_back(C[2]);
+    (void)chRewrittenCorners_.push_back(C[1]);
+  }
+  if (!ok || !Impl::reserveChange(*this, 0)) {
+    Impl::clearChange(*this);
+    return detail::oom(kEditArrays);
+  }
+  const uint32_t shells = knownShells_;  // as for reverseTriangle: the shells stay
+  Impl::apply(*this);
+  knownShells_ = shells;
+  const AttributeView* normal = attribute(kAttrNormal);
+  for (uint32_t i = 0; i < n; ++i) negateNormal(normal, ids[i]);
+  return Status{};
+}
+
 Status EditableMesh::Impl::reverseShell(uint32_t t) {
   Status s = Impl::checkTriangle(*this, t);
   if (!s.ok()) return s;
