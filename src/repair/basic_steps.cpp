@@ -317,10 +317,14 @@ Status runOrient(StepContext& ctx) {
     };
     std::vector<Cut> cuts;
     STLTOPO_TRY {
-      for (uint32_t e = 0; e < 2 * nPairs; ++e) {
-        if (T.face[e] >= nt || T.face[e ^ 1u] < nt || EdgeKind(T.pairKind[e >> 1]) != EdgeKind::Inconsistent) continue;
-        uint32_t u = T.vert[e], v = T.vert[T.next[e]];
-        cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+      // (By pair first: one byte per pair rules out all but the inconsistent ones.)
+      for (uint32_t k = 0; k < nPairs; ++k) {
+        if (EdgeKind(T.pairKind[k]) != EdgeKind::Inconsistent) continue;
+        for (uint32_t e = 2 * k; e < 2 * k + 2; ++e) {
+          if (T.face[e] >= nt || T.face[e ^ 1u] < nt) continue;
+          uint32_t u = T.vert[e], v = T.vert[T.next[e]];
+          cuts.push_back(Cut{u < v ? (uint64_t(u) << 32) | v : (uint64_t(v) << 32) | u, T.face[e], u});
+        }
       }
     }
     STLTOPO_CATCH { return detail::oom(kStepArrays); }
