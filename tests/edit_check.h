@@ -137,7 +137,7 @@ class RandomEditor {
   // which edit it was.
   std::string step(std::string& what, bool checkEachEdit = true) {
     using namespace stltopo;
-    const uint32_t op = pick_(19);
+    const uint32_t op = pick_(20);
     const EditStats before = em_.stats();
     Status s;
     std::vector<uint8_t> dummy;
@@ -304,6 +304,19 @@ class RandomEditor {
           }
         std::snprintf(buf, sizeof buf, "splitVertex(%u)", v);
         s = em_.splitVertex(v);
+        break;
+      }
+      case 18: {  // reverse a few triangles as one edit (sometimes one of them listed twice)
+        uint32_t ids[5];
+        uint32_t k = 1 + pick_(4);
+        for (uint32_t i = 0; i < k; ++i) ids[i] = liveTriangle();
+        if (ids[0] == kInvalid) {
+          what = "reverseTriangles (none)";
+          return "";
+        }
+        if (pick_(6) == 0) ids[k++] = ids[0];
+        std::snprintf(buf, sizeof buf, "reverseTriangles(%u ids, first %u)", k, ids[0]);
+        s = em_.reverseTriangles(ids, k);
         break;
       }
       default: {
