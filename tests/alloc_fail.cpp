@@ -378,6 +378,15 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     EXPECT_TRUE(sameMesh(now, goodMesh));
     EXPECT_EQ(repairLogJson(log), goodLog);
   };
+  // After a failed apply (`st`): the log undoes em back to the input.
+  auto expectUndoneToInput = [&](EditableMesh& em, RepairLog& log, const Status& st) {
+    const std::string logJson = repairLogJson(log);
+    Status undone = undoRepair(em, log);
+    ASSERT_TRUE(undone.ok()) << undone.message << "\n" << st.message << "\n" << logJson;
+    Mesh back;
+    ASSERT_TRUE(em.toMesh(back).ok());
+    EXPECT_TRUE(sameMesh(back, input)) << st.message << "\n" << logJson;
+  };
   long failures = 0;
   for (long k = 1; k <= nApply; ++k) {
     SCOPED_TRACE("apply allocation " + std::to_string(k) + " of " + std::to_string(nApply));
@@ -395,12 +404,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     }
     ++failures;
     EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
-    const std::string logJson = repairLogJson(log);
-    Status undone = undoRepair(em, log);
-    ASSERT_TRUE(undone.ok()) << undone.message << "\n" << st.message << "\n" << logJson;
-    Mesh back;
-    ASSERT_TRUE(em.toMesh(back).ok());
-    EXPECT_TRUE(sameMesh(back, input)) << st.message << "\n" << logJson;
+    expectUndoneToInput(em, log, st);
   }
   EXPECT_GT(failures, nApply / 2);
   // The CLI's way, applyRepair(mesh, plan, em, log): it builds the editor of the mesh and
@@ -423,10 +427,7 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     }
     EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
     if (log.steps.empty() && em.nTriangles() == 0) continue;
-    ASSERT_TRUE(undoRepair(em, log).ok());
-    Mesh back;
-    ASSERT_TRUE(em.toMesh(back).ok());
-    EXPECT_TRUE(sameMesh(back, input)) << st.message;
+    expectUndoneToInput(em, log, st);
   }
   EXPECT_GT(nCli, 20);
   // Taking the plan's result (keepResult on): a failed apply leaves the editor as it was.

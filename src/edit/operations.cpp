@@ -538,26 +538,7 @@ void negateNormal(const AttributeView* n, uint32_t t) {
 }
 }  // namespace
 
-Status EditableMesh::Impl::reverseTriangle(uint32_t t) {
-  Status s = Impl::checkTriangle(*this, t);
-  if (!s.ok()) return s;
-  Impl::clearChange(*this);
-  const uint32_t* C = triangles_.data() + 3 * size_t(t);
-  uint32_t cs[3] = {C[0], C[2], C[1]};
-  bool ok = chRewritten_.push_back(t);
-  for (uint32_t x : cs) ok = ok && chRewrittenCorners_.push_back(x);
-  if (!ok || !Impl::reserveChange(*this, 0)) {
-    Impl::clearChange(*this);
-    return detail::oom(kEditArrays);
-  }
-  // A reversed triangle shares the same edges as before: the shells (edge-connected
-  // components) and so a known shell count stay.
-  const uint32_t shells = knownShells_;
-  Impl::apply(*this);
-  knownShells_ = shells;
-  negateNormal(attribute(kAttrNormal), t);
-  return Status{};
-}
+Status EditableMesh::Impl::reverseTriangle(uint32_t t) { return reverseTriangles(&t, 1); }
 
 Status EditableMesh::Impl::reverseTriangles(const uint32_t* ids, uint32_t n) {
   if (n == 0) return Status{};
@@ -584,7 +565,9 @@ Status EditableMesh::Impl::reverseTriangles(const uint32_t* ids, uint32_t n) {
     Impl::clearChange(*this);
     return detail::oom(kEditArrays);
   }
-  const uint32_t shells = knownShells_;  // as for reverseTriangle: the shells stay
+  // A reversed triangle shares the same edges as before: the shells (edge-connected
+  // components) and so a known shell count stay.
+  const uint32_t shells = knownShells_;
   Impl::apply(*this);
   knownShells_ = shells;
   const AttributeView* normal = attribute(kAttrNormal);
@@ -624,7 +607,7 @@ Status EditableMesh::Impl::reverseShell(uint32_t t) {
     return detail::oom(kEditArrays);
   }
   std::memcpy(done.data(), chRewritten_.data(), chRewritten_.size() * 4);
-  const uint32_t shells = knownShells_;  // as for reverseTriangle: the shells stay
+  const uint32_t shells = knownShells_;  // as for reverseTriangles: the shells stay
   Impl::apply(*this);
   knownShells_ = shells;
   const AttributeView* n = attribute(kAttrNormal);
