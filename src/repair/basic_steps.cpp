@@ -105,9 +105,9 @@ Status runDuplicates(StepContext& ctx) {
                                   checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
     const bool wall = DuplicateOrientation(checks.duplicateOrientation[g]) != DuplicateOrientation::Same;
     std::string action = wall ? text("remove the %zu triangles of a zero-thickness wall (%s)", members.size(),
-                                               idText(members, 0).c_str())
+                                     idText(members, 0).c_str())
                               : text("remove triangle%s %s, a copy of %u", members.size() > 2 ? "s" : "",
-                                               idText(members, 1).c_str(), members[0]);
+                                     idText(members, 1).c_str(), members[0]);
     ctx.begin(std::move(action), members);
     if (ctx.excluded()) continue;
     if (wall && !ctx.options.removeOppositeDuplicates) {
@@ -187,8 +187,7 @@ Status runZeroArea(StepContext& ctx) {
       } else {
         why = "the longest edge is on a boundary";
       }
-      ctx.begin(text("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z},
-                {m, p, q});
+      ctx.begin(text("remove zero-area triangle %u (corner %u lies on edge %u-%u)", z, m, p, q), {z}, {m, p, q});
       if (ctx.excluded()) continue;
       if (flippable) {
         s = em.flipEdge(e);
@@ -382,8 +381,8 @@ Status runOrient(StepContext& ctx) {
     }
     const uint32_t kept = n - uint32_t(flip.size());
     ctx.begin(conflict ? text("orient the shell of triangle %u consistently", seed)
-                       : text("flip %zu triangle%s of the shell of triangle %u to match the other %u",
-                                        flip.size(), flip.size() == 1 ? "" : "s", seed, kept),
+                       : text("flip %zu triangle%s of the shell of triangle %u to match the other %u", flip.size(),
+                              flip.size() == 1 ? "" : "s", seed, kept),
               conflict ? std::vector<uint32_t>{seed} : flip);
     if (ctx.excluded()) continue;
     if (conflict) {
@@ -459,7 +458,7 @@ Status runOrient(StepContext& ctx) {
     std::string why = depth == kInvalid ? (nested ? "it overlaps another shell; by volume sign" : "by volume sign")
                                         : text("at nesting depth %u", depth);
     ctx.begin(text("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
-                             sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
+                   sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
               std::move(tris));
     if (ctx.excluded()) continue;
     ctx.rebuilt = false;  // the mesh changes after the rebuild

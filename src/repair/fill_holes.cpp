@@ -797,8 +797,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const int64_t nb = p.nbr[s];
     const uint32_t a = p.tris[s], b = p.tris[3 * (s / 3) + nextC(s % 3)];
     if (nb == std::numeric_limits<int64_t>::min()) {
-      why = text(
-          "the fill would make edge %u-%u non-manifold or inconsistent (new triangles do not pair on it)", a, b);
+      why = text("the fill would make edge %u-%u non-manifold or inconsistent (new triangles do not pair on it)", a, b);
       return Status{};
     }
     if (nb < 0 || uint32_t(nb) < s / 3) continue;
@@ -820,8 +819,8 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
     const uint32_t* C = p.tris.data() + 3 * size_t(s / 3);
     const uint32_t* M = T + 3 * size_t(m);
     if (pred::normalsDot(F.pos(M[0]), F.pos(M[1]), F.pos(M[2]), P(C[0]), P(C[1]), P(C[2])) < 0) {
-      why = text("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)",
-                           p.tris[s], p.tris[3 * (s / 3) + nextC(s % 3)], m);
+      why = text("the fill would fold over at edge %u-%u (more than 90 degrees against triangle %u)", p.tris[s],
+                 p.tris[3 * (s / 3) + nextC(s % 3)], m);
       return Status{};
     }
   }
@@ -833,8 +832,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       area += triArea(vof(P(C[0])), vof(P(C[1])), vof(P(C[2])));
     }
     if (area > F.ctx.options.maxHoleArea) {
-      why = text("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area,
-                           F.ctx.options.maxHoleArea);
+      why = text("the fill's area %.6g is over the limit of %.6g (maxHoleArea)", area, F.ctx.options.maxHoleArea);
       return Status{};
     }
   }
@@ -867,8 +865,8 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
   double point[3];
   auto meets = [&](const Tri& a, uint32_t m) {
     if (geometry_detail::trianglePairTest(a, triOfMesh(m), point) < 0) return false;
-    why = text("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1],
-                         a.v[2], m);
+    why =
+        text("the fill would cross the mesh (new triangle (%u, %u, %u) meets triangle %u)", a.v[0], a.v[1], a.v[2], m);
     return true;
   };
   bool inLoopBox = true;
@@ -922,7 +920,7 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       if (!overlaps(boxes[x], boxes[y])) continue;
       if (geometry_detail::trianglePairTest(triOfPatch(x), triOfPatch(y), point) >= 0) {
         why = text("the fill would cross itself (new triangles (%u, %u, %u) and (%u, %u, %u))", p.tris[3 * x],
-                             p.tris[3 * x + 1], p.tris[3 * x + 2], p.tris[3 * y], p.tris[3 * y + 1], p.tris[3 * y + 2]);
+                   p.tris[3 * x + 1], p.tris[3 * x + 2], p.tris[3 * y], p.tris[3 * y + 1], p.tris[3 * y + 2]);
         break;
       }
     }
@@ -964,7 +962,7 @@ Status Filler::fillItem(uint32_t h) {
   }
   if (ctx.options.maxHolePerimeter > 0 && loopPerimeter[h] > ctx.options.maxHolePerimeter) {
     ctx.skip(text("perimeter %.6g, over the limit of %.6g (maxHolePerimeter)", loopPerimeter[h],
-                            ctx.options.maxHolePerimeter));
+                  ctx.options.maxHolePerimeter));
     return Status{};
   }
   // The loop must be as the step found it (an earlier fill may have closed or re-linked it).
@@ -1029,8 +1027,8 @@ Status Filler::fillItem(uint32_t h) {
       if (m < 3) {
         ctx.skip(
             text("the loop passes vertex %u more than once, with a part of %u edges between: no "
-                           "triangle can fill it",
-                           lv[parts.pos[parts.offsets[p]]], m));
+                 "triangle can fill it",
+                 lv[parts.pos[parts.offsets[p]]], m));
         return Status{};
       }
     }

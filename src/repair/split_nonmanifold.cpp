@@ -111,11 +111,10 @@ Status runSplitNonManifold(StepContext& ctx) {
       }
       if (!s.ok()) return s;
       RepairItem& item = ctx.plan.items.back();
-      item.action = count == 1
-                        ? text("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
-                                         describe(why[v]), first)
-                        : text("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position",
-                                         v, describe(why[v]), count + 1, first, first + count - 1);
+      item.action = count == 1 ? text("split vertex %u (%s) into 2 fans: new vertex %u at the same position", v,
+                                      describe(why[v]), first)
+                               : text("split vertex %u (%s) into %u fans: new vertices %u-%u at the same position", v,
+                                      describe(why[v]), count + 1, first, first + count - 1);
       for (uint32_t k = 0; k < count; ++k) item.vertices.push_back(first + k);
       progress = true;
     }
@@ -137,8 +136,8 @@ Status runSplitNonManifold(StepContext& ctx) {
   }
   const EditStats& st = em.stats();
   if (st.nonManifoldVertices > 0 || st.nonManifoldEdges > 0)
-    ctx.plan.note = text("%u non-manifold vertices and %u non-manifold edges remain", st.nonManifoldVertices,
-                                   st.nonManifoldEdges);
+    ctx.plan.note =
+        text("%u non-manifold vertices and %u non-manifold edges remain", st.nonManifoldVertices, st.nonManifoldEdges);
   return Status{};
 }
 

@@ -346,10 +346,10 @@ Status mergePairs(StepContext& ctx) {
   auto item = [&](size_t b, size_t e, const std::vector<const TCand*>& tsOf) -> Status {
     std::vector<uint32_t> keep, gone, tris, verts, edgesT, vertsT;
     std::string action =
-        tsOf.empty() ? (e - b == 1 ? std::string("merge vertex")
-                                   : text("close a crack: merge %u vertices:", uint32_t(e - b)))
-                     : text("close a crack: merge %u vertices and split %u boundary edges at T-junctions:",
-                                      uint32_t(e - b), uint32_t(tsOf.size()));
+        tsOf.empty()
+            ? (e - b == 1 ? std::string("merge vertex") : text("close a crack: merge %u vertices:", uint32_t(e - b)))
+            : text("close a crack: merge %u vertices and split %u boundary edges at T-junctions:", uint32_t(e - b),
+                   uint32_t(tsOf.size()));
     double maxD = 0;
     for (size_t i = b; i < e; ++i) {
       const uint32_t k = order[i];
@@ -456,8 +456,7 @@ Status closeTJunctions(StepContext& ctx) {
       std::string action =
           c.d == 0
               ? text("close T-junction: split boundary edge %u-%u at vertex %u (on the edge)", c.a, c.b, c.v)
-              : text("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v,
-                               c.d);
+              : text("close T-junction: split boundary edge %u-%u at vertex %u (%.9g from it)", c.a, c.b, c.v, c.d);
       ctx.begin(std::move(action), {tri}, {c.v, c.a, c.b});
       if (ctx.excluded()) continue;
       Status st = em.splitEdgeAt(c.he, c.v, false);
