@@ -3,11 +3,12 @@
 // in the plan and in the apply (RepairOptions::onStep: a step's time includes the runner's
 // rebuild of the mesh after it), medians of N runs. "whole" is plan + init + apply, the
 // whole repair of a loaded mesh in an editor (the JS API's way). --cli: the CLI's way
-// instead, applyRepair(mesh, plan, em, log), which takes the plan's result without an
-// EditableMesh of the input ("init" is then 0). Prints one JSON object. apply takes the
-// plan's own result (RepairPlan::result), so its steps take no time there: the time of
-// each step is the plan's ("planSteps"); --no-keep (RepairOptions::keepResult = false) makes apply run the
-// steps again, as before plans kept their result.
+// instead, applyRepair(mesh, plan, result, log) into the Mesh it writes, which takes the
+// plan's result without an EditableMesh of the input or of the result ("init" is then 0).
+// Prints one JSON object. apply takes the plan's own result (RepairPlan::result), so its
+// steps take no time there: the time of each step is the plan's ("planSteps"); --no-keep
+// (RepairOptions::keepResult = false) makes apply run the steps again, as before plans
+// kept their result.
 //   stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep] [--cli]
 // --threads N: RepairOptions::threads, and the load and init on as many.
 #include <algorithm>
@@ -53,7 +54,9 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   if (argc < 2) {
-    std::fprintf(stderr, "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] [--no-keep] [--cli]\n");
+    std::fprintf(stderr,
+                 "usage: stltopo_repair_bench FILE [--reps N] [--steps a,b,...] [--no-intersections] [--threads N] "
+                 "[--no-keep] [--cli]\n");
     return 2;
   }
   int reps = 3;
@@ -121,11 +124,12 @@ int main(int argc, char** argv) {
     to.threads = ro.threads;
     stltopo::RepairLog log;
     if (cli) {
-      // The CLI's way (`stltopo repair IN OUT`): applyRepair from the loaded Mesh, which
-      // takes the plan's result without building an EditableMesh of the input first.
+      // The CLI's way (`stltopo repair IN OUT`): applyRepair from the loaded Mesh into the
+      // Mesh it writes, which takes the plan's result without building an EditableMesh.
       init.push_back(0);
       t0 = Clock::now();
-      if (!stltopo::applyRepair(mesh, p, em, log, to).ok()) return 1;
+      stltopo::Mesh result;
+      if (!stltopo::applyRepair(mesh, p, result, log, to).ok()) return 1;
       apply.push_back(since(t0));
     } else {
       t0 = Clock::now();
@@ -139,9 +143,8 @@ int main(int argc, char** argv) {
     whole.push_back(plan.back() + init.back() + apply.back());
     if (r + 1 == reps) last = std::move(log);
   }
-  std::printf(
-      "{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"whole\":%.4f,\"steps\":{",
-      last.before.stats.triangles, median(load), median(plan), median(init), median(apply), median(whole));
+  std::printf("{\"triangles\":%u,\"load\":%.4f,\"plan\":%.4f,\"init\":%.4f,\"apply\":%.4f,\"whole\":%.4f,\"steps\":{",
+              last.before.stats.triangles, median(load), median(plan), median(init), median(apply), median(whole));
   bool first = true;
   for (auto& [k, v] : steps) {
     std::printf("%s\"%s\":%.4f", first ? "" : ",", k.c_str(), median(v));
@@ -154,7 +157,8 @@ int main(int argc, char** argv) {
     first = false;
   }
   std::printf(
-      "},\"cli\":%s,\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%s}\n",
+      "},\"cli\":%s,\"holesBefore\":%u,\"holesAfter\":%u,\"inconsistentBefore\":%u,\"inconsistentAfter\":%u,\"solid\":%"
+      "s}\n",
       cli ? "true" : "false", last.before.stats.holes, last.after.stats.holes, last.before.stats.inconsistentEdges,
       last.after.stats.inconsistentEdges, last.after.solid ? "true" : "false");
   return 0;

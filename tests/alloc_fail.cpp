@@ -456,6 +456,33 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     }
   }
   EXPECT_GT(nTake, 0);
+  // The CLI's way into a Mesh, applyRepair(mesh, plan, out, log), with the plan's result
+  // and without: `out` changes only on success.
+  for (const bool withResult : {true, false}) {
+    long nOut = 0;
+    for (long k = 0; k == 0 || k <= nOut; ++k) {
+      SCOPED_TRACE(std::string("apply into a Mesh ") + (withResult ? "taking the result" : "running the steps") +
+                   ", allocation " + std::to_string(k) + " of " + std::to_string(nOut));
+      RepairPlan p;
+      ASSERT_TRUE(planRepair(m, withResult ? keep : o, p).ok());
+      Mesh out;
+      RepairLog log;
+      arm(k);
+      Status st = applyRepair(m, p, out, log);
+      disarm();
+      if (k == 0) nOut = seen;
+      if (st.ok()) {
+        expectGood(out, log);
+      } else {
+        EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
+        EXPECT_EQ(out.nTriangles(), 0u);
+        EXPECT_EQ(out.nVertices(), 0u);
+        EXPECT_FALSE(p.resultTaken());
+      }
+    }
+    // (Taking a result that is a Mesh already allocates nothing.)
+    if (!withResult) EXPECT_GT(nOut, 20);
+  }
   // Undo.
   long nUndo = 0;
   for (long k = 0; k == 0 || k <= nUndo; ++k) {

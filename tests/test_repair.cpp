@@ -151,6 +151,22 @@ Outcome checkRepair(const Mesh& input, const RepairOptions& o, const std::string
   for (const RepairStepLog& L : r.log.steps) splitDone |= L.kind == RepairStepKind::SplitNonManifold && L.itemsDone > 0;
   expectNotWorse(r.log.before, r.log.after, what, splitDone);
   EXPECT_TRUE(em.toMesh(r.result, nullptr, nullptr).ok());
+  {
+    // The CLI's way, into a Mesh: taking a fresh plan's result, and running the steps.
+    for (const bool keep : {true, false}) {
+      RepairOptions o5 = o;
+      o5.keepResult = keep;
+      RepairPlan p5;
+      EXPECT_TRUE(planRepair(input, o5, p5).ok()) << what;
+      Mesh out;
+      RepairLog log5;
+      EXPECT_TRUE(applyRepair(input, p5, out, log5).ok()) << what;
+      EXPECT_EQ(p5.resultTaken(), keep) << what;
+      EXPECT_TRUE(gen::sameMesh(out, r.result)) << what << ": applyRepair into a Mesh differs";
+      EXPECT_EQ(stlBytes(out), stlBytes(r.result)) << what;
+      EXPECT_EQ(repairLogJson(log5), repairLogJson(r.log)) << what;
+    }
+  }
   // Every step's result, last first: valid, and the same report as a fresh build. (On a
   // second application: undo consumes its log, and the caller reads r.log.) This one is
   // given the plan without the figures it knows, so it runs the intersection pass on the

@@ -705,13 +705,11 @@ int repair(int argc, char** argv) {
     std::printf("%s\n", withFile(stltopo::repairPlanJson(plan), "").c_str());
     return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
   }
-  stltopo::EditableMesh em;
   stltopo::TopologyOptions to;
   to.threads = ro.threads;
   stltopo::RepairLog log;
-  s = stltopo::applyRepair(mesh, plan, em, log, to);  // takes the plan's result (no second build)
   stltopo::Mesh result;
-  if (s.ok()) s = em.toMesh(result, nullptr, nullptr);
+  s = stltopo::applyRepair(mesh, plan, result, log, to);  // takes the plan's result (no second build)
   if (!s.ok()) return fail(in, s);
   if (!formatGiven) wo.format = mesh.format;
   std::signal(SIGXFSZ, SIG_IGN);

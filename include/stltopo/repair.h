@@ -143,7 +143,7 @@ struct RepairPlan {
   RepairOptions options;
   uint64_t fingerprint = 0;  // of the input (positions and triangles)
   RepairFigures before;
-  bool beforeKnown = false;           // planRepair computed `before` (apply then reuses it)
+  bool beforeKnown = false;  // planRepair computed `before` (apply then reuses it)
   // The predicted result: its fingerprint and its figures (= steps.back().after, or
   // `before` when no step runs). applyRepair takes the intersection pass's figures of its
   // result (selfIntersections, solid) from here instead of running the pass again when
@@ -155,15 +155,15 @@ struct RepairPlan {
   std::string remaining;              // what the steps leave (self-intersections: advice)
   std::string afterReport;            // infoJson("") of the predicted result
   // The plan runs the steps on a scratch copy of the mesh. With RepairOptions::keepResult,
-  // it keeps what that run left: the repaired mesh (an EditableMesh, compacted) and the
-  // change log. applyRepair takes them instead of running the steps again when its mesh is
-  // the plan's input as the plan found it (the same positions, triangles, attribute words,
-  // colours, normals, solids and warnings) and its plan's options are the ones the result
-  // was made with (onStep, user, threads and keepResult aside). The steps are
-  // deterministic, so the mesh and the log are the ones a run gives (the tests compare
-  // both ways). The first applyRepair of a plan, or of a copy of it, takes the result;
-  // later ones run the steps. Memory: the repaired mesh with its topology and attributes,
-  // held until it is applied or the plan and its copies are gone (reset() it to let go).
+  // it keeps what that run left: the repaired mesh (compacted; an EditableMesh, or, when the
+  // last step changed the mesh, the Mesh and Topology one is made from when an applyRepair
+  // into an EditableMesh takes it) and the change log. applyRepair takes them instead of running the steps again when
+  // its mesh is the plan's input as the plan found it (the same positions, triangles, attribute words, colours,
+  // normals, solids and warnings) and its plan's options are the ones the result was made with (onStep, user, threads
+  // and keepResult aside). The steps are deterministic, so the mesh and the log are the ones a run gives (the tests
+  // compare both ways). The first applyRepair of a plan, or of a copy of it, takes the result; later ones run the
+  // steps. Memory: the repaired mesh with its topology and attributes, held until it is applied or the plan and its
+  // copies are gone (reset() it to let go).
   std::shared_ptr<RepairResult> result;
   // Whether an applyRepair took `result` (false without one).
   bool resultTaken() const;
@@ -233,6 +233,12 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log);
 // build fails; when a step fails, em holds what the failed applyRepair left (the mesh
 // before that step).
 Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
+                   const TopologyOptions& topologyOptions = {});
+// The same, for a caller that wants the repaired mesh as a Mesh (the CLI, which writes it):
+// `out` becomes what em.toMesh() gives of the EditableMesh the overload above makes. When it
+// takes the plan's result, the plan's run has that mesh already, and no EditableMesh is
+// made. `out` changes only on success (the log says which step failed otherwise).
+Status applyRepair(const Mesh& mesh, const RepairPlan& plan, Mesh& out, RepairLog& log,
                    const TopologyOptions& topologyOptions = {});
 
 // Undoes the last step of `log` on `em` (which must be in the state after it: same

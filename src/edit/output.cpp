@@ -1,6 +1,7 @@
 // EditableMesh output: the loops and stats when read, infoJson, toMesh, compact, validate.
 // See impl.h.
 #include "edit/impl.h"
+#include "edit/stats.h"
 #include "stltopo/report.h"
 #include "triangle_figures.h"
 
@@ -30,11 +31,11 @@ const EditStats& EditableMesh::Impl::stats() {
   if (!statsStale_) return stats_;
   // The counts as a fresh build of the compacted mesh has them; the figures are Topology's.
   TopologyCounts c;
-  EditStats s;
+  uint32_t vertices = 0;
   c.nTriangles = nLiveTriangles_;
   c.nDegenerate = nDegenerate_;
   for (uint32_t v = 0; v < nVertices(); ++v) {
-    if (vertexCornerCount_[v] > 0) ++s.vertices;
+    if (vertexCornerCount_[v] > 0) ++vertices;
     if (vertexHalfedge_[v] != kInvalid) ++c.nUsedVertices;
   }
   c.nEdges = nEdges_;
@@ -46,15 +47,7 @@ const EditStats& EditableMesh::Impl::stats() {
   for (uint32_t h = 0; h < l.nLoops(); ++h) (l.loopIsSeam[h] ? c.nSeams : c.nHoles) += 1;
   uint32_t shells = knownShells_ != kInvalid ? knownShells_ : Impl::countShells(*this);
   c.nShells = shells == kInvalid ? 0 : shells;
-  s.triangles = c.nTriangles;
-#define STLTOPO_STATS_COUNT(count, name, doc) s.name = c.count;
-  STLTOPO_COUNTS(STLTOPO_STATS_COUNT)
-  STLTOPO_OTHER_COUNTS(STLTOPO_STATS_COUNT)
-#undef STLTOPO_STATS_COUNT
-  s.eulerCharacteristic = c.eulerCharacteristic();
-  s.watertight = c.watertight();
-  s.manifold = c.manifold();
-  stats_ = s;
+  stats_ = edit_detail::statsOf(c, vertices);
   statsStale_ = shells == kInvalid || loopsStale_;
   return stats_;
 }

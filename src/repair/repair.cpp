@@ -8,6 +8,7 @@
 #include <wasm_simd128.h>
 #endif
 
+#include "edit/stats.h"
 #include "geometry_detail.h"
 #include "repair/steps.h"
 #include "report_json.h"
@@ -36,7 +37,13 @@ struct RepairResult {
   bool taken = false;
   uint64_t inputKey = 0;  // meshKey of the input as the plan found it (compacted)
   RepairOptions options;  // the plan's (onStep and user cleared)
+  // The repaired mesh: `em`, or, when `pending`, the mesh and topology it is made from
+  // (em.init(mesh, topo), when an applyRepair takes it into an EditableMesh; one that
+  // wants the Mesh takes `mesh` as it is).
   EditableMesh em;
+  bool pending = false;
+  Mesh mesh;
+  Topology topo;
   RepairLog log;
 };
 
@@ -287,7 +294,7 @@ struct KnownPairs {
       const uint32_t a = found.pairs[2 * i], b = found.pairs[2 * i + 1];
       if (a >= maps.triangles.size() || b >= maps.triangles.size()) return bad();
       const uint32_t x = maps.triangles[a], y = maps.triangles[b];
-      if (x == kInvalid || y == kInvalid) continue;  // a triangle removed: the pair goes
+      if (x == kInvalid || y == kInvalid) continue;                    // a triangle removed: the pair goes
       if (x >= y || x >= nTriangles || y >= nTriangles) return bad();  // survivors keep their order
       if (!next.pairs.push_back(x) || !next.pairs.push_back(y) || !next.kinds.push_back(found.kinds[i]) ||
           !next.points.push_back(found.points[3 * i]) || !next.points.push_back(found.points[3 * i + 1]) ||
@@ -308,7 +315,7 @@ struct KnownPairs {
   }
 };
 
-// The figures of the mesh em holds (= mesh, topo). With `geometry`, the intersection pass
+// The figures of `mesh` (compacted, as the runner holds it; topo: its topology). With `geometry`, the intersection pass
 // too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
 // triangleShell equals a fresh build's), else on a fresh build with it. `keep`: the pass's
 // pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
@@ -316,11 +323,12 @@ struct KnownPairs {
 // shell list: `solid` comes from finishSolid (a shell pass only for a mesh that can be
 // solid, and then only the volumes). `checksOut`: the triangle checks the figures came
 // from, kept (for the report of the same mesh: reportOf).
-Status figuresOf(EditableMesh& em, const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry,
-                 RepairFigures& f, Intersections* keep = nullptr, KnownPairs* known = nullptr,
-                 TriangleChecks* checksOut = nullptr) {
+Status figuresOf(const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry, RepairFigures& f,
+                 Intersections* keep = nullptr, KnownPairs* known = nullptr, TriangleChecks* checksOut = nullptr) {
   f = RepairFigures{};
-  f.stats = em.stats();
+  // What em.stats() gives of an EditableMesh made from them (mesh is compacted: each of its
+  // vertices is used by a triangle).
+  f.stats = edit_detail::statsOf(topo, mesh.nVertices());
   if (!geometry || !o.intersections) {
     TriangleChecks checks;
     Status s = checkTriangles(mesh, &topo, checks, o.threads);
@@ -624,8 +632,19 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 // `given`: the topology of em's compacted mesh (with triangleShell when o.intersections),
 // when the caller built it already (planRepair, from a mesh that toMesh gives back as it
 // is); run() takes it. `source`: the mesh em was just made from (init(source, *given)).
+// `result`: for a run whose em is not used afterwards as it is (the plan's scratch copy):
+// when the last step changed the mesh, em is left as the step's edits left it instead of
+// being made again from the result, and the result (compacted) and its topology are moved
+// into *result, with result->pending set; em is then to be made from them
+// (em.init(mesh, topo)) or dropped. On an error, em is to be dropped.
+struct RunResult {
+  bool pending = false;
+  Mesh mesh;
+  Topology topo;
+};
 Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, const RepairPlan* made = nullptr,
-           uint64_t* inputKey = nullptr, Topology* given = nullptr, const Mesh* source = nullptr) {
+           uint64_t* inputKey = nullptr, Topology* given = nullptr, const Mesh* source = nullptr,
+           RunResult* result = nullptr) {
   // Room for every step's entry first: a step's changes and its entry in the log go together
   // (an entry that could not be added after its step had changed the mesh would leave a
   // change the log cannot undo).
@@ -711,8 +730,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
   if (made && made->beforeKnown) {
     before = made->before;  // the same mesh (same fingerprint): the same figures
   } else {
-    s = figuresOf(em, cur, topo, o, true, before, plan && o.intersections ? &known.found : nullptr, nullptr,
-                  &curChecks);
+    s = figuresOf(cur, topo, o, true, before, plan && o.intersections ? &known.found : nullptr, nullptr, &curChecks);
     if (!s.ok()) return s;
     curChecksKnown = true;
     known.valid = plan && o.intersections;
@@ -796,8 +814,11 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
       else if (!shells)
         nextTopo.triangleShell = Array<uint32_t>{};  // the step made this rebuild with it: as toMesh without it
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
-      if (s.ok()) s = em.init(next, nextTopo);
+      // The last step's result is made into em only when em is used afterwards.
+      const bool keepEdits = result && k == lastStep;
+      if (s.ok() && !keepEdits) s = em.init(next, nextTopo);
       if (s.ok()) {
+        if (result) result->pending = keepEdits;
         // The state before the step becomes the memory of the next step's rebuild.
         std::swap(cur, next);
         std::swap(topo, nextTopo);
@@ -809,13 +830,13 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
         // The figures after each step are the plan's; the log needs only the last ones.
         if (plan) s = known.follow(sp.kind, maps, cur.nTriangles());
         if (s.ok() && plan) {
-          s = figuresOf(em, cur, topo, o, k == lastStep, figures, nullptr, &known, &curChecks);
+          s = figuresOf(cur, topo, o, k == lastStep, figures, nullptr, &known, &curChecks);
           curChecksKnown = s.ok();
         }
       }
     } else if (s.ok() && plan && k == lastStep && figures.selfIntersections == kInvalid && o.intersections) {
       s = refresh();
-      if (s.ok()) s = figuresOf(em, cur, topo, o, true, figures, nullptr, &known, &curChecks);
+      if (s.ok()) s = figuresOf(cur, topo, o, true, figures, nullptr, &known, &curChecks);
       curChecksKnown = s.ok();
     }
     if (!s.ok()) {
@@ -852,7 +873,7 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     // result is the mesh the plan predicted (same fingerprint, same pass options).
     const bool predicted = made && made->afterKnown && curFingerprint == made->fingerprintAfter &&
                            made->after.selfIntersections != kInvalid;
-    s = figuresOf(em, cur, topo, o, !predicted, after, nullptr, nullptr, &curChecks);
+    s = figuresOf(cur, topo, o, !predicted, after, nullptr, nullptr, &curChecks);
     if (!s.ok()) return s;
     curChecksKnown = true;
     if (predicted && o.intersections) {
@@ -889,6 +910,10 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
     }
     STLTOPO_CATCH { s = detail::oom(kRepairArrays); }
     if (!s.ok()) return s;
+  }
+  if (result && result->pending) {
+    result->mesh = std::move(cur);
+    result->topo = std::move(topo);
   }
   return Status{};
 }
@@ -1013,15 +1038,23 @@ Status planWith(const Mesh& mesh, const Topology* topo, Topology* fresh, const R
     kept->options.onStep = nullptr;
     kept->options.user = nullptr;
   }
+  // The scratch copy is dropped or kept as the result: the result need not be made into it.
+  RunResult result;
   s = run(scratch, options, &out, kept ? &kept->log : nullptr, nullptr, kept ? &kept->inputKey : nullptr,
-          reuse ? &built : nullptr, reuse ? &mesh : nullptr);
+          reuse ? &built : nullptr, reuse ? &mesh : nullptr, &result);
   if (!s.ok()) {
     RepairPlan empty;
     out = std::move(empty);
     return s;
   }
   if (kept) {
-    kept->em = std::move(scratch);
+    if (result.pending) {
+      kept->pending = true;
+      kept->mesh = std::move(result.mesh);
+      kept->topo = std::move(result.topo);
+    } else {
+      kept->em = std::move(scratch);
+    }
     out.result = std::move(kept);
   }
   return s;
@@ -1049,16 +1082,50 @@ namespace {
 bool resultFits(const RepairResult& r, const RepairPlan& plan) {
   return !r.taken && sameRepair(r.options, plan.options) && r.log.fingerprintBefore == plan.fingerprint;
 }
-// em and log take r's mesh and log (r held locked); onStep is called for each step.
-void take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog& log) {
-  em = std::move(r.em);
-  log = std::move(r.log);
-  r.taken = true;
+// onStep of the plan for each step of `log`, as a run would call it.
+void replaySteps(const RepairPlan& plan, const RepairLog& log) {
   if (plan.options.onStep)
     for (const RepairStepLog& L : log.steps) {
       plan.options.onStep(plan.options.user, L.kind, false);
       plan.options.onStep(plan.options.user, L.kind, true);
     }
+}
+// em and log take r's mesh and log (r held locked); onStep is called for each step. A
+// pending result is made into an EditableMesh first: when that fails (out of memory),
+// nothing is taken and nothing changes.
+Status take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog& log) {
+  if (r.pending) {
+    EditableMesh made;
+    Status s = made.init(r.mesh, r.topo);
+    if (!s.ok()) return s;
+    em = std::move(made);
+    r.pending = false;
+    r.mesh = Mesh{};
+    r.topo = Topology{};
+  } else {
+    em = std::move(r.em);
+  }
+  log = std::move(r.log);
+  r.taken = true;
+  replaySteps(plan, log);
+  return Status{};
+}
+// The same for a caller that wants the repaired mesh as a Mesh (what toMesh gives of the
+// EditableMesh take() makes: the result is compacted, so it is that mesh as it is).
+Status take(RepairResult& r, const RepairPlan& plan, Mesh& out, RepairLog& log) {
+  if (r.pending) {
+    out = std::move(r.mesh);
+    r.topo = Topology{};
+    r.pending = false;
+  } else {
+    Status s = r.em.toMesh(out, nullptr, nullptr);
+    if (!s.ok()) return s;
+    r.em = EditableMesh{};
+  }
+  log = std::move(r.log);
+  r.taken = true;
+  replaySteps(plan, log);
+  return Status{};
 }
 
 // applyRepair with the plan's result (RepairPlan::result): em takes the repaired mesh and
@@ -1073,9 +1140,9 @@ Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool
   Status s = em.toMesh(m, nullptr, nullptr);
   if (!s.ok()) return s;
   if (meshKey(m, fingerprintOf(m)) != r.inputKey) return Status{};
-  take(r, plan, em, log);
-  taken = true;
-  return Status{};
+  s = take(r, plan, em, log);
+  taken = s.ok();
+  return s;
 }
 }  // namespace
 
@@ -1099,28 +1166,61 @@ Status applyRepair(EditableMesh& em, const RepairPlan& plan, RepairLog& log) {
   return run(em, plan.options, nullptr, &log, &plan);
 }
 
+namespace {
+// applyRepair(mesh, plan, ...)'s check that it may take the plan's result: the plan's input
+// is `mesh` as init() and toMesh() give it back (every vertex used, the exact weld): then an
+// EditableMesh made from mesh would hold it, and takeResult would take the result. Its key
+// says so without making that mesh. (With a tolerance weld the EditableMesh may hold
+// another mesh: applyRepair builds it, and runs as it finds it.) `act(r)` takes it (r held
+// locked); `taken` says whether it ran.
+template <class Act>
+Status takeFor(const Mesh& mesh, const RepairPlan& plan, const TopologyOptions& topologyOptions, bool& taken,
+               Act&& act) {
+  taken = false;
+  if (!plan.result || topologyOptions.tolerance > 0) return Status{};
+  RepairResult& r = *plan.result;
+  std::lock_guard<std::mutex> hold(r.lock);
+  if (!resultFits(r, plan) || meshKey(mesh, fingerprintOf(mesh)) != r.inputKey) return Status{};
+  taken = true;
+  return act(r);
+}
+// applyRepair(mesh, ...) without the plan's result: em.init(mesh) and the steps.
+Status applyBuilt(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
+                  const TopologyOptions& topologyOptions) {
+  EditableMesh built;
+  Status s = built.init(mesh, topologyOptions);
+  if (!s.ok()) return s;
+  s = applyRepair(built, plan, log);
+  em = std::move(built);
+  return s;
+}
+}  // namespace
+
 Status applyRepair(const Mesh& mesh, const RepairPlan& plan, EditableMesh& em, RepairLog& log,
                    const TopologyOptions& topologyOptions) {
   log = RepairLog{};
   Status s = checkOptions(plan.options);
   if (!s.ok()) return s;
-  if (plan.result && !(topologyOptions.tolerance > 0)) {
-    // The plan's input is `mesh` as init() and toMesh() give it back (every vertex used, the
-    // exact weld): then an EditableMesh made from mesh would hold it, and takeResult would
-    // take the result. Its key says so without making that mesh. (With a tolerance weld the
-    // EditableMesh may hold another mesh: built below, as applyRepair finds it.)
-    RepairResult& r = *plan.result;
-    std::lock_guard<std::mutex> hold(r.lock);
-    if (resultFits(r, plan) && meshKey(mesh, fingerprintOf(mesh)) == r.inputKey) {
-      take(r, plan, em, log);
-      return Status{};
-    }
-  }
-  EditableMesh built;
-  s = built.init(mesh, topologyOptions);
+  bool taken = false;
+  s = takeFor(mesh, plan, topologyOptions, taken, [&](RepairResult& r) { return take(r, plan, em, log); });
+  if (taken) return s;
+  return applyBuilt(mesh, plan, em, log, topologyOptions);
+}
+
+Status applyRepair(const Mesh& mesh, const RepairPlan& plan, Mesh& out, RepairLog& log,
+                   const TopologyOptions& topologyOptions) {
+  log = RepairLog{};
+  Status s = checkOptions(plan.options);
   if (!s.ok()) return s;
-  s = applyRepair(built, plan, log);
-  em = std::move(built);
+  Mesh result;
+  bool taken = false;
+  s = takeFor(mesh, plan, topologyOptions, taken, [&](RepairResult& r) { return take(r, plan, result, log); });
+  if (!taken) {
+    EditableMesh em;
+    s = applyBuilt(mesh, plan, em, log, topologyOptions);
+    if (s.ok()) s = em.toMesh(result, nullptr, nullptr);
+  }
+  if (s.ok()) out = std::move(result);
   return s;
 }
 
