@@ -215,10 +215,6 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
   T.nWeldedVertices = nv;
   EditLoops L;
   if (!Impl::labelLoops(*this, L, nullptr)) return detail::oom(kEditArrays);
-  Array<uint32_t> loopOf;  // per slot half-edge: its loop (boundary half-edges only)
-  if (!loopOf.assign(nhSlots, kInvalid)) return detail::oom(kEditArrays);
-  for (uint32_t h = 0; h < L.nLoops(); ++h)
-    for (uint32_t i = L.loopOffsets[h]; i < L.loopOffsets[h + 1]; ++i) loopOf[L.loopHalfedges[i]] = h;
   if (!T.next.resize(nh) || !T.prev.resize(nh) || !T.vert.resize(nh) || !T.face.resize(nh) ||
       !T.pairKind.resize(nPairs) || !T.triangleHalfedge.resize(nt) || !T.vertexHalfedge.assign(nv, kInvalid) ||
       !T.vertexWeld.resize(nv) || !T.triangleDegenerate.resize(nt) || !T.vertexNonManifold.resize(nv))
@@ -229,9 +225,12 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
     T.next[y] = mp.halfedges[next_[e]];
     T.prev[y] = mp.halfedges[prev_[e]];
     T.vert[y] = mp.vertices[vert_[e]];
-    T.face[y] = Impl::boundaryFace(face_[e]) ? nt + loopOf[e] : mp.triangles[face_[e]];
+    T.face[y] = Impl::boundaryFace(face_[e]) ? nt : mp.triangles[face_[e]];  // a loop's: set below
     if (!(y & 1u)) T.pairKind[y >> 1] = pairKind_[e >> 1];
   }
+  for (uint32_t h = 0; h < L.nLoops(); ++h)
+    for (uint32_t i = L.loopOffsets[h]; i < L.loopOffsets[h + 1]; ++i)
+      T.face[mp.halfedges[L.loopHalfedges[i]]] = nt + h;
   for (uint32_t t = 0; t < ntSlots; ++t) {
     uint32_t w = mp.triangles[t];
     if (w == kInvalid) continue;

@@ -367,7 +367,11 @@ double EditableMesh::Impl::loopPerimeter(const M& m, uint32_t e) {
 bool EditableMesh::Impl::labelLoops(const M& m, EditLoops& out, uint32_t* faceOut) {
   out = EditLoops{};
   Array<uint64_t> seen;
-  if (!seen.assign((size_t(m.nHalfedges()) + 63) / 64, 0) || !out.loopOffsets.push_back(0)) return false;
+  if (!out.loopOffsets.push_back(0)) return false;
+  // Only an edge that is not interior (boundary, inconsistent or non-manifold) has a side
+  // whose twin is a boundary half-edge: without one, there is no loop.
+  if (m.nBoundaryEdges_ == 0 && m.nInconsistentEdges_ == 0 && m.nNonManifoldEdges_ == 0) return true;
+  if (!seen.assign((size_t(m.nHalfedges()) + 63) / 64, 0)) return false;
   const uint32_t nt = m.nTriangles();
   for (uint32_t t = 0; t < nt; ++t) {
     if (!m.triangleAlive(t) || m.degenerate_[t]) continue;
