@@ -406,6 +406,36 @@ TEST(Edit, ReverseTrianglesIsReverseTriangleOfEach) {
   EXPECT_TRUE(Snapshot(many) == removed);
 }
 
+// The editor numbers its loops as a fresh build does. It finds them from the edges that are
+// not interior when they are few (a torus with holes and flipped faces, 1,600 triangles)
+// and by scanning every side when they are many (a soup of separate triangles): both ways
+// give a fresh build's loops, after edits that make them stale.
+TEST(Edit, LoopsAreNumberedAsAFreshBuildWithFewOrManyBoundaryEdges) {
+  gen::Soup few = gen::torus(40, 20, {5, 77, 300, 301, 302, 640, 1100});
+  for (size_t t = 3; t < few.f.size(); t += 97) std::swap(few.f[t][1], few.f[t][2]);
+  gen::Soup many;
+  for (int i = 0; i < 300; ++i) {
+    const float x = float(i % 20), y = float(i / 20);
+    const uint32_t b = uint32_t(many.v.size());
+    many.v.push_back({x, y, 0});
+    many.v.push_back({x + 0.5f, y, 0});
+    many.v.push_back({x, y + 0.5f, 0});
+    many.f.push_back({b, b + 1, b + 2});
+  }
+  for (const gen::Soup* s : {&few, &many}) {
+    EditableMesh em;
+    makeEditable(*s, em);
+    const uint32_t loops = em.loops().nLoops();
+    EXPECT_GT(loops, s == &many ? 299u : 5u);
+    ASSERT_TRUE(em.removeTriangle(9).ok());
+    ASSERT_TRUE(em.removeTriangle(400 % em.nTriangles()).ok());
+    const uint32_t r[] = {10, 11, 12};
+    ASSERT_TRUE(em.reverseTriangles(r, 3).ok());
+    EXPECT_EQ(editcheck::differenceFromRebuild(em), "") << (s == &many ? "soup" : "torus");
+    EXPECT_GT(em.loops().nLoops(), 0u);
+  }
+}
+
 TEST(Edit, CompactRenumbersDenselyAndReturnsTheMaps) {
   EditableMesh em;
   makeEditable(gen::torus(6, 5), em);

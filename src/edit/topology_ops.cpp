@@ -1,5 +1,7 @@
 // The EditableMesh topology engine: the change (reserve, apply, repair, refan), slots,
 // the loop numbering and the shell count. See impl.h.
+#include <algorithm>
+
 #include "edit/impl.h"
 
 namespace stltopo {
@@ -372,26 +374,60 @@ bool EditableMesh::Impl::labelLoops(const M& m, EditLoops& out, uint32_t* faceOu
   // whose twin is a boundary half-edge: without one, there is no loop.
   if (m.nBoundaryEdges_ == 0 && m.nInconsistentEdges_ == 0 && m.nNonManifoldEdges_ == 0) return true;
   if (!seen.assign((size_t(m.nHalfedges()) + 63) / 64, 0)) return false;
-  const uint32_t nt = m.nTriangles();
+  // The loop of boundary half-edge e (not labelled yet), numbered next.
+  auto loopFrom = [&](uint32_t e) {
+    uint32_t id = out.nLoops();
+    bool seam = false;
+    uint32_t x = e;
+    do {
+      seen[x >> 6] |= uint64_t(1) << (x & 63);
+      if (faceOut) faceOut[x] = kLoopFaceBit | id;
+      if (!out.loopHalfedges.push_back(x)) return false;
+      if (m.pairKind_[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
+      x = m.next_[x];
+    } while (x != e);
+    const double perim = loopPerimeter(m, e);
+    return out.loopHalfedge.push_back(e) && out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) &&
+           out.loopIsSeam.push_back(seam ? 1 : 0) && out.loopPerimeter.push_back(perim);
+  };
+  auto unseen = [&](uint32_t e) { return !((seen[e >> 6] >> (e & 63)) & 1u); };
+  // Loops are numbered in the order a scan of the sides (by triangle, then corner) meets
+  // the first side whose twin is in them, and start at that twin. The sides of the edges
+  // that are not interior (one byte per pair says which), sorted by that order, give the
+  // same loops without reading every side; when they are many (a soup), the scan is cheaper.
+  const uint32_t nt = m.nTriangles(), nPairs = uint32_t(m.pairKind_.size());
+  const size_t most = size_t(nt) / 8 + 64;
+  Array<uint64_t> starts;  // (3 * triangle + corner) << 32 | boundary half-edge
+  bool few = true;
+  for (uint32_t k = 0; k < nPairs && few; ++k) {
+    if (m.pairKind_[k] == uint8_t(EdgeKind::Interior)) continue;  // (a free slot's kind is Interior too)
+    for (uint32_t e = 2 * k; e < 2 * k + 2; ++e) {
+      if (m.vert_[e] == kInvalid || !boundaryFace(m.face_[e])) continue;
+      const uint32_t side = e ^ 1u, t = m.face_[side];
+      if (boundaryFace(t)) continue;
+      uint32_t c = 0;
+      while (c < 3 && m.sideHalfedge_[3 * size_t(t) + c] != side) ++c;
+      if (c == 3) continue;
+      if (starts.size() >= most) {
+        few = false;
+        break;
+      }
+      if (!starts.push_back((uint64_t(3) * t + c) << 32 | e)) return false;
+    }
+  }
+  if (few) {
+    std::sort(starts.begin(), starts.end());
+    for (uint64_t k : starts) {
+      const uint32_t e = uint32_t(k);
+      if (unseen(e) && !loopFrom(e)) return false;
+    }
+    return true;
+  }
   for (uint32_t t = 0; t < nt; ++t) {
     if (!m.triangleAlive(t) || m.degenerate_[t]) continue;
     for (uint32_t c = 0; c < 3; ++c) {
       uint32_t e = m.sideHalfedge_[3 * t + c] ^ 1u;
-      if (!boundaryFace(m.face_[e]) || ((seen[e >> 6] >> (e & 63)) & 1u)) continue;
-      uint32_t id = out.nLoops();
-      bool seam = false;
-      uint32_t x = e;
-      do {
-        seen[x >> 6] |= uint64_t(1) << (x & 63);
-        if (faceOut) faceOut[x] = kLoopFaceBit | id;
-        if (!out.loopHalfedges.push_back(x)) return false;
-        if (m.pairKind_[x >> 1] != uint8_t(EdgeKind::Boundary)) seam = true;
-        x = m.next_[x];
-      } while (x != e);
-      const double perim = loopPerimeter(m, e);
-      if (!out.loopHalfedge.push_back(e) || !out.loopOffsets.push_back(uint32_t(out.loopHalfedges.size())) ||
-          !out.loopIsSeam.push_back(seam ? 1 : 0) || !out.loopPerimeter.push_back(perim))
-        return false;
+      if (boundaryFace(m.face_[e]) && unseen(e) && !loopFrom(e)) return false;
     }
   }
   return true;
