@@ -407,12 +407,12 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     expectUndoneToInput(em, log, st);
   }
   EXPECT_GT(failures, nApply / 2);
-  // The CLI's way, applyRepair(mesh, plan, em, log): it builds the editor of the mesh and
+  // From the Mesh, applyRepair(mesh, plan, em, log): it builds the editor of the mesh and
   // runs the steps (the plan kept no result). On failure em is empty with no step logged
   // (nothing was built), or the editor as the completed steps left it.
   long nCli = 0;
   for (long k = 0; k == 0 || k <= nCli; ++k) {
-    SCOPED_TRACE("CLI-way apply allocation " + std::to_string(k) + " of " + std::to_string(nCli));
+    SCOPED_TRACE("apply from the Mesh, allocation " + std::to_string(k) + " of " + std::to_string(nCli));
     EditableMesh em;
     RepairLog log;
     arm(k);
