@@ -436,6 +436,42 @@ TEST(Edit, LoopsAreNumberedAsAFreshBuildWithFewOrManyBoundaryEdges) {
   }
 }
 
+// toMesh gives each solid its live triangles, in order, with an empty solid kept empty.
+TEST(Edit, ToMeshKeepsEachSolidsTriangles) {
+  Mesh m = readSoup(gen::cube());
+  m.solids.clear();
+  const char* names[] = {"a", "empty", "b", "c"};
+  const uint32_t first[] = {0, 4, 4, 9}, count[] = {4, 0, 5, 3};
+  for (int k = 0; k < 4; ++k) {
+    Solid s;
+    s.name = names[k];
+    s.firstTriangle = first[k];
+    s.triangleCount = count[k];
+    m.solids.push_back(s);
+  }
+  EditableMesh em;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(em.removeTriangle(0).ok());
+  ASSERT_TRUE(em.removeTriangle(5).ok());
+  ASSERT_TRUE(em.removeTriangle(6).ok());
+  ASSERT_TRUE(em.removeTriangle(11).ok());
+  Mesh out;
+  ASSERT_TRUE(em.toMesh(out, nullptr, nullptr).ok());
+  ASSERT_EQ(out.solids.size(), 4u);
+  const uint32_t wantFirst[] = {0, 3, 3, 6}, wantCount[] = {3, 0, 3, 2};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(out.solids[k].name, names[k]);
+    EXPECT_EQ(out.solids[k].firstTriangle, wantFirst[k]) << k;
+    EXPECT_EQ(out.solids[k].triangleCount, wantCount[k]) << k;
+  }
+  EXPECT_EQ(out.nTriangles(), 8u);
+  // Triangle 1 (the first live one) comes first, triangle 4 starts solid b.
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(out.positions[3 * out.triangles[c]], m.positions[3 * m.triangles[3 + c]]);
+    EXPECT_EQ(out.positions[3 * out.triangles[9 + c]], m.positions[3 * m.triangles[12 + c]]);
+  }
+}
+
 TEST(Edit, CompactRenumbersDenselyAndReturnsTheMaps) {
   EditableMesh em;
   makeEditable(gen::torus(6, 5), em);
