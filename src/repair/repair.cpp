@@ -315,9 +315,10 @@ struct KnownPairs {
   }
 };
 
-// The figures of `mesh` (compacted, as the runner holds it; topo: its topology). With `geometry`, the intersection pass
-// too (self-intersections and solid), on `topo` when it has triangleShell (toMesh's with
-// triangleShell equals a fresh build's), else on a fresh build with it. `keep`: the pass's
+// The figures of `mesh` (compacted, as the runner holds it; topo: its topology). With
+// `geometry`, the intersection pass too (self-intersections and solid), on `topo` when it has
+// triangleShell (toMesh's with triangleShell equals a fresh build's), else on a fresh build
+// with it. `keep`: the pass's
 // pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
 // when they are usable; `solid` is then made from them as analyzeGeometry makes it. No
 // shell list: `solid` comes from finishSolid (a shell pass only for a mesh that can be

@@ -8,8 +8,8 @@
 // and the options (steps, stitch tolerance, hole limits, fill refine/fair, walls, small
 // shells, intersections, keepResult). Checks: planning changes nothing; apply's result equals
 // the plan's prediction; when apply took the plan's own result, running the steps gives the
-// same log and mesh; the result passes validate(); undo, step by step, gives back the
-// input's arrays exactly.
+// same log and mesh; applying into a Mesh (the CLI's way) gives the same mesh and log; the
+// result passes validate(); undo, step by step, gives back the input's arrays exactly.
 
 #include "../stl_gen.h"
 #include "fuzz_common.h"
@@ -130,6 +130,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(gen::sameMesh(a, b));
   } else {
     FUZZ_CHECK(!o.keepResult);
+  }
+  {
+    // The CLI's way, into a Mesh (a fresh plan, whose result it takes when it kept one): the
+    // same mesh and log.
+    RepairPlan again;
+    FUZZ_CHECK(planRepair(m, o, again).ok());
+    Mesh out, a;
+    RepairLog outLog;
+    FUZZ_CHECK(applyRepair(m, again, out, outLog).ok());
+    FUZZ_CHECK(again.resultTaken() == o.keepResult);
+    FUZZ_CHECK(em.toMesh(a, nullptr, nullptr).ok());
+    FUZZ_CHECK(gen::sameMesh(out, a));
+    FUZZ_CHECK(repairLogJson(outLog) == repairLogJson(log));
   }
   while (!log.steps.empty()) {
     s = undoRepairStep(em, log);
