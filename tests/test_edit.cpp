@@ -472,6 +472,37 @@ TEST(Edit, ToMeshKeepsEachSolidsTriangles) {
   }
 }
 
+// toMesh without the figures: the same arrays (kept normals too), solids and bbox, with area,
+// volume and normal mismatches left 0.
+TEST(Edit, ToMeshWithoutFiguresHasTheSameArrays) {
+  ReadOptions ro;
+  ro.keepNormals = true;
+  Mesh m;
+  ASSERT_TRUE(gen::read(gen::binary(gen::torus(6, 5, {4})), m, ro).ok());
+  for (int k = 0; k < 3; ++k) m.normals[3 * 7 + k] = -m.normals[3 * 7 + k];  // against the winding
+  EditableMesh em;
+  ASSERT_TRUE(em.init(m).ok());
+  ASSERT_TRUE(em.removeTriangle(2).ok());
+  const uint32_t r[] = {3, 9};
+  ASSERT_TRUE(em.reverseTriangles(r, 2).ok());
+  Mesh with, without;
+  ASSERT_TRUE(em.toMesh(with).ok());
+  ASSERT_TRUE(em.toMesh(without, nullptr, nullptr, false, false).ok());
+  ASSERT_FALSE(with.normals.empty());
+  EXPECT_TRUE(gen::sameMesh(with, without));
+  EXPECT_GT(with.area, 0);
+  EXPECT_GT(with.normalMismatches, 0u);
+  EXPECT_EQ(without.area, 0);
+  EXPECT_EQ(without.volume, 0);
+  EXPECT_EQ(without.normalMismatches, 0u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(without.bboxMin[k], with.bboxMin[k]);
+    EXPECT_EQ(without.bboxMax[k], with.bboxMax[k]);
+  }
+  ASSERT_EQ(without.solids.size(), with.solids.size());
+  EXPECT_EQ(without.solids[0].triangleCount, with.solids[0].triangleCount);
+}
+
 TEST(Edit, CompactRenumbersDenselyAndReturnsTheMaps) {
   EditableMesh em;
   makeEditable(gen::torus(6, 5), em);

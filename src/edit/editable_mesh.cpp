@@ -133,8 +133,8 @@ const AttributeView* EditableMesh::attribute(const std::string& name) const { re
 bool EditableMesh::removeAttribute(const std::string& name) { return impl_ && impl_->removeAttribute(name); }
 std::vector<std::string> EditableMesh::attributeNames() const { return STLTOPO_READ.attributeNames(); }
 
-Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell) const {
-  return STLTOPO_READ.toMesh(out, topo, maps, triangleShell);
+Status EditableMesh::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell, bool figures) const {
+  return STLTOPO_READ.toMesh(out, topo, maps, triangleShell, figures);
 }
 Status EditableMesh::compact(CompactMaps* maps) { STLTOPO_WRITE(compact(maps), noImpl()); }
 Status EditableMesh::validate() const { return STLTOPO_READ.validate(); }

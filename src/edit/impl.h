@@ -107,7 +107,8 @@ struct EditableMesh::Impl {
   const AttributeView* attribute(const std::string& name) const;
   bool removeAttribute(const std::string& name);
   std::vector<std::string> attributeNames() const;
-  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr, bool triangleShell = false) const;
+  Status toMesh(Mesh& out, Topology* topo = nullptr, CompactMaps* maps = nullptr, bool triangleShell = false,
+                bool figures = true) const;
   Status compact(CompactMaps* maps = nullptr);
   Status validate() const;
 

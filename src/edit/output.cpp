@@ -61,7 +61,8 @@ std::string EditableMesh::Impl::infoJson(const std::string& file) {
 
 // ============================================================================ output
 
-Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell) const {
+Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, bool triangleShell,
+                                  bool figures) const {
   // out and the maps start as Mesh{} and CompactMaps{}, but their arrays keep their memory
   // (emptied()).
   {
@@ -141,6 +142,9 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
       std::memcpy(out.colors.data() + 3 * size_t(w), static_cast<const uint8_t*>(color->data) + 3 * size_t(t), 3);
       out.colorValid[w] = static_cast<const uint8_t*>(colorValid->data)[t];
     }
+    const float* n = normal ? static_cast<const float*>(normal->data) + 3 * size_t(t) : nullptr;
+    if (n) std::memcpy(out.normals.data() + 3 * size_t(w), n, 3 * sizeof(float));
+    if (!figures) continue;
     // Figures, as the reader computes them.
     double ax = P[0][0], ay = P[0][1], az = P[0][2], bx = P[1][0], by = P[1][1], bz = P[1][2];
     double cx = P[2][0], cy = P[2][1], cz = P[2][2];
@@ -148,9 +152,7 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
     double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
     out.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
     out.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
-    if (normal) {
-      const float* n = static_cast<const float*>(normal->data) + 3 * size_t(t);
-      std::memcpy(out.normals.data() + 3 * size_t(w), n, 3 * sizeof(float));
+    if (n) {
       if (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) {
         double d = double(n[0]) * nx + double(n[1]) * ny + double(n[2]) * nz;
         if (d < 0) ++out.normalMismatches;

@@ -784,7 +784,9 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
                               em.nVertices() == cur.nVertices() && em.nLiveTriangles() == cur.nTriangles() &&
                               em.nLiveVertices() == cur.nVertices();
     if (reversedOnly) {
-      s = em.toMesh(next, nullptr, nullptr);
+      // Without the figures (area, volume, normal mismatches): a stale cur is refreshed
+      // (toMesh with them) before anything reports it or computes figures of it.
+      s = em.toMesh(next, nullptr, nullptr, false, false);
       if (s.ok() && log) s = identity(cur.nTriangles(), cur.nVertices());
       if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
       if (s.ok()) {
@@ -989,7 +991,7 @@ uint32_t RepairStepPlan::nSkipped() const { return uint32_t(items.size()) - nDon
 
 uint64_t repairFingerprint(const EditableMesh& em) {
   Mesh m;
-  if (!em.toMesh(m, nullptr, nullptr).ok()) return 0;
+  if (!em.toMesh(m, nullptr, nullptr, false, false).ok()) return 0;  // (the arrays only)
   return fingerprintOf(m);
 }
 
@@ -1138,7 +1140,7 @@ Status takeResult(EditableMesh& em, const RepairPlan& plan, RepairLog& log, bool
   std::lock_guard<std::mutex> hold(r.lock);
   if (!resultFits(r, plan)) return Status{};
   Mesh m;
-  Status s = em.toMesh(m, nullptr, nullptr);
+  Status s = em.toMesh(m, nullptr, nullptr, false, false);  // the key needs no figures
   if (!s.ok()) return s;
   if (meshKey(m, fingerprintOf(m)) != r.inputKey) return Status{};
   s = take(r, plan, em, log);
@@ -1228,8 +1230,8 @@ Status applyRepair(const Mesh& mesh, const RepairPlan& plan, Mesh& out, RepairLo
 Status undoRepairStep(EditableMesh& em, RepairLog& log) {
   if (log.steps.empty()) return Status::error(Code::InvalidArgument, "the change log has no step to undo");
   const RepairStepLog& L = log.steps.back();
-  Mesh after;
-  Status s = em.toMesh(after, nullptr, nullptr);
+  Mesh after;  // (its arrays: the mesh before is made from them and the log, and em from that)
+  Status s = em.toMesh(after, nullptr, nullptr, false, false);
   if (!s.ok()) return s;
   if (fingerprintOf(after) != L.fingerprintAfter)
     return Status::error(Code::InvalidArgument, "the mesh is not in the state the step's log left (it changed since)");
