@@ -89,8 +89,14 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
       !vertexNonManifold_.resize(nv) || !stamp_.assign(nv, 0) || !triStamp_.assign(nt, 0))
     return fail();
   if (nv > 0) std::memcpy(positions_.data(), mesh.positions.data(), size_t(nv) * 3 * sizeof(float));
-  for (size_t i = 0; i < size_t(nt) * 3; ++i) triangles_[i] = topo.vertexWeld[mesh.triangles[i]];
-  for (uint32_t t = 0; t < nt; ++t) degenerate_[t] = topo.triangleDegenerate[t];
+  // The exact weld's representatives are the vertices themselves: the corners as they are.
+  if (nt > 0 && !(topo.tolerance > 0) && topo.nWeldedVertices == nv) {
+    std::memcpy(triangles_.data(), mesh.triangles.data(), size_t(nt) * 3 * sizeof(uint32_t));
+    std::memcpy(degenerate_.data(), topo.triangleDegenerate.data(), nt);
+  } else {
+    for (size_t i = 0; i < size_t(nt) * 3; ++i) triangles_[i] = topo.vertexWeld[mesh.triangles[i]];
+    for (uint32_t t = 0; t < nt; ++t) degenerate_[t] = topo.triangleDegenerate[t];
+  }
   for (uint32_t q = 3 * nt; q-- > 0;) Impl::link(*this, q);
   if (nh > 0) {
     std::memcpy(next_.data(), topo.next.data(), size_t(nh) * 4);
@@ -105,9 +111,9 @@ Status EditableMesh::Impl::init(const Mesh& mesh, const Topology& topo) {
     if (h == kInvalid) continue;
     for (uint32_t c = 0; c < 3; ++c, h = topo.next[h]) sideHalfedge_[3 * t + c] = h;
   }
-  for (uint32_t v = 0; v < nv; ++v) {
-    vertexHalfedge_[v] = topo.vertexHalfedge[v];
-    vertexNonManifold_[v] = topo.vertexNonManifold[v];
+  if (nv > 0) {
+    std::memcpy(vertexHalfedge_.data(), topo.vertexHalfedge.data(), size_t(nv) * sizeof(uint32_t));
+    std::memcpy(vertexNonManifold_.data(), topo.vertexNonManifold.data(), nv);
   }
   nLiveTriangles_ = nt;
   nLiveVertices_ = nv;
