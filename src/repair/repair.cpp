@@ -28,6 +28,15 @@ constexpr const char* kStepNames[kRepairStepCount] = {"duplicates",        "zero
                                                       "split-nonmanifold", "fill-holes", "small-shells"};
 constexpr const char* kRepairArrays = "the repair's arrays";
 
+// A run's result when its last step changed the mesh and its EditableMesh was not made
+// again from it (run()'s `result`): `pending`, the result (compacted) and its topology, from
+// which that EditableMesh is made (init(mesh, topo)) when one is wanted.
+struct RunResult {
+  bool pending = false;
+  Mesh mesh;
+  Topology topo;
+};
+
 // What a plan's run left (RepairPlan::result): the repaired mesh and the change log, with
 // what they were made from.
 }  // namespace
@@ -37,13 +46,11 @@ struct RepairResult {
   bool taken = false;
   uint64_t inputKey = 0;  // meshKey of the input as the plan found it (compacted)
   RepairOptions options;  // the plan's (onStep and user cleared)
-  // The repaired mesh: `em`, or, when `pending`, the mesh and topology it is made from
-  // (em.init(mesh, topo), when an applyRepair takes it into an EditableMesh; one that
-  // wants the Mesh takes `mesh` as it is).
+  // The repaired mesh: `em`, or, when made.pending, made's mesh and topology (made into an
+  // EditableMesh when an applyRepair takes it into one; one that wants the Mesh takes it as
+  // it is).
   EditableMesh em;
-  bool pending = false;
-  Mesh mesh;
-  Topology topo;
+  RunResult made;
   RepairLog log;
 };
 
@@ -318,12 +325,11 @@ struct KnownPairs {
 // The figures of `mesh` (compacted, as the runner holds it; topo: its topology). With
 // `geometry`, the intersection pass too (self-intersections and solid), on `topo` when it has
 // triangleShell (toMesh's with triangleShell equals a fresh build's), else on a fresh build
-// with it. `keep`: the pass's
-// pairs, kept. `known`: pairs carried to this mesh, taken (and used up) instead of the pass
-// when they are usable; `solid` is then made from them as analyzeGeometry makes it. No
-// shell list: `solid` comes from finishSolid (a shell pass only for a mesh that can be
-// solid, and then only the volumes). `checksOut`: the triangle checks the figures came
-// from, kept (for the report of the same mesh: reportOf).
+// with it. `keep`: the pass's pairs, kept. `known`: pairs carried to this mesh, taken (and
+// used up) instead of the pass when they are usable; `solid` is then made from them as
+// analyzeGeometry makes it. No shell list: `solid` comes from finishSolid (a shell pass only
+// for a mesh that can be solid, and then only the volumes). `checksOut`: the triangle checks
+// the figures came from, kept (for the report of the same mesh: reportOf).
 Status figuresOf(const Mesh& mesh, const Topology& topo, const RepairOptions& o, bool geometry, RepairFigures& f,
                  Intersections* keep = nullptr, KnownPairs* known = nullptr, TriangleChecks* checksOut = nullptr) {
   f = RepairFigures{};
@@ -635,14 +641,8 @@ Status meshBefore(const Mesh& after, const RepairStepLog& L, Mesh& b) {
 // is); run() takes it. `source`: the mesh em was just made from (init(source, *given)).
 // `result`: for a run whose em is not used afterwards as it is (the plan's scratch copy):
 // when the last step changed the mesh, em is left as the step's edits left it instead of
-// being made again from the result, and the result (compacted) and its topology are moved
-// into *result, with result->pending set; em is then to be made from them
-// (em.init(mesh, topo)) or dropped. On an error, em is to be dropped.
-struct RunResult {
-  bool pending = false;
-  Mesh mesh;
-  Topology topo;
-};
+// being made again from the result, and the result goes to *result (RunResult). On an
+// error, em is to be dropped.
 Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog* log, const RepairPlan* made = nullptr,
            uint64_t* inputKey = nullptr, Topology* given = nullptr, const Mesh* source = nullptr,
            RunResult* result = nullptr) {
@@ -1042,22 +1042,16 @@ Status planWith(const Mesh& mesh, const Topology* topo, Topology* fresh, const R
     kept->options.user = nullptr;
   }
   // The scratch copy is dropped or kept as the result: the result need not be made into it.
-  RunResult result;
+  RunResult dropped;
   s = run(scratch, options, &out, kept ? &kept->log : nullptr, nullptr, kept ? &kept->inputKey : nullptr,
-          reuse ? &built : nullptr, reuse ? &mesh : nullptr, &result);
+          reuse ? &built : nullptr, reuse ? &mesh : nullptr, kept ? &kept->made : &dropped);
   if (!s.ok()) {
     RepairPlan empty;
     out = std::move(empty);
     return s;
   }
   if (kept) {
-    if (result.pending) {
-      kept->pending = true;
-      kept->mesh = std::move(result.mesh);
-      kept->topo = std::move(result.topo);
-    } else {
-      kept->em = std::move(scratch);
-    }
+    if (!kept->made.pending) kept->em = std::move(scratch);
     out.result = std::move(kept);
   }
   return s;
@@ -1097,14 +1091,12 @@ void replaySteps(const RepairPlan& plan, const RepairLog& log) {
 // pending result is made into an EditableMesh first: when that fails (out of memory),
 // nothing is taken and nothing changes.
 Status take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog& log) {
-  if (r.pending) {
+  if (r.made.pending) {
     EditableMesh made;
-    Status s = made.init(r.mesh, r.topo);
+    Status s = made.init(r.made.mesh, r.made.topo);
     if (!s.ok()) return s;
     em = std::move(made);
-    r.pending = false;
-    r.mesh = Mesh{};
-    r.topo = Topology{};
+    r.made = RunResult{};
   } else {
     em = std::move(r.em);
   }
@@ -1116,10 +1108,9 @@ Status take(RepairResult& r, const RepairPlan& plan, EditableMesh& em, RepairLog
 // The same for a caller that wants the repaired mesh as a Mesh (what toMesh gives of the
 // EditableMesh take() makes: the result is compacted, so it is that mesh as it is).
 Status take(RepairResult& r, const RepairPlan& plan, Mesh& out, RepairLog& log) {
-  if (r.pending) {
-    out = std::move(r.mesh);
-    r.topo = Topology{};
-    r.pending = false;
+  if (r.made.pending) {
+    out = std::move(r.made.mesh);
+    r.made = RunResult{};
   } else {
     Status s = r.em.toMesh(out, nullptr, nullptr);
     if (!s.ok()) return s;
