@@ -56,6 +56,21 @@ void disarm() {
   armed = false;
   countdown = 0;
 }
+// attempt(k) for k = 0, where nothing fails and the armed call's allocations are counted,
+// then for every k up to that count, where allocation k fails; each under a trace naming
+// `what` and k. attempt arms (arm(k)) and disarms around the call it sweeps. Returns the
+// count.
+template <class Attempt>
+long sweepEach(const std::string& what, Attempt&& attempt) {
+  long n = 0;
+  for (long k = 0; k == 0 || k <= n; ++k) {
+    SCOPED_TRACE(what + ", allocation " + std::to_string(k) + " of " + std::to_string(n));
+    seen = 0;  // (an attempt that stops before it arms counts nothing)
+    attempt(k);
+    if (k == 0) n = seen;
+  }
+  return n;
+}
 }  // namespace
 
 extern "C" void* malloc(size_t n) { return failNow(n) ? nullptr : track(__libc_malloc(n), n); }
@@ -410,32 +425,27 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
   // From the Mesh, applyRepair(mesh, plan, em, log): it builds the editor of the mesh and
   // runs the steps (the plan kept no result). On failure em is empty with no step logged
   // (nothing was built), or the editor as the completed steps left it.
-  long nCli = 0;
-  for (long k = 0; k == 0 || k <= nCli; ++k) {
-    SCOPED_TRACE("apply from the Mesh, allocation " + std::to_string(k) + " of " + std::to_string(nCli));
+  const long nCli = sweepEach("apply from the Mesh", [&](long k) {
     EditableMesh em;
     RepairLog log;
     arm(k);
     Status st = applyRepair(m, plan, em, log);
     disarm();
-    if (k == 0) nCli = seen;
     Mesh now;
     meshOf(em, now);
     if (st.ok()) {
       expectGood(now, log);
-      continue;
+      return;
     }
     EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
-    if (log.steps.empty() && em.nTriangles() == 0) continue;
+    if (log.steps.empty() && em.nTriangles() == 0) return;
     expectUndoneToInput(em, log, st);
-  }
+  });
   EXPECT_GT(nCli, 20);
   // Taking the plan's result (keepResult on): a failed apply leaves the editor as it was.
   RepairOptions keep = o;
   keep.keepResult = true;
-  long nTake = 0;
-  for (long k = 0; k == 0 || k <= nTake; ++k) {
-    SCOPED_TRACE("apply taking the result, allocation " + std::to_string(k) + " of " + std::to_string(nTake));
+  const long nTake = sweepEach("apply taking the result", [&](long k) {
     RepairPlan kept;
     ASSERT_TRUE(planRepair(m, keep, kept).ok());
     EditableMesh em;
@@ -444,7 +454,6 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     arm(k);
     Status st = applyRepair(em, kept, log);
     disarm();
-    if (k == 0) nTake = seen;
     Mesh now;
     meshOf(em, now);
     if (st.ok()) {
@@ -454,15 +463,14 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
       EXPECT_TRUE(sameMesh(now, input));
       EXPECT_FALSE(kept.resultTaken());
     }
-  }
+  });
   EXPECT_GT(nTake, 0);
   // The CLI's way into a Mesh, applyRepair(mesh, plan, out, log), with the plan's result
   // and without: `out` changes only on success.
   for (const bool withResult : {true, false}) {
-    long nOut = 0;
-    for (long k = 0; k == 0 || k <= nOut; ++k) {
-      SCOPED_TRACE(std::string("apply into a Mesh ") + (withResult ? "taking the result" : "running the steps") +
-                   ", allocation " + std::to_string(k) + " of " + std::to_string(nOut));
+    const std::string what =
+        std::string("apply into a Mesh ") + (withResult ? "taking the result" : "running the steps");
+    const long nOut = sweepEach(what, [&](long k) {
       RepairPlan p;
       ASSERT_TRUE(planRepair(m, withResult ? keep : o, p).ok());
       Mesh out;
@@ -470,7 +478,6 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
       arm(k);
       Status st = applyRepair(m, p, out, log);
       disarm();
-      if (k == 0) nOut = seen;
       if (st.ok()) {
         expectGood(out, log);
       } else {
@@ -479,14 +486,12 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
         EXPECT_EQ(out.nVertices(), 0u);
         EXPECT_FALSE(p.resultTaken());
       }
-    }
+    });
     // (Taking a result that is a Mesh already allocates nothing.)
     if (!withResult) EXPECT_GT(nOut, 20);
   }
   // Undo.
-  long nUndo = 0;
-  for (long k = 0; k == 0 || k <= nUndo; ++k) {
-    SCOPED_TRACE("undo allocation " + std::to_string(k) + " of " + std::to_string(nUndo));
+  const long nUndo = sweepEach("undo", [&](long k) {
     EditableMesh em;
     ASSERT_TRUE(em.init(m).ok());
     RepairLog log;
@@ -496,8 +501,6 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     disarm();
     if (k == 0) {
       ASSERT_TRUE(st.ok());
-      nUndo = seen;
-      ASSERT_GT(nUndo, 5);
     } else if (!st.ok()) {
       EXPECT_EQ(st.code, Code::OutOfMemory) << st.message;
     }
@@ -506,7 +509,8 @@ void sweepRepair(const Mesh& m, RepairOptions o) {
     Mesh back;
     ASSERT_TRUE(em.toMesh(back).ok());
     EXPECT_TRUE(sameMesh(back, input));
-  }
+  });
+  ASSERT_GT(nUndo, 5);
 }
 
 const RepairOptions& allSteps() {
