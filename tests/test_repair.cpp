@@ -339,6 +339,68 @@ TEST(Repair, OrientFlipsTheSmallerSide) {
   EXPECT_GT(r.result.volume, 0);
 }
 
+// Orient followed by another step: the runner patches its mesh at the triangles orient
+// listed as reversed instead of copying and comparing the whole mesh (patchReversed). The
+// step's log entry must be the one of orient as the last step (a full comparison), field by
+// field, with normals (an attribute that reversal negates) and holes for fill-holes.
+TEST(Repair, OrientsLogIsTheSameWhetherAStepFollowsOrNot) {
+  for (int round = 0; round < 3; ++round) {
+    gen::Soup s = gen::torus(30 + round, 14);
+    std::mt19937 rng(11 + round);
+    gen::Soup damaged;
+    damaged.v = s.v;
+    for (size_t t = 0; t < s.f.size(); ++t) {
+      const uint32_t r = rng() % 100;
+      if (r < 1) continue;  // a hole
+      auto f = s.f[t];
+      if (r < 6) std::swap(f[1], f[2]);
+      damaged.f.push_back(f);
+    }
+    Mesh m;
+    ReadOptions ro;
+    ro.keepNormals = true;
+    const std::string bytes = gen::binary(damaged);
+    ASSERT_TRUE(readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m, ro).ok());
+    ASSERT_EQ(m.normals.size(), size_t(m.nTriangles()) * 3);
+    const std::string what = "torus " + std::to_string(round);
+    Outcome last = checkRepair(m, only({RepairStepKind::Orient}), what + ", orient alone");
+    Outcome followed =
+        checkRepair(m, only({RepairStepKind::Orient, RepairStepKind::FillHoles}), what + ", orient then fill-holes");
+    ASSERT_EQ(last.log.steps.size(), 1u);
+    ASSERT_EQ(followed.log.steps.size(), 2u);
+    const RepairStepLog &a = last.log.steps[0], &b = followed.log.steps[0];
+    ASSERT_GT(a.changedTriangles.size(), 10u) << what;
+    EXPECT_GT(b.addedTriangles + followed.log.steps[1].addedTriangles, 0u) << what << ": fill-holes filled nothing";
+    auto same = [&](const auto& x, const auto& y, const char* field) {
+      ASSERT_EQ(x.size(), y.size()) << what << ": " << field;
+      for (size_t i = 0; i < x.size(); ++i) ASSERT_EQ(x[i], y[i]) << what << ": " << field << " [" << i << "]";
+    };
+    same(a.changedTriangles, b.changedTriangles, "changedTriangles");
+    same(a.changedCorners, b.changedCorners, "changedCorners");
+    same(a.removedTriangles, b.removedTriangles, "removedTriangles");
+    same(a.changedVertices, b.changedVertices, "changedVertices");
+    same(a.removedVertices, b.removedVertices, "removedVertices");
+    ASSERT_EQ(a.attributeNames, b.attributeNames) << what;
+    ASSERT_EQ(a.attributeBefore.size(), b.attributeBefore.size()) << what;
+    for (size_t k = 0; k < a.attributeBefore.size(); ++k) same(a.attributeBefore[k], b.attributeBefore[k], "attributeBefore");
+    EXPECT_EQ(a.areaRemoved, b.areaRemoved) << what;
+    EXPECT_EQ(a.areaAdded, b.areaAdded) << what;
+    EXPECT_EQ(a.maxMoved, b.maxMoved) << what;
+    EXPECT_EQ(a.addedTriangles, b.addedTriangles) << what;
+    EXPECT_EQ(a.addedVertices, b.addedVertices) << what;
+    EXPECT_EQ(a.trianglesAfter, b.trianglesAfter) << what;
+    EXPECT_EQ(a.verticesAfter, b.verticesAfter) << what;
+    EXPECT_EQ(a.fingerprintAfter, b.fingerprintAfter) << what;
+    EXPECT_EQ(a.itemsDone, b.itemsDone) << what;
+    // fill-holes only adds triangles: its comparison with the patched mesh finds no changed
+    // one (a patch that missed a reversed triangle's corners or normal would show there).
+    const RepairStepLog& fill = followed.log.steps[1];
+    EXPECT_EQ(fill.changedTriangles.size(), 0u) << what;
+    EXPECT_EQ(fill.changedVertices.size(), 0u) << what;
+    EXPECT_EQ(fill.removedTriangles.size(), 0u) << what;
+  }
+}
+
 TEST(Repair, OrientTurnsAnInsideOutShellAndKeepsACavity) {
   gen::Soup outer = gen::cube(0, 0, 0, 10);
   for (auto& f : outer.f) std::swap(f[1], f[2]);  // inside out

@@ -251,6 +251,7 @@ Status runOrient(StepContext& ctx) {
   EditableMesh& em = ctx.em;
   const Topology& T = *f.t;
   const uint32_t nt = T.nTriangles;
+  ctx.reversedListed = true;  // part 1 lists its reversals; part 2's shells are not listed
   // 1. Consistency. Parity per triangle (flip or not) so that every paired side runs
   //    against its partner: across a pair whose sides run the same way (a cut, inconsistent
   //    edge) the parities differ, across an ordinary pair they are equal. A component
@@ -394,8 +395,16 @@ Status runOrient(StepContext& ctx) {
     // still close together in memory.
     constexpr size_t kFlipChunk = 64;
     for (size_t i = 0; i < flip.size(); i += kFlipChunk) {
-      s = em.reverseTriangles(flip.data() + i, uint32_t(std::min(kFlipChunk, flip.size() - i)));
+      const uint32_t n = uint32_t(std::min(kFlipChunk, flip.size() - i));
+      s = em.reverseTriangles(flip.data() + i, n);
       if (!s.ok()) return s;
+      // (Each triangle is in one component's list: reversed once. Without room for the
+      // list, the runner compares the whole mesh instead.)
+      for (uint32_t j = 0; j < n && ctx.reversedListed; ++j)
+        if (!ctx.reversed.push_back(flip[i + j])) {
+          ctx.reversedListed = false;
+          ctx.reversed = Array<uint32_t>{};
+        }
     }
   }
   // 2. Closed shells outward, or inward at odd nesting depth (a cavity stays a cavity).
@@ -462,6 +471,7 @@ Status runOrient(StepContext& ctx) {
               std::move(tris));
     if (ctx.excluded()) continue;
     ctx.rebuilt = false;  // the mesh changes after the rebuild
+    ctx.reversedListed = false;
     s = em.reverseShell(sh.firstTriangle);
     if (!s.ok()) return s;
   }

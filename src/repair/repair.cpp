@@ -542,6 +542,85 @@ Status diffStep(const Mesh& before, const EditableMesh& em, const CompactMaps& m
   STLTOPO_CATCH { return detail::oom(kRepairArrays); }
 }
 
+// For a step that only reversed the triangles in `ids` (StepContext::reversed: em's slots
+// are cur's ids, and nothing else changed), makes cur the mesh after the step in place and
+// fills L (when not null) as diffStep would: what em.toMesh(after, nullptr, nullptr, false,
+// false) and diffStep(cur, em, identity maps, after, L) give, with only the listed
+// triangles compared instead of the whole mesh. `ids` is sorted here. Out of memory leaves
+// cur as it was (L is filled before cur changes).
+Status patchReversedIn(Mesh& cur, const EditableMesh& em, Array<uint32_t>& ids, RepairStepLog* L) {
+  std::sort(ids.begin(), ids.end());
+  const uint32_t nT = cur.nTriangles(), nV = cur.nVertices();
+  if (em.nTriangles() != nT || em.nVertices() != nV)
+    return Status::error(Code::Invalid, "repair: the reversed triangles do not fit the mesh");
+  for (size_t i = 0; i < ids.size(); ++i)
+    if (ids[i] >= nT || (i > 0 && ids[i] == ids[i - 1]))
+      return Status::error(Code::Invalid, "repair: the reversed triangles do not fit the mesh");
+  const Array<uint32_t>& T = em.triangles();
+  // The normals as toMesh writes them (the one attribute a reversal changes).
+  const AttributeView* normal = em.attribute(kAttrNormal);
+  if (normal && (normal->type != ValueType::F32 || normal->components != 3)) normal = nullptr;
+  const bool normals = normal && cur.normals.size() == size_t(nT) * 3;
+  if (L) {
+    auto oom = [] { return detail::oom(kRepairArrays); };
+    L->trianglesBefore = L->trianglesAfter = nT;
+    L->verticesBefore = L->verticesAfter = nV;
+    const AttrLayout lay = layoutOf(cur);
+    L->attributeNames = lay.names;
+    L->attributeBefore.clear();
+    L->attributeBefore.resize(lay.names.size());
+    // diffStep's comparison of a triangle: its corners and its attribute bytes (em's now
+    // against cur's).
+    std::vector<std::pair<const uint8_t*, size_t>> columns;  // em's column, stride
+    std::vector<std::string> columnNames;
+    for (size_t a = 0; a < lay.names.size(); ++a) {
+      const AttributeView* v = em.attribute(lay.names[a]);
+      if (v && nT > 0) {
+        columns.emplace_back(static_cast<const uint8_t*>(v->data), lay.strides[a]);
+        columnNames.push_back(lay.names[a]);
+      }
+    }
+    for (uint32_t t : ids) {
+      bool same = sameBytes(T.data() + 3 * size_t(t), cur.triangles.data() + 3 * size_t(t), 12);
+      for (size_t c = 0; same && c < columns.size(); ++c)
+        same = sameBytes(columns[c].first + size_t(t) * columns[c].second, meshAttr(cur, columnNames[c], t),
+                         columns[c].second);
+      if (same) continue;
+      if (!L->changedTriangles.push_back(t) || !append(L->changedCorners, cur.triangles.data() + 3 * size_t(t), 3))
+        return oom();
+      for (size_t a = 0; a < lay.names.size(); ++a)
+        if (!append(L->attributeBefore[a], meshAttr(cur, lay.names[a], t), lay.strides[a])) return oom();
+      L->areaRemoved += meshTriangleArea(cur, t);
+    }
+    L->solidsBefore = cur.solids;
+  }
+  // The mesh after the step (nothing allocates from here).
+  auto patch = [&](uint32_t t) {
+    std::memcpy(cur.triangles.data() + 3 * size_t(t), T.data() + 3 * size_t(t), 12);
+    if (normals)
+      std::memcpy(cur.normals.data() + 3 * size_t(t), static_cast<const float*>(normal->data) + 3 * size_t(t), 12);
+  };
+  if (L) {
+    for (uint32_t t : L->changedTriangles) {
+      patch(t);
+      L->areaAdded += meshTriangleArea(cur, t);
+    }
+  } else {
+    for (uint32_t t : ids) patch(t);
+  }
+  // As toMesh without the figures.
+  cur.area = 0;
+  cur.volume = 0;
+  cur.normalMismatches = 0;
+  return Status{};
+}
+
+// patchReversedIn, with its std containers failing as out of memory.
+Status patchReversed(Mesh& cur, const EditableMesh& em, Array<uint32_t>& ids, RepairStepLog* L) {
+  STLTOPO_TRY { return patchReversedIn(cur, em, ids, L); }
+  STLTOPO_CATCH { return detail::oom(kRepairArrays); }
+}
+
 // The mesh before step L, from the mesh after it. InvalidArgument when they do not fit.
 Status meshBeforeIn(const Mesh& after, const RepairStepLog& L, Mesh& b) {
   auto mismatch = [] { return Status::error(Code::InvalidArgument, "the change log does not fit this mesh"); };
@@ -785,12 +864,18 @@ Status run(EditableMesh& em, const RepairOptions& o, RepairPlan* plan, RepairLog
                               em.nLiveVertices() == cur.nVertices();
     if (reversedOnly) {
       // Without the figures (area, volume, normal mismatches): a stale cur is refreshed
-      // (toMesh with them) before anything reports it or computes figures of it.
-      s = em.toMesh(next, nullptr, nullptr, false, false);
-      if (s.ok() && log) s = identity(cur.nTriangles(), cur.nVertices());
-      if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
+      // (toMesh with them) before anything reports it or computes figures of it. When the
+      // step listed its reversals, cur is patched at them (the same mesh and log, without a
+      // copy of the mesh and a comparison of all of it).
+      if (ctx.reversedListed) {
+        s = patchReversed(cur, em, ctx.reversed, log ? &L : nullptr);
+      } else {
+        s = em.toMesh(next, nullptr, nullptr, false, false);
+        if (s.ok() && log) s = identity(cur.nTriangles(), cur.nVertices());
+        if (s.ok() && log) s = diffStep(cur, em, maps, next, L);
+        if (s.ok()) std::swap(cur, next);
+      }
       if (s.ok()) {
-        std::swap(cur, next);
         stale = true;
         curChecksKnown = false;
         // Reversing triangles keeps the counts and positions: the hash resumes after them.

@@ -39,6 +39,12 @@ struct StepContext {
   Topology* nextTopo = nullptr;
   CompactMaps* maps = nullptr;
   bool rebuilt = false;
+  // Orient's reversals (reverseTriangles), each triangle at most once, for the runner's
+  // change log: while `reversedListed`, every triangle the step changed is in `reversed` (in
+  // any order), and the step changed nothing else. A step that does not keep the list, or
+  // changes the mesh another way, leaves or sets reversedListed false.
+  Array<uint32_t> reversed{};
+  bool reversedListed = false;
   // The triangle checks of `mesh` (with `topo`), when the runner has them; null otherwise.
   const TriangleChecks* checks = nullptr;
   // Index the next item gets.
