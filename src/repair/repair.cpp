@@ -437,6 +437,48 @@ bool append(Array<T>& a, const T* p, size_t n) {
   return true;
 }
 
+// diffStep's comparison of em's triangles (now) with those of `before` (was), and the log
+// entry of a triangle as it was before the step. Made, it starts L's attribute layout.
+struct TriangleDiff {
+  struct Column {
+    const uint8_t* now;
+    const uint8_t* was;
+    size_t stride;
+  };
+  const Mesh& before;
+  const uint32_t* now;  // em's corners
+  AttrLayout lay;
+  std::vector<Column> columns;  // the attributes compared: em's bytes against the mesh's
+  TriangleDiff(const Mesh& b, const EditableMesh& em, RepairStepLog& L)
+      : before(b), now(em.triangles().data()), lay(layoutOf(b)) {
+    L.attributeNames = lay.names;
+    L.attributeBefore.clear();
+    L.attributeBefore.resize(lay.names.size());
+    for (size_t a = 0; a < lay.names.size(); ++a) {
+      const AttributeView* v = em.attribute(lay.names[a]);
+      if (v && b.nTriangles() > 0)
+        columns.push_back(Column{static_cast<const uint8_t*>(v->data), meshAttr(b, lay.names[a], 0), lay.strides[a]});
+    }
+  }
+  // Whether triangles [t0, t0 + n) have their corners and attribute bytes as before.
+  bool same(uint32_t t0, uint32_t n) const {
+    if (!sameBytes(now + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n))) return false;
+    for (const Column& c : columns)
+      if (!sameBytes(c.now + size_t(t0) * c.stride, c.was + size_t(t0) * c.stride, c.stride * n)) return false;
+    return true;
+  }
+  // Triangle t as it was: its id and corners into `ids` and `corners` (L's removed or changed
+  // lists), its attribute bytes after those logged so far, its area into areaRemoved. False:
+  // out of memory.
+  bool logBefore(uint32_t t, Array<uint32_t>& ids, Array<uint32_t>& corners, RepairStepLog& L) const {
+    if (!ids.push_back(t) || !append(corners, before.triangles.data() + 3 * size_t(t), 3)) return false;
+    for (size_t a = 0; a < lay.names.size(); ++a)
+      if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return false;
+    L.areaRemoved += meshTriangleArea(before, t);
+    return true;
+  }
+};
+
 // What the step changed: `before` is the mesh as the step found it (em then held exactly
 // it), em the mesh after the step (slots: survivors keep ids, removed ones dead, new ones
 // appended), `maps` and `after` toMesh's compaction of em.
@@ -447,56 +489,23 @@ Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps&
   L.verticesBefore = nVb;
   L.trianglesAfter = after.nTriangles();
   L.verticesAfter = after.nVertices();
-  const AttrLayout lay = layoutOf(before);
-  L.attributeNames = lay.names;
-  L.attributeBefore.clear();
-  L.attributeBefore.resize(lay.names.size());
-  std::vector<const AttributeView*> views;
-  for (const std::string& n : lay.names) views.push_back(em.attribute(n));
-  const Array<uint32_t>& T = em.triangles();
+  const TriangleDiff d(before, em, L);
   const Array<float>& P = em.positions();
   auto oom = [] { return detail::oom(kRepairArrays); };
   // Triangles: removed first, then changed, attribute bytes in the same order.
-  for (uint32_t t = 0; t < nTb; ++t) {
-    if (maps.triangles[t] != kInvalid) continue;
-    if (!L.removedTriangles.push_back(t) || !append(L.removedCorners, before.triangles.data() + 3 * size_t(t), 3))
-      return oom();
-    for (size_t a = 0; a < lay.names.size(); ++a)
-      if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
-    L.areaRemoved += meshTriangleArea(before, t);
-  }
-  // The attribute columns compared: em's bytes (now) against the mesh's (was), per triangle.
-  struct Column {
-    const uint8_t* now;
-    const uint8_t* was;
-    size_t stride;
-  };
-  std::vector<Column> columns;
-  for (size_t a = 0; a < lay.names.size(); ++a)
-    if (views[a] && nTb > 0)
-      columns.push_back(
-          Column{static_cast<const uint8_t*>(views[a]->data), meshAttr(before, lay.names[a], 0), lay.strides[a]});
+  for (uint32_t t = 0; t < nTb; ++t)
+    if (maps.triangles[t] == kInvalid && !d.logBefore(t, L.removedTriangles, L.removedCorners, L)) return oom();
   // A block of triangles whose corners and attribute bytes are all as before has no changed
   // triangle (a removed one has kInvalid corners): most blocks, skipped whole.
   constexpr uint32_t kBlock = 64;
-  auto same = [&](uint32_t t0, uint32_t n) {
-    if (!sameBytes(T.data() + 3 * size_t(t0), before.triangles.data() + 3 * size_t(t0), 12 * size_t(n))) return false;
-    for (const Column& c : columns)
-      if (!sameBytes(c.now + size_t(t0) * c.stride, c.was + size_t(t0) * c.stride, c.stride * n)) return false;
-    return true;
-  };
   for (uint32_t t = 0; t < nTb; ++t) {
-    if (t % kBlock == 0 && same(t, std::min(kBlock, nTb - t))) {
+    if (t % kBlock == 0 && d.same(t, std::min(kBlock, nTb - t))) {
       t += std::min(kBlock, nTb - t) - 1;
       continue;
     }
     uint32_t w = maps.triangles[t];
-    if (w == kInvalid || same(t, 1)) continue;
-    if (!L.changedTriangles.push_back(t) || !append(L.changedCorners, before.triangles.data() + 3 * size_t(t), 3))
-      return oom();
-    for (size_t a = 0; a < lay.names.size(); ++a)
-      if (!append(L.attributeBefore[a], meshAttr(before, lay.names[a], t), lay.strides[a])) return oom();
-    L.areaRemoved += meshTriangleArea(before, t);
+    if (w == kInvalid || d.same(t, 1)) continue;
+    if (!d.logBefore(t, L.changedTriangles, L.changedCorners, L)) return oom();
     L.areaAdded += meshTriangleArea(after, w);
   }
   for (uint32_t t = nTb; t < em.nTriangles(); ++t)
@@ -562,36 +571,12 @@ Status patchReversedIn(Mesh& cur, const EditableMesh& em, Array<uint32_t>& ids, 
   if (normal && (normal->type != ValueType::F32 || normal->components != 3)) normal = nullptr;
   const bool normals = normal && cur.normals.size() == size_t(nT) * 3;
   if (L) {
-    auto oom = [] { return detail::oom(kRepairArrays); };
     L->trianglesBefore = L->trianglesAfter = nT;
     L->verticesBefore = L->verticesAfter = nV;
-    const AttrLayout lay = layoutOf(cur);
-    L->attributeNames = lay.names;
-    L->attributeBefore.clear();
-    L->attributeBefore.resize(lay.names.size());
-    // diffStep's comparison of a triangle: its corners and its attribute bytes (em's now
-    // against cur's).
-    std::vector<std::pair<const uint8_t*, size_t>> columns;  // em's column, stride
-    std::vector<std::string> columnNames;
-    for (size_t a = 0; a < lay.names.size(); ++a) {
-      const AttributeView* v = em.attribute(lay.names[a]);
-      if (v && nT > 0) {
-        columns.emplace_back(static_cast<const uint8_t*>(v->data), lay.strides[a]);
-        columnNames.push_back(lay.names[a]);
-      }
-    }
-    for (uint32_t t : ids) {
-      bool same = sameBytes(T.data() + 3 * size_t(t), cur.triangles.data() + 3 * size_t(t), 12);
-      for (size_t c = 0; same && c < columns.size(); ++c)
-        same = sameBytes(columns[c].first + size_t(t) * columns[c].second, meshAttr(cur, columnNames[c], t),
-                         columns[c].second);
-      if (same) continue;
-      if (!L->changedTriangles.push_back(t) || !append(L->changedCorners, cur.triangles.data() + 3 * size_t(t), 3))
-        return oom();
-      for (size_t a = 0; a < lay.names.size(); ++a)
-        if (!append(L->attributeBefore[a], meshAttr(cur, lay.names[a], t), lay.strides[a])) return oom();
-      L->areaRemoved += meshTriangleArea(cur, t);
-    }
+    const TriangleDiff d(cur, em, *L);
+    for (uint32_t t : ids)
+      if (!d.same(t, 1) && !d.logBefore(t, L->changedTriangles, L->changedCorners, *L))
+        return detail::oom(kRepairArrays);
     L->solidsBefore = cur.solids;
   }
   // The mesh after the step (nothing allocates from here).
