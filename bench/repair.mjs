@@ -7,9 +7,10 @@
 // repair of a loaded mesh), wholeOverLoad its ratio to the load (the figure);
 // applyOverLoad is apply alone. Natively, "init" is 0 as in the package, whose
 // EditableMesh.from() defers the editor that applyRepair then makes of the plan's result
-// (stltopo_repair_bench's default); the CLI's way is under native.cli. Medians; the contenders alternate run by run. Each native
-// process repairs 3 times and reports its medians (its first load and repair pay for fresh
-// pages, as the wasm child's warm-ups do before it measures).
+// (stltopo_repair_bench's default); the CLI's way is under native.cli. Medians; the
+// contenders alternate run by run. Each native process repairs 3 times and reports its
+// medians (its first load and repair pay for fresh pages, as the wasm child's warm-ups do
+// before it measures).
 //   node bench/repair.mjs [--sizes 100k,1M] [--reps N] [--out FILE]
 // Needs build-bench (scripts/bench.sh builds genmesh and stltopo_repair_bench) and dist/.
 import fs from 'node:fs';
@@ -117,9 +118,9 @@ try {
       c.native.read = med(native, 'read');
       c.native.wholeAfterRead = median(native.map((x) => x.whole - (x.load - x.read)));
       c.native.wholeAfterReadOverLoad = c.native.wholeAfterRead / c.native.load;
-      // The CLI's way: plan, then applyRepair(mesh, plan, em, log) takes the plan's result
-      // without an EditableMesh of the input (bench/repair.cpp, "cli").
-      // The CLI builds no topology but the plan's: its "whole" is read + plan + apply - load
+      // The CLI's way: plan, then applyRepair(mesh, plan, out, log) into the Mesh it writes,
+      // which takes the plan's result without an EditableMesh (bench/repair.cpp, --cli). The
+      // CLI builds no topology but the plan's: its "whole" is read + plan + apply - load
       // (bench/repair.cpp), its repair beyond a plain load; "total" is read + plan + apply,
       // from the file's bytes to the repaired mesh (a load and the repair).
       c.native.cli = { read: med(nativeCli, 'read'), plan: med(nativeCli, 'plan'), apply: med(nativeCli, 'apply'),
