@@ -4,6 +4,11 @@
 
 #include "prefetch.h"
 
+#if STLTOPO_THREADS && !defined(__EMSCRIPTEN__)
+#include <atomic>
+#include <thread>
+#endif
+
 namespace stltopo::detail {
 
 void trim(const char*& b, const char*& e) {
@@ -73,7 +78,6 @@ static_assert(sizeof(Builder::RangeWeld::hash) == 3 * Builder::kBatchRecords * s
 
 bool Builder::weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32_t* tri, uint16_t* attrs,
                         float* normals) {
-  w.stopped = true;
   w.positions.clear();
   // A table for about half as many vertices as records (a closed mesh's share), or the size
   // an earlier batch grew it to (a file in random order has more vertices per range), emptied.
@@ -135,7 +139,6 @@ bool Builder::weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32
   w.mismatches = mismatches;
   w.visCam = visCam;
   keepAlive(sink);
-  w.stopped = false;
   return true;
 }
 bool Builder::mergeRange(RangeWeld& w, uint32_t* tri, uint32_t count, unsigned threads) {
@@ -176,8 +179,10 @@ bool Builder::mergeRange(RangeWeld& w, uint32_t* tri, uint32_t count, unsigned t
   // from where it stopped: the slots before were full and stay full (the keys inserted
   // since are other keys: a range's vertices are distinct), unless the table grew.
   const Slot* probed = table.data();
+  mergedVertices += nv;
   for (uint32_t v = 0; v < nv; ++v) {
     if (map[v] != kInvalid) continue;
+    ++mergedNew;
     const float* x = q + 3 * size_t(v);
     Slot k = keyOf(x[0], x[1], x[2]);
     uint32_t i = table.data() == probed ? hint[v] : slotHash(k) & mask;
@@ -216,9 +221,10 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
   const uint32_t t0 = mesh.nTriangles();
   // One by one past maxTriangles (add() has the error), and before the table exists.
   if (uint64_t(t0) + count > opt.maxTriangles || table.empty()) return 0;
-  const unsigned n = partsFor(threads, count, parallelGrain(4096));
+  const size_t grain = parallelGrain(4096);
+  const unsigned n = partsFor(threads, count, grain);
   if (n < 2) return 0;
-  {  // room for the whole batch, so that add() on the first range never moves the arrays
+  {  // room for the whole batch, so that add() on the first piece never moves the arrays
     const size_t need = size_t(t0) + count;
     size_t cap = mesh.triangles.capacity() / 3;
     if (need > cap) {
@@ -228,42 +234,154 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
         return 0;  // one by one: add() grows them as it can
     }
   }
+#if defined(__EMSCRIPTEN__)
+  // The threaded wasm modules weld by ranges only: pieces made their core module 1.6 kB
+  // (gzipped) larger, over its download budget, for no gain we could measure in Node.
+  return addBatchRanges(rec, count, offset, n);
+#else
+  // Which way: pieces when the batches before brought mostly new vertices (a file in grid
+  // order), one range a thread when most of their vertices were in the mesh already (a
+  // file in random order, where a piece's merge looks up nearly every vertex, and a merge
+  // that runs on one thread while the others weld would hold them up).
+  const bool mostlyKnown = mergedNew * 2 < mergedVertices;
+  mergedNew = mergedVertices = 0;
+  return mostlyKnown ? addBatchRanges(rec, count, offset, n) : addBatchPieces(rec, count, offset, n);
+#endif
+}
+
+uint32_t Builder::addRecords(const uint8_t* rec, uint32_t count, uint64_t offset) {
+  for (uint32_t r = 0; r < count; ++r) {  // the parser's one-by-one loop (BinaryParser::feed)
+    if (r % kBatchRecords == 0) prepareBatch(rec + 50 * size_t(r), std::min(kBatchRecords, count - r));
+    float f[12];
+    uint16_t attr;
+    decodeRecord(rec + 50 * size_t(r), f, attr);
+    if (!add(f, f + 3, attr, offset + 50 * uint64_t(r), 0, batchHash + 3 * (r % kBatchRecords))) return r + 1;
+  }
+  return count;
+}
+
+uint64_t Builder::addBatchRanges(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n) {
+  const uint32_t t0 = mesh.nTriangles();
   uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
   uint16_t* attrs = mesh.attributes.data() + t0;
   float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
   const uint32_t first = uint32_t(partBegin(count, n, 1));
   uint32_t added = 0;  // of the first range, by add() (the failing record included)
-  bool addFailed = false;
+  bool ok[kMaxThreads] = {};
   runParts(n, [&](unsigned part) {
-    if (part == 0) {  // the parser's one-by-one loop (BinaryParser::feed)
-      for (uint32_t r = 0; r < first; ++r) {
-        if (r % kBatchRecords == 0) prepareBatch(rec + 50 * size_t(r), std::min(kBatchRecords, first - r));
-        float f[12];
-        uint16_t attr;
-        decodeRecord(rec + 50 * size_t(r), f, attr);
-        ++added;
-        if (!add(f, f + 3, attr, offset + 50 * uint64_t(r), 0, batchHash + 3 * (r % kBatchRecords))) {
-          addFailed = true;
-          return;
-        }
-      }
+    if (part == 0) {
+      added = addRecords(rec, first, offset);
       return;
     }
     const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
-    weldRange(ranges[part], rec + 50 * r0, uint32_t(r1 - r0), tri + 3 * r0, attrs + r0,
-              normals ? normals + 3 * r0 : nullptr);
+    ok[part] = weldRange(ranges[part], rec + 50 * r0, uint32_t(r1 - r0), tri + 3 * r0, attrs + r0,
+                         normals ? normals + 3 * r0 : nullptr);
   });
-  if (addFailed) return added;
+  if (failed()) return added;
   for (unsigned part = 1; part < n; ++part) {
     const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
-    if (ranges[part].stopped) return r0;  // the parser adds the rest one by one
-    if (!mergeRange(ranges[part], tri + 3 * r0, uint32_t(r1 - r0), threads)) return r1;
+    if (!ok[part]) return r0;  // the parser adds the rest one by one
+    if (!mergeRange(ranges[part], tri + 3 * r0, uint32_t(r1 - r0), n)) return r1;
     (void)mesh.triangles.resize((size_t(t0) + r1) * 3);  // within the capacity reserved above
     (void)mesh.attributes.resize(size_t(t0) + r1);
     if (normals) (void)mesh.normals.resize((size_t(t0) + r1) * 3);
   }
   return count;
 }
+
+#if !defined(__EMSCRIPTEN__)
+uint64_t Builder::addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n) {
+  const uint32_t t0 = mesh.nTriangles();
+  uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
+  uint16_t* attrs = mesh.attributes.data() + t0;
+  float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
+  const size_t grain = parallelGrain(4096);
+  // Pieces of records, in order: piece 0 goes through add(); every other one is welded apart
+  // (weldRange, into one of `slots` RangeWelds) and merged, in order, once welded
+  // (mergeRange). Whichever thread is free welds the next piece or merges what is ready, so
+  // that the merges, which must run one after another, overlap the welds. A thread takes a
+  // RangeWeld before a piece, so the first piece not merged always has one, and the merges
+  // always progress. Which thread does what changes nothing in the mesh: a piece's new
+  // vertices join it in their order of first appearance whatever the split.
+  const unsigned pieces = unsigned(std::min<size_t>({size_t(kPiecesPerThread) * n, count / grain, kMaxPieces}));
+  const unsigned slots = std::min<unsigned>({pieces - 1, n + 2, 64});
+  auto pieceBegin = [&](uint32_t j) { return uint32_t(partBegin(count, pieces, j)); };
+  std::atomic<int> state[kMaxPieces];  // 0: being welded; 1: welded; 2: stopped (weldRange failed)
+  uint8_t slotOf[kMaxPieces];
+  for (unsigned j = 0; j < pieces; ++j) state[j].store(j == 0 ? 1 : 0, std::memory_order_relaxed);
+  std::atomic<uint32_t> nextWeld{1}, nextMerge{0};
+  std::atomic<uint64_t> freeSlots{slots == 64 ? ~uint64_t(0) : (uint64_t(1) << slots) - 1};
+  std::atomic<bool> merging{false}, stop{false};
+  uint64_t result = count;  // the records added; written by the merger only
+  // Merges the pieces that are ready, in order; true when it merged one. One thread at a time
+  // merges (`merging`). A welder that finds it taken leaves its piece to the merger, which
+  // looks at the next piece's state again after letting go (seq_cst: the welder stored the
+  // state before it tried, so the merger's second look sees it).
+  auto tryMerge = [&]() {
+    bool progressed = false;
+    for (;;) {
+      if (merging.exchange(true)) return progressed;
+      uint32_t j = nextMerge.load(std::memory_order_relaxed);
+      for (; j < pieces && !stop.load(std::memory_order_relaxed); nextMerge.store(++j)) {
+        const uint32_t r0 = pieceBegin(j), r1 = pieceBegin(j + 1);
+        if (j == 0) {
+          const uint32_t added = addRecords(rec, r1, offset);
+          if (failed()) {
+            result = added;
+            stop.store(true);
+          }
+          progressed = true;
+          continue;
+        }
+        const int st = state[j].load();
+        if (st == 0) break;
+        if (st == 2) {  // the parser adds the rest one by one
+          result = r0;
+          stop.store(true);
+          break;
+        }
+        if (!mergeRange(ranges[slotOf[j]], tri + 3 * size_t(r0), r1 - r0, 1)) {
+          result = r1;
+          stop.store(true);
+          break;
+        }
+        (void)mesh.triangles.resize((size_t(t0) + r1) * 3);  // within the capacity reserved above
+        (void)mesh.attributes.resize(size_t(t0) + r1);
+        if (normals) (void)mesh.normals.resize((size_t(t0) + r1) * 3);
+        freeSlots.fetch_or(uint64_t(1) << slotOf[j]);
+        progressed = true;
+      }
+      merging.store(false);
+      if (stop.load() || j >= pieces || state[j].load() == 0) return progressed;
+    }
+  };
+  runParts(n, [&](unsigned) {
+    for (;;) {
+      const bool merged = tryMerge();
+      if (stop.load() || nextWeld.load() >= pieces) break;
+      uint64_t free = freeSlots.load();
+      if (free == 0) {  // every RangeWeld holds a piece: the merges must catch up first
+        if (!merged) std::this_thread::yield();
+        continue;
+      }
+      const unsigned s = unsigned(std::countr_zero(free));
+      if (!freeSlots.compare_exchange_weak(free, free & ~(uint64_t(1) << s))) continue;
+      const uint32_t j = nextWeld.fetch_add(1);
+      if (j >= pieces) {
+        freeSlots.fetch_or(uint64_t(1) << s);
+        break;
+      }
+      slotOf[j] = uint8_t(s);
+      const uint32_t r0 = pieceBegin(j), r1 = pieceBegin(j + 1);
+      const bool ok = weldRange(ranges[s], rec + 50 * size_t(r0), r1 - r0, tri + 3 * size_t(r0), attrs + r0,
+                                normals ? normals + 3 * size_t(r0) : nullptr);
+      state[j].store(ok ? 1 : 2);
+    }
+    tryMerge();
+  });
+  return result;
+}
+#endif  // !__EMSCRIPTEN__
 #endif  // STLTOPO_THREADS
 
 bool Builder::beginSolid(const char* name, size_t nameBytes, const PartColor* color) {

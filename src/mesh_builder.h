@@ -66,9 +66,9 @@ struct Builder {
   Status error;  // sticky
 
 #if STLTOPO_THREADS
-  // A range of a threaded batch (addBatchParallel) past the first, welded on a thread of its
-  // own against a private table, in local ids (first appearance within the range), which the
-  // merge maps to the mesh's. Kept from one batch to the next.
+  // A piece of a threaded batch (addBatchParallel) past the first, welded on a thread against
+  // a private table, in local ids (first appearance within the piece), which the merge maps
+  // to the mesh's. Up to `threads` + 2 of them are in use; kept from one batch to the next.
   struct RangeWeld {
     Array<Slot> table;
     uint32_t mask = 0;
@@ -80,7 +80,6 @@ struct Builder {
     uint32_t hash[3 * 32];       // a group's corner hashes (see prepareBatch)
     uint32_t mismatches = 0;
     bool visCam = false;
-    bool stopped = false;  // a non-finite coordinate or no memory: the range is read again on one thread
   };
   RangeWeld ranges[kMaxThreads];
 #endif
@@ -105,21 +104,35 @@ struct Builder {
   bool growTable(uint32_t forVertices);
 #if STLTOPO_THREADS
   // A batch of `count` whole binary records at rec (the first at input offset `offset`) on up
-  // to `threads` threads, with the mesh that add() gives one record at a time. The first
-  // range of records is added by add() itself on the calling thread; each later range is
-  // welded on a thread of its own against a private table (weldRange), in local ids, and
-  // merged afterwards, in order (mergeRange): its vertices looked up in the mesh's table,
-  // which by then holds the ranges before, the ones not there appended in their order of
-  // first appearance; its corners mapped; its figures summed in record order. Returns the
-  // number of records added: `count`, or fewer when a range could not be welded apart (a
-  // non-finite coordinate, no memory), and the parser adds the rest one by one to meet the
-  // exact error. When add() fails on the first range, or mergeRange runs out of memory,
-  // error is set, and the records up to the failing one are counted (as one by one). 0 with
-  // nothing done when the batch is not for threads (see the body).
+  // to `threads` threads, with the mesh that add() gives one record at a time. Records are
+  // added by add() itself on a first stretch; every later stretch is welded against a private
+  // table (weldRange), in local ids, and merged in order (mergeRange): its vertices looked up
+  // in the mesh's table, which by then holds the stretches before, the ones not there
+  // appended in their order of first appearance; its corners mapped; its figures summed in
+  // record order. The stretches are one range a thread (addBatchRanges), or pieces, 4 a
+  // thread, that the free threads weld and merge as they become ready (addBatchPieces; not in
+  // wasm): see the body for which. Returns the number of records added: `count`, or fewer
+  // when a stretch could not be welded apart (a non-finite coordinate, no memory), and the
+  // parser adds the rest one by one to meet the exact error. When add() fails on the first
+  // stretch, or mergeRange runs out of memory, error is set, and the records up to the
+  // failing one are counted (as one by one). 0 with nothing done when the batch is not for
+  // threads (see the body).
+  static constexpr unsigned kPiecesPerThread = 4, kMaxPieces = kPiecesPerThread * kMaxThreads;
   uint64_t addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned threads);
+  // The two ways of addBatchParallel on n >= 2 threads, with its result: one range a thread,
+  // the first by add(), the others welded apart at the same time, then merged in order with
+  // the merges' lookups on the threads; or pieces (see above).
+  uint64_t addBatchRanges(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n);
+#if !defined(__EMSCRIPTEN__)
+  uint64_t addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n);
+#endif
+  // add() of `count` records at rec, one by one; the records added, the failing one included.
+  uint32_t addRecords(const uint8_t* rec, uint32_t count, uint64_t offset);
+  // The vertices the merges of the current batch looked up, and how many of them were new.
+  uint64_t mergedVertices = 0, mergedNew = 0;
   // Welds `count` records at rec into w: local ids to tri (3 a record), attributes to attrs,
-  // stored normals to normals (when not null), the figures to w. False (w.stopped) on a
-  // non-finite coordinate or when memory runs out.
+  // stored normals to normals (when not null), the figures to w. False on a non-finite
+  // coordinate or when memory runs out.
   static bool weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32_t* tri, uint16_t* attrs,
                         float* normals);
   // The merge of range w (weldRange of `count` records, whose local ids are at tri): its new
