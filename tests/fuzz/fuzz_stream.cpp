@@ -6,6 +6,10 @@
 // mesh bit for bit, the same warnings and the same JSON report.
 //   flags & 0x08: keepNormals        flags & 0x10: pass sizeHint = size
 //   flags & 0x20: maxBytes = size    flags & 0x40: reuse the Reader via reset()
+//   flags & 0x80: the Reader, and the streamed mesh's topologies, on 3 threads, with every
+//                 threaded stage split down to single items (setParallelGrainForTesting(1)):
+//                 the threaded read (both of its ways, ranges and pieces, as the batches go)
+//                 must give the one-thread whole read's outcome
 #include <algorithm>
 #include <vector>
 
@@ -54,7 +58,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Mesh whole;
   Status ws = readStl(p, n, whole, o);
 
+  static const bool grain = (setParallelGrainForTesting(1), true);
+  (void)grain;
+  const unsigned threads = (flags & 0x80) ? 3 : 1;
   ReadOptions so = o;
+  so.threads = threads;
   if (flags & 0x10) so.sizeHint = n;
   Reader r(so);
   Mesh streamed;
@@ -71,14 +79,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fuzz::checkSameMesh(whole, streamed);
     Topology tw, ts;
     fuzz::checkTopology(whole, TopologyOptions{}, tw);
-    FUZZ_CHECK(buildTopology(streamed, ts).ok());
+    TopologyOptions tso;
+    tso.threads = threads;
+    FUZZ_CHECK(buildTopology(streamed, ts, tso).ok());
+    FUZZ_CHECK(fuzz::sameArray(tw.next, ts.next) && fuzz::sameArray(tw.prev, ts.prev) &&
+               fuzz::sameArray(tw.vert, ts.vert) && fuzz::sameArray(tw.face, ts.face) &&
+               fuzz::sameArray(tw.pairKind, ts.pairKind) && fuzz::sameArray(tw.vertexHalfedge, ts.vertexHalfedge) &&
+               fuzz::sameArray(tw.loopHalfedges, ts.loopHalfedges) &&
+               fuzz::sameArray(tw.triangleShell, ts.triangleShell));
     FUZZ_CHECK(infoJson("f", whole, &tw) == infoJson("f", streamed, &ts));
     // The exact geometry is the same for every chunking.
     TopologyOptions to;
     to.triangleShell = true;
     to.prevAndFace = false;
     Topology gw, gs;
-    FUZZ_CHECK(buildTopology(whole, gw, to).ok() && buildTopology(streamed, gs, to).ok());
+    TopologyOptions tos = to;
+    tos.threads = threads;
+    FUZZ_CHECK(buildTopology(whole, gw, to).ok() && buildTopology(streamed, gs, tos).ok());
     Array<Shell> sw, sst;
     Defects dw, ds;
     FUZZ_CHECK(findShellsAndDefects(whole, gw, &sw, &dw).ok() && findShellsAndDefects(streamed, gs, &sst, &ds).ok());
