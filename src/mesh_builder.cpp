@@ -221,8 +221,7 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
   const uint32_t t0 = mesh.nTriangles();
   // One by one past maxTriangles (add() has the error), and before the table exists.
   if (uint64_t(t0) + count > opt.maxTriangles || table.empty()) return 0;
-  const size_t grain = parallelGrain(4096);
-  const unsigned n = partsFor(threads, count, grain);
+  const unsigned n = partsFor(threads, count, parallelGrain(4096));
   if (n < 2) return 0;
   {  // room for the whole batch, so that add() on the first piece never moves the arrays
     const size_t need = size_t(t0) + count;
@@ -249,6 +248,12 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
   mergedNew = mergedVertices = 0;
   return mostlyNew ? addBatchPieces(rec, count, offset, n) : addBatchRanges(rec, count, offset, n);
 #endif
+}
+
+void Builder::endBatchAt(size_t nt) {  // within the capacity addBatchParallel reserved
+  (void)mesh.triangles.resize(nt * 3);
+  (void)mesh.attributes.resize(nt);
+  if (opt.keepNormals) (void)mesh.normals.resize(nt * 3);
 }
 
 uint32_t Builder::addRecords(const uint8_t* rec, uint32_t count, uint64_t offset) {
@@ -284,9 +289,7 @@ uint64_t Builder::addBatchRanges(const uint8_t* rec, uint32_t count, uint64_t of
     const size_t r0 = partBegin(count, n, part), r1 = partBegin(count, n, part + 1);
     if (!ok[part]) return r0;  // the parser adds the rest one by one
     if (!mergeRange(ranges[part], tri + 3 * r0, uint32_t(r1 - r0), n)) return r1;
-    (void)mesh.triangles.resize((size_t(t0) + r1) * 3);  // within the capacity reserved above
-    (void)mesh.attributes.resize(size_t(t0) + r1);
-    if (normals) (void)mesh.normals.resize((size_t(t0) + r1) * 3);
+    endBatchAt(size_t(t0) + r1);
   }
   return count;
 }
@@ -347,9 +350,7 @@ uint64_t Builder::addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t of
           stop.store(true);
           break;
         }
-        (void)mesh.triangles.resize((size_t(t0) + r1) * 3);  // within the capacity reserved above
-        (void)mesh.attributes.resize(size_t(t0) + r1);
-        if (normals) (void)mesh.normals.resize((size_t(t0) + r1) * 3);
+        endBatchAt(size_t(t0) + r1);
         freeSlots.fetch_or(uint64_t(1) << slotOf[j]);
         progressed = true;
       }

@@ -66,9 +66,10 @@ struct Builder {
   Status error;  // sticky
 
 #if STLTOPO_THREADS
-  // A piece of a threaded batch (addBatchParallel) past the first, welded on a thread against
-  // a private table, in local ids (first appearance within the piece), which the merge maps
-  // to the mesh's. Up to `threads` + 2 of them are in use; kept from one batch to the next.
+  // A stretch of a threaded batch (addBatchParallel) past the first, welded on a thread
+  // against a private table, in local ids (first appearance within the stretch), which the
+  // merge maps to the mesh's. In use: ranges[1 .. threads - 1] by ranges, up to threads + 2
+  // by pieces; kept from one batch to the next.
   struct RangeWeld {
     Array<Slot> table;
     uint32_t mask = 0;
@@ -126,6 +127,8 @@ struct Builder {
 #if !defined(__EMSCRIPTEN__)
   uint64_t addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n);
 #endif
+  // The mesh's triangle arrays sized to nt triangles, once a batch's stretch is merged.
+  void endBatchAt(size_t nt);
   // add() of `count` records at rec, one by one; the records added, the failing one included.
   uint32_t addRecords(const uint8_t* rec, uint32_t count, uint64_t offset);
   // The vertices the merges of the current batch looked up, and how many of them were new.

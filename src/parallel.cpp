@@ -89,7 +89,7 @@ bool startDetached(Fn* fn) {
 // Waits up to about kSpinMicros for ready() to hold, without sleeping; true when it did. A
 // thread that sleeps on a condition variable is woken through the kernel, and on a virtual
 // machine an idle virtual CPU's wake-up took 70-230 us here (a split of two empty parts after
-// 0.7 ms of other work), against 1-2 us for one that is still spinning: the stages split
+// 0.7 ms of other work), against 1-15 us for one that is still spinning: the stages split
 // dozens of times a load, with short one-thread stretches between the splits. Natively only.
 #if !defined(__EMSCRIPTEN__)
 constexpr int kSpinMicros = 1000;
