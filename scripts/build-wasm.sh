@@ -54,10 +54,12 @@ done
 
 # Only the full module may hold SIMD instructions and saturating float-to-int conversions (the
 # intersection pass, src/CMakeLists.txt): the core must instantiate on every engine with wasm,
-# SIMD or not. binaryen's wasm-dis comes with Emscripten.
+# SIMD or not. binaryen's wasm-dis comes with Emscripten. (grep reads the whole listing: with
+# pipefail, grep -q would stop at the first match, wasm-dis would die of SIGPIPE, and the
+# pipeline would count as no match.)
 for m in wasm wasm-mt; do
   if command -v wasm-dis >/dev/null 2>&1 &&
-     wasm-dis dist/stltopo-$m.wasm | grep -qE '\b(v128|[if](8x16|16x8|32x4|64x2))\.|\.trunc_sat_'; then
+     wasm-dis dist/stltopo-$m.wasm | grep -E '\b(v128|[if](8x16|16x8|32x4|64x2))\.|\.trunc_sat_' >/dev/null; then
     echo "build-wasm: stltopo-$m.wasm holds SIMD or saturating conversions; only stltopo-full(-mt) may" >&2
     exit 1
   fi
