@@ -90,9 +90,11 @@ void BinaryParser::feed(const uint8_t* p, size_t n) {
     bool hashed = false;
     uint64_t k = 0;
 #if STLTOPO_THREADS
-    if (threads > 1) {
-      // Threaded: batches of whole records, with the mesh of one at a time (below), which
-      // adds whatever a batch leaves (see addBatchParallel).
+    // Threaded: batches of whole records, with the mesh of one at a time (below), which adds
+    // whatever a batch leaves (see addBatchParallel). Only in a part of at least 2 x 65536
+    // records: the threads' private weld arrays are about 46 B a record of fresh memory,
+    // which in a smaller file cost more than the second thread saves.
+    if (threads > 1 && partCount >= 2 * parallelGrain(65536)) {
       constexpr uint64_t kParallelBatch = uint64_t(1) << 18;
       while (whole - k >= 2 * parallelGrain(4096)) {
         const uint32_t count = uint32_t(std::min<uint64_t>(kParallelBatch, whole - k));

@@ -244,6 +244,29 @@ TEST(Threads, FuzzSeedsAreTheSameForEveryThreadCount) {
   EXPECT_GT(n, 20u);
 }
 
+// The read splits a binary part only from 2 x 65536 records (its default grain): below that,
+// the threads' private weld arrays cost more fresh memory than the second thread saves
+// (bench/PROFILE.md, *Stop 49*). A smaller file reads as one thread does, with no split.
+TEST(Threads, TheReadSplitsOnlyPartsOfAtLeast131072Records) {
+  const std::string below = gen::binary(gen::torus(256, 255));  // 130,560 triangles
+  const std::string at = gen::binary(gen::torus(256, 256));     // 131,072
+  stltopo::ReadOptions ro;
+  ro.threads = 2;
+  stltopo::Mesh m;
+  uint64_t splits = stltopo::parallelSplitsForTesting();
+  ASSERT_TRUE(gen::read(below, m, ro).ok());
+  ASSERT_EQ(m.nTriangles(), 130560u);
+  EXPECT_EQ(stltopo::parallelSplitsForTesting(), splits) << "a part below 131,072 records was read on threads";
+  splits = stltopo::parallelSplitsForTesting();
+  ASSERT_TRUE(gen::read(at, m, ro).ok());
+  ASSERT_EQ(m.nTriangles(), 131072u);
+  if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits) << "a part of 131,072 records was read on one thread";
+  // In 1 MiB chunks, as the npm package feeds it: the part's count decides, not the chunk's.
+  splits = stltopo::parallelSplitsForTesting();
+  ASSERT_TRUE(gen::readChunked(at, size_t(1) << 20, m, ro).ok());
+  if (kThreaded) EXPECT_GT(stltopo::parallelSplitsForTesting(), splits) << "read in chunks";
+}
+
 // Generated meshes at the stages' own grain (no test grain) and at grain 1: grid order and
 // shuffled, with holes, -0 and +0, several binary parts, a non-finite coordinate late in the
 // file (the threaded read must give the one-thread error), and a truncated file.

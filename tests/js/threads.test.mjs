@@ -139,7 +139,9 @@ test('threads: the generated cases of the native thread test, at grain 0, 1 and 
     await withGrain(g, async () => {
       for (const [name, bytes] of Object.entries(cases)) await expectSame(`${name} grain ${g}`, bytes, { shells: true });
     });
-    assert.ok((await splits()) > before, `grain ${g}: the threaded paths ran`);
+    // At the stages' own grains (0) these cases are too small to split: the read splits only
+    // parts of 131,072 records or more (the view test below reads one on threads).
+    if (g !== 0) assert.ok((await splits()) > before, `grain ${g}: the threaded paths ran`);
   }
   const e = await outcome(cases['non-finite'], 4);
   assert.match(e.error, /^non-finite: /);
@@ -149,8 +151,10 @@ test('threads: view meshes of the threaded module read through memory that grew 
   const { positions, triangles } = damagedTorus(400, 300, 3); // ~240k triangles: the heap grows during the load
   const bytes = indexedStl(positions, triangles);
   const copy = await loadStl(bytes, { threads: 1 });
+  const before = await splits();
   const view = await loadStl(bytes, { threads: 4, view: true });
   try {
+    assert.ok((await splits()) > before, 'the threaded paths ran at their own grains');
     assert.equal(view.threads, 4);
     assert.deepEqual(view.triangles, copy.triangles);
     assert.deepEqual(view.halfedges.next, copy.halfedges.next);
