@@ -85,6 +85,56 @@ Status checkTriangles(const Mesh& mesh, const Topology* topo, TriangleChecks& ou
 
 namespace {
 
+// The candidates for a duplicate group without a topology, in triangle order: the
+// non-degenerate triangles whose corner set another one may share. Every such triangle
+// would do, but a table of them all costs 16-24 B a triangle and a random probe each (79 ms
+// of the 1M-triangle torus natively, more than its read; bench/PROFILE.md, *Stop 50*). So a
+// sieve first: a corner set's hash picks an entry of 2 bits (seen, seen again) among at
+// least 8 a triangle; one pass marks each triangle's entry, a second lists the triangles
+// whose entry was marked twice. Triangles with the same corner set share their entry, so
+// none of a duplicate group is left out; a triangle that merely shares its entry (about 1 in
+// 8 to 16) goes on to the exact table, which tells them apart.
+Status sieveCandidates(const Welded& w, uint32_t nt, Array<uint32_t>& cand) {
+  unsigned bits = 6;
+  while ((size_t(1) << bits) < 8 * size_t(nt) && bits < 32) ++bits;
+  Array<uint32_t> state;  // entry i: bits 2 (i % 16) (seen) and 2 (i % 16) + 1 (seen again) of word i / 16
+  if (!state.assign((size_t(1) << bits) / 16, 0)) return oom("the duplicate sieve");
+  uint32_t marked = 0, n = 0;  // marked: the marks on an entry already seen
+  for (int pass = 0; pass < 2; ++pass) {
+    // Each mark on a seen entry adds one triangle to the list, and each entry marked again the
+    // one that first marked it: at most 2 * marked.
+    if (pass == 1 && !cand.resize(2 * size_t(marked))) return oom("the duplicate candidates");
+    for (uint32_t t = 0; t < nt && (pass == 0 || marked); ++t) {
+      const uint32_t* corner = w.mesh.triangles.data() + 3 * size_t(t);
+      uint32_t a = corner[0], b = corner[1], c = corner[2];
+      if (w.weld) {
+        a = w.weld[a];
+        b = w.weld[b];
+        c = w.weld[c];
+      }
+      if (a == b || b == c || a == c) continue;  // degenerate
+      // The corner set's hash, without branches (the corners are in no order a branch could
+      // predict) or calls (wasm's -Oz keeps even std::min out of line): a multiplicative
+      // hash of the sorted corners, read in its high bits.
+      const uint32_t lo0 = a < b ? a : b, hi0 = a < b ? b : a;
+      const uint32_t lo = lo0 < c ? lo0 : c, hi = hi0 > c ? hi0 : c, mid = a ^ b ^ c ^ lo ^ hi;
+      const uint64_t k = 0x9e3779b97f4a7c15ull;
+      const uint64_t h = (((uint64_t(lo) << 32 | mid) * k) ^ hi) * k;
+      const uint32_t i = uint32_t(h >> (64 - bits)), shift = 2 * (i % 16);
+      uint32_t& word = state[i / 16];
+      if (pass == 0) {
+        const uint32_t seen = (word >> shift) & 1;
+        marked += seen;
+        word |= (seen + 1) << shift;  // seen, or seen again
+      } else if (word >> shift & 2) {
+        cand[n++] = t;
+      }
+    }
+  }
+  (void)cand.resize(n);  // smaller
+  return {};
+}
+
 // checkTriangles; with kChunked, its pass over the triangles in chunks (detail::forChunks: for
 // the full wasm module's intersection pass, detail::checkTrianglesInChunks; a separate
 // instantiation, so that the core module holds only the one-call code).
@@ -95,9 +145,10 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
   const Welded w{mesh, weldOf(topo)};
   const uint32_t nt = mesh.nTriangles();
   const bool useTopology = topo && topo->triangleHalfedge.size() == nt && !topo->next.empty() && !topo->vert.empty();
-  // Pass 1: zero-area triangles, and the candidates for a duplicate group (with a topology,
-  // only the triangles it cannot rule out: none in a clean mesh). Threaded: each part lists
-  // a range of triangles, and the lists are joined in range order.
+  // Pass 1: zero-area triangles, and with a topology the candidates for a duplicate group:
+  // the triangles it cannot rule out, none in a clean mesh (without one, the sieve after this
+  // pass lists them). Threaded: each part lists a range of triangles, and the lists are joined
+  // in range order.
   Array<uint32_t> cand;
   auto pass1 = [&](uint32_t t0, uint32_t t1, Array<uint32_t>& zeroArea, Array<uint32_t>& candidates) __attribute__((flatten)) -> Status {
 #if defined(__EMSCRIPTEN__)
@@ -124,8 +175,8 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
         const uint32_t t = b0 + i, a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
         if (a == b || b == c || a == c) continue;  // degenerate
         if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
-        const bool maybe = !useTopology || test[i] == DuplicateTest::Maybe ||
-                           (test[i] == DuplicateTest::ThirdCorner && across[i] == c);
+        const bool maybe = useTopology && (test[i] == DuplicateTest::Maybe ||
+                                           (test[i] == DuplicateTest::ThirdCorner && across[i] == c));
         if (maybe && !candidates.push_back(t)) return oom("the duplicate candidates");
       }
     }
@@ -154,7 +205,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
       const uint32_t a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
       if (a == b || b == c || a == c) continue;  // degenerate
       if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
-      if ((!useTopology || canHaveDuplicate(*topo, t, c)) && !candidates.push_back(t))
+      if (useTopology && canHaveDuplicate(*topo, t, c) && !candidates.push_back(t))
         return oom("the duplicate candidates");
     }
     detail::keepAlive(sink);
@@ -203,6 +254,8 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
       ncand += l.cand.size();
     }
   }
+  if (!useTopology)
+    if (Status s = sieveCandidates(w, nt, cand); !s.ok()) return s;
   // Pass 2: the candidates into an open-addressed table keyed by their sorted corners;
   // rep[i] = the index of the lowest candidate with candidate i's corner set.
   const uint32_t nc = uint32_t(cand.size());
