@@ -268,6 +268,46 @@ TEST(Geometry, TriangleChecksOfAScatteredFileAreTheBruteForceOnes) {
   }
 }
 
+// The checks without the half-edges (a topology stripped of them, as `info --intersections`
+// leaves it) hash the corners through the tolerance weld, as the topology's own test does:
+// copies of torus triangles whose corners moved by less than the tolerance are duplicates
+// only after the weld. With the raw corner ids (no topology) there are none.
+TEST(Geometry, DuplicatesWithoutHalfedgesGoThroughTheToleranceWeld) {
+  Soup soup = gen::torus(200, 100, {3, 50, 7});
+  const uint32_t nTorus = uint32_t(soup.f.size());
+  std::mt19937 rng(5);
+  for (int k = 0; k < 300; ++k) {
+    const auto f = soup.f[rng() % nTorus];
+    const uint32_t b = uint32_t(soup.v.size());
+    for (int i = 0; i < 3; ++i) {
+      auto p = soup.v[f[i]];
+      p[0] += 1e-5f * float(1 + k % 3);
+      soup.v.push_back(p);
+    }
+    soup.f.push_back(k % 2 ? std::array<uint32_t, 3>{b, b + 1, b + 2} : std::array<uint32_t, 3>{b, b + 2, b + 1});
+  }
+  std::shuffle(soup.f.begin(), soup.f.end(), rng);
+  stltopo::Mesh mesh;
+  ASSERT_TRUE(gen::read(gen::binary(soup), mesh).ok());
+  stltopo::TopologyOptions to;
+  to.tolerance = 0.001;
+  stltopo::Topology topo;
+  ASSERT_TRUE(stltopo::buildTopology(mesh, topo, to).ok());
+  stltopo::TriangleChecks full, stripped, raw;
+  ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, full).ok());
+  EXPECT_GE(full.nDuplicateGroups(), 250u);  // a few copies land on the same triangle
+  EXPECT_EQ(full.nDuplicateTriangles, 300u);
+  topo.next.release(), topo.prev.release(), topo.face.release();
+  topo.triangleHalfedge.release(), topo.vertexHalfedge.release();
+  ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, stripped).ok());
+  EXPECT_TRUE(gen::sameArray(stripped.duplicateTriangles, full.duplicateTriangles) &&
+              gen::sameArray(stripped.duplicateOffsets, full.duplicateOffsets) &&
+              gen::sameArray(stripped.duplicateOrientation, full.duplicateOrientation) &&
+              gen::sameArray(stripped.zeroArea, full.zeroArea));
+  ASSERT_TRUE(stltopo::checkTriangles(mesh, nullptr, raw).ok());
+  EXPECT_EQ(raw.nDuplicateGroups(), 0u);
+}
+
 TEST(Geometry, FoldOverTJunctionNeedleDuplicates) {
   Result fold;  // across the shared side (0,0,0)-(10,0,0), both on the same side
   analyze(tris({{{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}}, {{{10, 0, 0}, {0, 0, 0}, {3, 3, 0}}}}), fold);
