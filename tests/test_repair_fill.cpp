@@ -351,6 +351,47 @@ TEST(RepairFill, AFillThatWouldCrossTheMeshIsSkippedAndChangesNothing) {
   EXPECT_TRUE(em.stats().watertight);
 }
 
+// The fill step's cell grid (fill_holes.cpp, CellGrid) only spares the query of the loops'
+// boxes for triangles far from every loop: with and without it, the same plan and the same
+// mesh, on boxes whose top has random holes with small cubes standing in and around them
+// (fills that would cross a cube are skipped).
+TEST(RepairFill, TheCellGridChangesNoFill) {
+  std::mt19937 rng(50);
+  uint32_t crossed = 0, filled = 0;
+  for (int round = 0; round < 40; ++round) {
+    const int n = 8 + int(rng() % 5);
+    std::vector<int> holes;
+    for (int k = 0; k < 6; ++k) holes.push_back(int(rng() % uint32_t(n * n)));
+    gen::Soup s = gridBox(n, holes);
+    for (int k = 0; k < 8; ++k) {
+      const float size = 0.2f + 0.1f * float(rng() % 5);
+      gen::append(s, gen::cube(float(rng() % uint32_t(4 * n)) / 4, float(rng() % uint32_t(4 * n)) / 4,
+                               -0.1f * float(rng() % 8), size));
+    }
+    std::string plan[2];
+    std::vector<editcheck::Snapshot> after;
+    for (int grid = 0; grid < 2; ++grid) {
+      repair_detail::setFillCellGridForTesting(grid == 1);
+      EditableMesh em;
+      makeEditable(s, em);
+      FillRun r = fill(em);
+      ASSERT_TRUE(r.status.ok()) << r.status.message;
+      plan[grid] = describe(r.plan);
+      after.emplace_back(em);
+      if (grid == 1)
+        for (const RepairItem& it : r.plan.items) {
+          crossed += it.skipped && it.reason.rfind("the fill would cross the mesh", 0) == 0;
+          filled += !it.skipped;
+        }
+    }
+    repair_detail::setFillCellGridForTesting(true);
+    EXPECT_EQ(plan[1], plan[0]) << "round " << round;
+    EXPECT_TRUE(after[1] == after[0]) << "round " << round;
+  }
+  EXPECT_GE(crossed, 10u);
+  EXPECT_GE(filled, 10u);
+}
+
 TEST(RepairFill, SeamsAreSkipped) {
   // Three triangles on one edge: its loops have cut sides.
   gen::Soup s;

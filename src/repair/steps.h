@@ -66,6 +66,9 @@ Status runZeroArea(StepContext& ctx);
 Status runStitch(StepContext& ctx);
 Status runSplitNonManifold(StepContext& ctx);
 Status runFillHoles(StepContext& ctx);
+// Tests only: whether the fill step's cell grid screens the triangles before the query of the
+// loops' boxes (fill_holes.cpp, CellGrid); the default, true, and false give the same plans.
+void setFillCellGridForTesting(bool on);
 Status runOrient(StepContext& ctx);
 Status runSmallShells(StepContext& ctx);
 
