@@ -353,17 +353,18 @@ TEST(RepairFill, AFillThatWouldCrossTheMeshIsSkippedAndChangesNothing) {
 
 // The fill step's cell grid (fill_holes.cpp, CellGrid) only spares the query of the loops'
 // boxes for triangles far from every loop: with and without it, the same plan and the same
-// mesh, on boxes whose top has random holes with small cubes standing in and around them
-// (fills that would cross a cube are skipped).
+// mesh, on boxes whose top has random holes (more than the 16 loops from which the step
+// makes a grid) with small cubes standing in and around them (fills that would cross a cube
+// are skipped).
 TEST(RepairFill, TheCellGridChangesNoFill) {
   std::mt19937 rng(50);
   uint32_t crossed = 0, filled = 0;
   for (int round = 0; round < 40; ++round) {
-    const int n = 8 + int(rng() % 5);
+    const int n = 16 + int(rng() % 5);
     std::vector<int> holes;
-    for (int k = 0; k < 6; ++k) holes.push_back(int(rng() % uint32_t(n * n)));
+    for (int k = 0; k < 40; ++k) holes.push_back(int(rng() % uint32_t(n * n)));
     gen::Soup s = gridBox(n, holes);
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < 40; ++k) {
       const float size = 0.2f + 0.1f * float(rng() % 5);
       gen::append(s, gen::cube(float(rng() % uint32_t(4 * n)) / 4, float(rng() % uint32_t(4 * n)) / 4,
                                -0.1f * float(rng() % 8), size));
@@ -374,6 +375,7 @@ TEST(RepairFill, TheCellGridChangesNoFill) {
       repair_detail::setFillCellGridForTesting(grid == 1);
       EditableMesh em;
       makeEditable(s, em);
+      ASSERT_GT(em.stats().holes, 16u);
       FillRun r = fill(em);
       ASSERT_TRUE(r.status.ok()) << r.status.message;
       plan[grid] = describe(r.plan);

@@ -204,11 +204,12 @@ struct CellGrid {
   }
   uint64_t index(uint32_t x, uint32_t y, uint32_t z) const { return (uint64_t(x) * g[1] + y) * g[2] + z; }
   // Cells about the size of the boxes' median extent (a box then touches up to 8), doubled
-  // while the grid would have more than 2^26 cells (8 MB) or its marking would visit more than
-  // 2^24. None for no boxes or boxes of no extent. False when memory runs out.
-  bool build(const Box* boxes, uint32_t n) {
+  // while the grid would have more than maxCells cells or its marking would visit more than
+  // 2^24. None for up to 2 kLeaf boxes (the query looks at a leaf or two, and a fresh bit
+  // array costs more) or boxes of no extent. False when memory runs out.
+  bool build(const Box* boxes, uint32_t n, uint64_t maxCells) {
     g[0] = 0;
-    if (n == 0) return true;
+    if (n <= 2 * kLeaf) return true;
     Box all = emptyBox();
     for (uint32_t i = 0; i < n; ++i) merge(all, boxes[i]);
     double size = 0;  // the largest of the three medians of the boxes' extents
@@ -235,7 +236,7 @@ struct CellGrid {
         g[0] = 0;
         return true;
       }
-      if (cells > (uint64_t(1) << 26)) continue;
+      if (cells > maxCells) continue;
       uint64_t visits = 0;
       uint32_t c0[3], c1[3];
       for (uint32_t i = 0; i < n && visits <= (uint64_t(1) << 24); ++i) visits += range(boxes[i], c0, c1);
@@ -367,7 +368,10 @@ struct Filler {
     }
     if (nCand > 0) loopBoxes.build(0, nCand);  // in loop order: loops are numbered along the mesh
     CellGrid loopCells;
-    if (gFillCellGrid && !loopCells.build(loopBoxes.box.data(), nCand)) return oom();
+    // At most 16 cells a triangle (a bit array of 2 B a triangle, fresh memory that costs less
+    // than the queries it spares), and 2^26 (8 MB).
+    const uint64_t maxCells = std::min<uint64_t>(uint64_t(1) << 26, std::max<uint64_t>(uint64_t(1) << 16, 16 * uint64_t(nt)));
+    if (gFillCellGrid && !loopCells.build(loopBoxes.box.data(), nCand, maxCells)) return oom();
     // One pass over the triangles.
     const uint32_t* T = em.triangles().data();
     Array<uint64_t> slotTri;  // slot << 32 | triangle
