@@ -41,6 +41,62 @@ bool same(uint32_t b) {
   return fast == ref;
 }
 
+// The report's doubles (area, volume, a shell's figures): shortestDouble, which starts the
+// search at 15 digits, against the search from 1 digit, on doubles near powers of ten and
+// two, short decimals and their neighbours, sums of floats (as the report makes them),
+// random bit patterns, and the subnormal and largest ones.
+bool sameDouble(double x) {
+  if (!std::isfinite(x)) return true;
+  const std::string fast = stltopo::detail::shortestDouble(x), ref = shortestByPrinting(x, false);
+  EXPECT_EQ(fast, ref) << "x = " << std::hexfloat << x;
+  EXPECT_EQ(std::strtod(fast.c_str(), nullptr), x) << fast;
+  return fast == ref;
+}
+
+TEST(FloatFormat, DoublesMatchPrintingFromOneDigit) {
+  auto near = [](double x, int span) {
+    for (int d = -span; d <= span; ++d) {
+      uint64_t b;
+      std::memcpy(&b, &x, 8);
+      b += uint64_t(int64_t(d));
+      double y;
+      std::memcpy(&y, &b, 8);
+      if (!sameDouble(y) || !sameDouble(-y)) return false;
+    }
+    return true;
+  };
+  for (int p = -323; p <= 308; ++p)
+    if (!near(std::strtod(("1e" + std::to_string(p)).c_str(), nullptr), 10)) return;
+  for (int e = -1074; e <= 1023; e += 3)
+    if (!near(std::ldexp(1.0, e), 10)) return;
+  std::mt19937_64 rng(2026);
+  for (int i = 0; i < 5000; ++i) {  // short decimals: 1 to 17 digits, any exponent
+    const int digits = 1 + int(rng() % 17), exp10 = int(rng() % 600) - 300;
+    std::string m = std::to_string(1 + rng() % 9);
+    for (int k = 1; k < digits; ++k) m += char('0' + rng() % 10);
+    if (!near(std::strtod((m + "e" + std::to_string(exp10)).c_str(), nullptr), 2)) return;
+  }
+  double sum = 0;
+  for (int i = 0; i < 50000; ++i) {  // running sums of float products, as the figures are
+    std::uniform_real_distribution<float> u(-100, 100);
+    sum += double(u(rng)) * double(u(rng)) / 6;
+    if (!sameDouble(sum)) return;
+  }
+  for (int i = 0; i < 50000; ++i) {
+    uint64_t b = rng();
+    double x;
+    std::memcpy(&x, &b, 8);
+    if (!sameDouble(x)) return;
+  }
+  for (uint64_t b = 0; b < 2000; ++b) {  // the smallest subnormals, and the largest doubles
+    double x, y;
+    const uint64_t top = 0x7fefffffffffffffull - b;
+    std::memcpy(&x, &b, 8);
+    std::memcpy(&y, &top, 8);
+    if (!sameDouble(x) || !sameDouble(y)) return;
+  }
+}
+
 TEST(FloatFormat, MatchesPrintingNearPowersOfTenAndTwo) {
   for (int p = -45; p <= 38; ++p) {
     uint32_t b = bitsOf(std::strtof(("1e" + std::to_string(p)).c_str(), nullptr));
