@@ -52,14 +52,19 @@ std::string rendered(bool neg, std::string& digits, int exp10) {
   return std::string(out, render(neg, digits.data(), int(digits.size()), exp10, out));
 }
 
-// shortestByPrinting from p = first (no shorter p may round-trip).
-std::string shortestFrom(double x, bool isFloat, int first) {
+// shortestByPrinting; with from15, shortestDouble (isFloat false).
+std::string shortestFrom(double x, bool isFloat, bool from15) {
   if (x == 0) return std::signbit(x) ? "-0" : "0";
   const int maxp = isFloat ? 9 : 17;
   std::string digits;
   int exp10 = 0;
   bool neg = false;
-  for (int p = first; p <= maxp; ++p)
+  int p = 1;
+  if (from15 && std::fabs(x) >= DBL_MIN && std::isfinite(x)) {
+    if (printedRoundTrips(x, false, 15, digits, exp10, neg)) return rendered(neg, digits, exp10);
+    p = 16;
+  }
+  for (; p <= maxp; ++p)
     if (printedRoundTrips(x, isFloat, p, digits, exp10, neg)) break;
   return rendered(neg, digits, exp10);
 }
@@ -68,7 +73,7 @@ std::string shortestFrom(double x, bool isFloat, int first) {
 
 // For p = 1, 2, ... print x correctly rounded to p digits (the C library's %e) and keep
 // the first that the C library reads back as the same value.
-std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, isFloat, 1); }
+std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, isFloat, false); }
 
 // The same digits as shortestByPrinting(x, false) with 1 to 3 printings instead of up to 17
 // (a report of 20,000 shells spent a third of its time here; bench/PROFILE.md, *Stop 50*).
@@ -79,15 +84,7 @@ std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, 
 // shortest p is r_15's digits without its trailing zeros (a shorter p would have left more
 // zeros), and those digits are r_p; when it does not, no p <= 15 does, and the search starts
 // at 16. Subnormal doubles, whose ulp is relatively larger, take the search from 1.
-std::string shortestDouble(double x) {
-  if (x == 0) return std::signbit(x) ? "-0" : "0";
-  if (!(std::fabs(x) >= DBL_MIN) || !std::isfinite(x)) return shortestFrom(x, false, 1);
-  std::string digits;
-  int exp10 = 0;
-  bool neg = false;
-  if (printedRoundTrips(x, false, 15, digits, exp10, neg)) return rendered(neg, digits, exp10);
-  return shortestFrom(x, false, 16);
-}
+std::string shortestDouble(double x) { return shortestFrom(x, false, true); }
 
 size_t formatShortest(float f, char* out) { return formatShortestHere(f, out); }
 
