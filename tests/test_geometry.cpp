@@ -22,6 +22,13 @@ namespace {
 
 using gen::Soup;
 
+// The same zero-area list and duplicate groups, array for array.
+bool sameChecks(const stltopo::TriangleChecks& a, const stltopo::TriangleChecks& b) {
+  return gen::sameArray(a.duplicateTriangles, b.duplicateTriangles) &&
+         gen::sameArray(a.duplicateOffsets, b.duplicateOffsets) &&
+         gen::sameArray(a.duplicateOrientation, b.duplicateOrientation) && gen::sameArray(a.zeroArea, b.zeroArea);
+}
+
 struct Result {
   stltopo::Mesh mesh;
   stltopo::Topology topo;
@@ -300,10 +307,7 @@ TEST(Geometry, DuplicatesWithoutHalfedgesGoThroughTheToleranceWeld) {
   topo.next.release(), topo.prev.release(), topo.face.release();
   topo.triangleHalfedge.release(), topo.vertexHalfedge.release();
   ASSERT_TRUE(stltopo::checkTriangles(mesh, &topo, stripped).ok());
-  EXPECT_TRUE(gen::sameArray(stripped.duplicateTriangles, full.duplicateTriangles) &&
-              gen::sameArray(stripped.duplicateOffsets, full.duplicateOffsets) &&
-              gen::sameArray(stripped.duplicateOrientation, full.duplicateOrientation) &&
-              gen::sameArray(stripped.zeroArea, full.zeroArea));
+  EXPECT_TRUE(sameChecks(stripped, full));
   ASSERT_TRUE(stltopo::checkTriangles(mesh, nullptr, raw).ok());
   EXPECT_EQ(raw.nDuplicateGroups(), 0u);
 }
@@ -570,14 +574,10 @@ TEST(Geometry, RandomizedAgainstIntegerBruteForce) {
       groups.emplace_back(checks.duplicateTriangles.data() + checks.duplicateOffsets[g],
                           checks.duplicateTriangles.data() + checks.duplicateOffsets[g + 1]);
     ASSERT_EQ(groups, want.groups) << "round " << round;
-    // Without a topology (every triangle hashed) the checks are the same.
+    // Without a topology (the sieve, then the exact table) the checks are the same.
     stltopo::TriangleChecks alone;
     ASSERT_TRUE(stltopo::checkTriangles(mesh, nullptr, alone).ok());
-    ASSERT_TRUE(gen::sameArray(alone.duplicateTriangles, checks.duplicateTriangles) &&
-                gen::sameArray(alone.duplicateOffsets, checks.duplicateOffsets) &&
-                gen::sameArray(alone.duplicateOrientation, checks.duplicateOrientation) &&
-                gen::sameArray(alone.zeroArea, checks.zeroArea))
-        << "round " << round;
+    ASSERT_TRUE(sameChecks(alone, checks)) << "round " << round;
     dupGroups += groups.size();
     ++total;
     withPairs += !got.empty();
