@@ -202,6 +202,7 @@ async function startDev(dst, config) {
   const p = spawn(process.execPath, ['node_modules/vite/bin/vite.js', ...args],
     { cwd: dst, env: { ...process.env, NO_COLOR: '1', FORCE_COLOR: '0' }, stdio: ['ignore', 'pipe', 'pipe'] });
   let log = '';
+  let timer;
   const ready = new Promise((resolve, reject) => {
     const onData = (d) => {
       log += d;
@@ -210,9 +211,10 @@ async function startDev(dst, config) {
     p.stdout.on('data', onData);
     p.stderr.on('data', (d) => { log += d; });
     p.on('exit', (code) => reject(new Error(`vite dev exited ${code}:\n${log}`)));
-    setTimeout(() => reject(new Error(`vite dev did not start in 60 s:\n${log}`)), 60_000);
+    timer = setTimeout(() => reject(new Error(`vite dev did not start in 60 s:\n${log}`)), 60_000);
   });
-  await ready;
+  // A pending timer keeps the process alive: the file ended 60 s after the last dev start.
+  await ready.finally(() => clearTimeout(timer));
   return {
     url: `http://127.0.0.1:${port}`,
     log: () => log,
