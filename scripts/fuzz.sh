@@ -7,7 +7,8 @@
 # leaves build-fuzz/artifacts/<target>/crash-* (exit status 1): turn it into a regression file
 # in tests/fixtures/regress/ (see tests/fuzz/README.md).
 # FUZZ_SMOKE_SECONDS=S: run each target S seconds on its seeds in a scratch corpus instead
-# (scripts/test-sanitize.sh uses this).
+# (scripts/test-sanitize.sh uses this), FUZZ_JOBS (default 2) targets at a time: each is one
+# process on one core, so two finish in the time of one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 minutes=10
@@ -37,26 +38,50 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # one), 2 GB of memory and 10 s per input at most.
 common=(-dict=tests/fuzz/stl.dict -max_len=65536 -malloc_limit_mb=256 -rss_limit_mb=2048 -timeout=10
         -print_final_stats=1)
+seedsOf() {
+  if [ -d "tests/fuzz/seeds/$1" ]; then echo "tests/fuzz/seeds/$1"
+  else echo tests/fuzz/seeds/fuzz_whole; fi  # fuzz_write starts from the STL files too
+}
+
+# Smoke: FUZZ_JOBS targets at a time, each on its seeds in a scratch corpus; results in order.
+if [ -n "${FUZZ_SMOKE_SECONDS:-}" ]; then
+  jobs=${FUZZ_JOBS:-2}
+  case "$jobs" in ''|*[!0-9]*|0) echo "fuzz.sh: FUZZ_JOBS needs a whole number > 0" >&2; exit 2 ;; esac
+  status=0
+  for ((i = 0; i < ${#targets[@]}; i += jobs)); do
+    batch=("${targets[@]:i:jobs}")
+    pids=()
+    for t in "${batch[@]}"; do
+      mkdir -p "$B/artifacts/$t"
+      work=$(mktemp -d)
+      ( rc=0
+        "$B/tests/fuzz/$t" "${common[@]}" -artifact_prefix="$B/artifacts/$t/" -max_total_time="$FUZZ_SMOKE_SECONDS" \
+          "$work" "$(seedsOf "$t")" >"$B/$t.smoke.log" 2>&1 || rc=$?
+        rm -rf "$work"
+        exit $rc ) &
+      pids+=($!)
+    done
+    for k in "${!batch[@]}"; do
+      t=${batch[$k]}
+      log=$B/$t.smoke.log
+      if wait "${pids[$k]}"; then
+        echo "$t: $(grep -E '^#[0-9]+.*DONE' "$log" | tail -n 1 | sed -E 's/ +/ /g') in ${FUZZ_SMOKE_SECONDS} s"
+      else
+        tail -n 60 "$log" >&2
+        echo "!!! $t failed; full log $log, input in $B/artifacts/$t/" >&2
+        status=1
+      fi
+    done
+  done
+  exit $status
+fi
+
 status=0
 for t in "${targets[@]}"; do
   bin=$B/tests/fuzz/$t
-  seeds=tests/fuzz/seeds/$t
-  [ -d "$seeds" ] || seeds=tests/fuzz/seeds/fuzz_whole  # fuzz_write starts from the STL files too
+  seeds=$(seedsOf "$t")
   art=$B/artifacts/$t
   mkdir -p "$art"
-  if [ -n "${FUZZ_SMOKE_SECONDS:-}" ]; then
-    log=$B/$t.smoke.log
-    work=$(mktemp -d)
-    if "$bin" "${common[@]}" -artifact_prefix="$art/" -max_total_time="$FUZZ_SMOKE_SECONDS" "$work" "$seeds" >"$log" 2>&1; then
-      echo "$t: $(grep -E '^#[0-9]+.*DONE' "$log" | tail -n 1 | sed -E 's/ +/ /g') in ${FUZZ_SMOKE_SECONDS} s"
-    else
-      tail -n 60 "$log" >&2
-      echo "!!! $t failed; full log $log, input in $art/" >&2
-      status=1
-    fi
-    rm -rf "$work"
-    continue
-  fi
   corpus=$B/corpus/$t
   log=$B/$t.log
   mkdir -p "$corpus"

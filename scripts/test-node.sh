@@ -40,6 +40,32 @@ elif [ "${STLTOPO_WASM_GTEST:-1}" != 0 ]; then
   cmake --build "$BUILD_DIR" --target stltopo_tests_wasm -j"${JOBS:-2}"
   # Tests that start the native CLI as a subprocess skip themselves in wasm (GTEST_SKIP).
   filter="${STLTOPO_WASM_GTEST_FILTER:-*}"
-  echo "test-node: GoogleTest suite under Node (wasm), filter $filter"
-  node "$BUILD_DIR/tests/stltopo_tests_wasm.js" --gtest_filter="$filter"
+  # Two processes, each on every other test of the list (one wasm instance is one core; the
+  # Emscripten runtime does not pass GTEST_SHARD_* from the environment, so the halves are
+  # named). The tests already run side by side natively (ctest -j2).
+  bin="$BUILD_DIR/tests/stltopo_tests_wasm.js"
+  mapfile -t names < <(node "$bin" --gtest_filter="$filter" --gtest_list_tests |
+    awk '/^[^ ]/ { suite = $1 } /^  / { print suite $1 }')
+  if [ ${#names[@]} -eq 0 ]; then
+    echo "test-node: no wasm GoogleTest matches $filter" >&2
+    exit 1
+  fi
+  halves=("" "")
+  for i in "${!names[@]}"; do halves[$((i % 2))]+="${names[$i]}:"; done
+  echo "test-node: GoogleTest suite under Node (wasm), filter $filter: ${#names[@]} tests in 2 processes"
+  tmp=$(mktemp -d)
+  pids=()
+  for k in 0 1; do
+    [ -n "${halves[$k]}" ] || continue
+    node "$bin" --gtest_filter="${halves[$k]%:}" >"$tmp/half$k.log" 2>&1 &
+    pids+=("$k:$!")
+  done
+  status=0
+  for kp in "${pids[@]}"; do
+    k=${kp%%:*}
+    if ! wait "${kp#*:}"; then status=1; fi
+    cat "$tmp/half$k.log"
+  done
+  rm -rf "$tmp"
+  [ $status -eq 0 ] || { echo "test-node: the wasm GoogleTest suite failed (above)" >&2; exit 1; }
 fi
