@@ -6,7 +6,8 @@
 # devDependencies three and three-mesh-halfedge, the wasm package in dist/ (scripts/ensure-package.sh),
 # and the native harness in build-bench/.
 # Tables go to stdout; progress and build logs to stderr.
-# Env: JOBS (default 2), STLTOPO_BENCH_BUILD_DIR (default build-bench),
+# Env: JOBS (default 2), STLTOPO_BENCH_BUILD_DIR (default build-bench; an existing Release build
+#      directory may be named, its other options are kept),
 #      STLTOPO_BENCH_NO_WASM_REBUILD=1 keeps dist/ as it is (it is still built when missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,8 +29,17 @@ if [ -f "$WASM_BUILD_DIR/CMakeCache.txt" ]; then
   NODE_PATH="${NODE_PATH:-/usr/share/nodejs}" cmake --build "$WASM_BUILD_DIR" -j"$JOBS" --target stltopo_stages_wasm >&2
 fi
 
-# The native harness: genmesh, stltopo_stages, procstat and the CLI, Release.
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_BENCH=ON -DSTLTOPO_BUILD_TESTS=OFF >&2
+# The native harness: genmesh, stltopo_stages, procstat and the CLI, Release. A fresh directory
+# gets no tests; an existing one keeps its choice, so that STLTOPO_BENCH_BUILD_DIR=build (what
+# scripts/test-bench-smoke.sh uses) adds the harness to the native test build and compiles the
+# library once.
+tests=()
+[ -f "$BUILD_DIR/CMakeCache.txt" ] || tests=(-DSTLTOPO_BUILD_TESTS=OFF)
+if [ -f "$BUILD_DIR/CMakeCache.txt" ] && ! grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$BUILD_DIR/CMakeCache.txt"; then
+  echo "bench: $BUILD_DIR is not a Release build" >&2
+  exit 1
+fi
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSTLTOPO_BUILD_BENCH=ON "${tests[@]}" >&2
 cmake --build "$BUILD_DIR" -j"$JOBS" --target genmesh stltopo_stages procstat stltopo_edits stltopo_cli stltopo_repair_bench >&2
 # CGAL's self_intersections for bench/geometry.mjs, when CGAL is installed (test-only).
 # (grep reads the whole list: with pipefail, grep -q stopping at the match made cmake die of

@@ -8,6 +8,11 @@ cd "$(dirname "$0")/.."
 start=$SECONDS
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# The harness joins the native test build when there is one (scripts/test-native.sh made it):
+# the library is then compiled once, not again in build-bench.
+if [ -f build/CMakeCache.txt ] && grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' build/CMakeCache.txt; then
+  export STLTOPO_BENCH_BUILD_DIR=${STLTOPO_BENCH_BUILD_DIR:-build}
+fi
 if ! bash scripts/bench.sh --tiny --out "$tmp/smoke.json" >"$tmp/table.md" 2>"$tmp/log"; then
   cat "$tmp/log" "$tmp/table.md" >&2
   echo "bench smoke: FAILED" >&2
