@@ -27,9 +27,18 @@ done
 case "$minutes" in ''|*[!0-9]*) echo "fuzz.sh: --minutes needs a whole number" >&2; exit 2 ;; esac
 
 bash scripts/deps.sh native fuzz
-B=build-fuzz
-CC=clang CXX=clang++ cmake -S . -B $B -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTLTOPO_BUILD_FUZZ=ON \
-  -DSTLTOPO_SANITIZE=ON -DSTLTOPO_BUILD_TESTS=OFF -DSTLTOPO_BUILD_CLI=OFF >/dev/null
+# FUZZ_BUILD_DIR: a build configured with STLTOPO_BUILD_FUZZ=ON already (scripts/test-sanitize.sh
+# names its build-asan), built as it is; else build-fuzz, configured here.
+B=${FUZZ_BUILD_DIR:-build-fuzz}
+if [ -n "${FUZZ_BUILD_DIR:-}" ]; then
+  if ! grep -q '^STLTOPO_BUILD_FUZZ:BOOL=ON$' "$B/CMakeCache.txt" 2>/dev/null; then
+    echo "fuzz.sh: FUZZ_BUILD_DIR=$B is not a build configured with -DSTLTOPO_BUILD_FUZZ=ON" >&2
+    exit 2
+  fi
+else
+  CC=clang CXX=clang++ cmake -S . -B $B -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTLTOPO_BUILD_FUZZ=ON \
+    -DSTLTOPO_SANITIZE=ON -DSTLTOPO_BUILD_TESTS=OFF -DSTLTOPO_BUILD_CLI=OFF >/dev/null
+fi
 cmake --build $B -j2 --target "${targets[@]}" >/dev/null
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:allocator_may_return_null=1:quarantine_size_mb=64}
