@@ -1,6 +1,7 @@
 // Test helpers: generate meshes and write them as binary or ASCII STL bytes.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -133,6 +134,39 @@ inline bool skipLargeFixture(const std::string& path) {
   std::error_code ec;
   return limit > 0 && std::filesystem::file_size(path, ec) > limit;
 }
+
+#ifdef STLTOPO_FIXTURES  // the test suites (not the fuzz targets)
+// Which files of tests/fixtures a loop over the fixtures reads: flags, or-ed.
+enum FixtureSet : unsigned {
+  kEveryFixture = 0,
+  kWithoutRegress = 1,  // without regress/: the fuzz regressions, which have a test of their own
+  kWithoutLarge = 2,    // without the files skipLargeFixture skips (in the sanitizer run)
+};
+
+// The fixture files (under STLTOPO_FIXTURES, tests/fixtures), as paths in sorted order: every
+// regular file but the .md notes, less what `set` leaves out. The one list every test that loops
+// over the fixtures reads; fixtureName gives a path's name relative to the folder.
+inline std::vector<std::string> fixtureFiles(unsigned set = kEveryFixture) {
+  namespace fs = std::filesystem;
+  const fs::path root(STLTOPO_FIXTURES);
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    if (!e.is_regular_file() || e.path().extension() == ".md") continue;
+    const std::string path = e.path().string();
+    if ((set & kWithoutRegress) && fs::relative(e.path(), root).generic_string().rfind("regress/", 0) == 0) continue;
+    if ((set & kWithoutLarge) && skipLargeFixture(path)) continue;
+    out.push_back(path);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+inline std::string fixtureName(const std::string& path) {
+  return std::filesystem::relative(path, STLTOPO_FIXTURES).generic_string();
+}
+
+inline std::string fixturePath(const std::string& name) { return std::string(STLTOPO_FIXTURES) + "/" + name; }
+#endif
 
 inline stltopo::Status read(const std::string& bytes, stltopo::Mesh& m, const stltopo::ReadOptions& o = {}) {
   return stltopo::readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m, o);

@@ -624,7 +624,7 @@ uint64_t seedFor(uint64_t base) {
 
 Mesh readFixture(const std::string& rel) {
   Mesh m;
-  std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + rel);
+  std::string bytes = gen::readFile(gen::fixturePath(rel));
   Status s = gen::read(bytes, m);
   EXPECT_TRUE(s.ok()) << rel << ": " << s.message;
   return m;

@@ -29,7 +29,7 @@ namespace {
 using stltopo::Code;
 using stltopo::Format;
 
-std::string fixturePath(const std::string& rel) { return std::string(STLTOPO_FIXTURES) + "/" + rel; }
+using gen::fixturePath;
 
 std::vector<uint8_t> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -78,16 +78,8 @@ std::vector<uint32_t> holeSizes(const stltopo::Topology& t) {
 // Every file under tests/fixtures except the .md notes and the fuzz regressions in
 // regress/ (which have their own test), as paths relative to it.
 std::vector<std::string> allFixtures() {
-  namespace fs = std::filesystem;
   std::vector<std::string> out;
-  const fs::path root(STLTOPO_FIXTURES);
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    if (!e.is_regular_file() || e.path().extension() == ".md") continue;
-    std::string rel = fs::relative(e.path(), root).generic_string();
-    if (rel.rfind("regress/", 0) == 0) continue;
-    out.push_back(rel);
-  }
-  std::sort(out.begin(), out.end());
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutRegress)) out.push_back(gen::fixtureName(path));
   return out;
 }
 

@@ -1130,14 +1130,7 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
 #ifndef STLTOPO_FIXTURES
   GTEST_SKIP() << "no fixtures directory";
 #else
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES)) {
-    const std::string rel = fs::relative(e.path(), STLTOPO_FIXTURES).generic_string();
-    if (e.is_regular_file() && e.path().extension() != ".md" && rel.rfind("regress/", 0) != 0)
-      files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = gen::fixtureFiles(gen::kWithoutRegress);
   std::vector<std::pair<std::string, std::string>> inputs;  // name, bytes
   for (const std::string& f : files) inputs.push_back({f, gen::readFile(f)});
   inputs.push_back({"torus 256 x 64", gen::binary(gen::torus(256, 64))});
@@ -1196,11 +1189,7 @@ TEST(Geometry, PatchCertificatesNeverChangeThePairs) {
 TEST(Geometry, SolidWithoutTheShellListIsTheSame) {
   std::vector<std::pair<std::string, std::string>> inputs;  // name, bytes
 #ifdef STLTOPO_FIXTURES
-  namespace fs = std::filesystem;
-  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
-    if (e.is_regular_file() && e.path().extension() != ".md")
-      inputs.push_back({e.path().string(), gen::readFile(e.path().string())});
-  std::sort(inputs.begin(), inputs.end());
+  for (const std::string& path : gen::fixtureFiles()) inputs.push_back({path, gen::readFile(path)});
 #endif
   inputs.push_back({"cavity", gen::binary(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10, true)))});
   inputs.push_back({"nested", gen::binary(join(cubeSoup(0, 0, 0, 30), cubeSoup(10, 10, 10, 10)))});

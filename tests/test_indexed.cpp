@@ -56,17 +56,9 @@ void expectSameTopology(const Mesh& a, const Mesh& b, const std::string& what) {
       << what;
 }
 
-std::vector<std::string> fixtureFiles() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(STLTOPO_FIXTURES))
-    if (e.is_regular_file() && e.path().extension() != ".md") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(FromIndexed, EveryFixtureGivesTheMeshAndTopologyOfReading) {
   size_t n = 0;
-  for (const std::string& f : fixtureFiles()) {
+  for (const std::string& f : gen::fixtureFiles()) {
     Mesh read;
     if (!gen::read(gen::readFile(f), read).ok()) continue;
     ++n;

@@ -86,7 +86,7 @@ TEST(ReadStl, ChunkedReadingOfEveryFixtureEqualsWholeBuffer) {
                          "mikedh_trimesh/models/20mm-xyz-cube.stl",
                          "Pix4D_OpenMesh/src/Unittests/TestFiles/cube1.stl"};
   for (const char* f : files) {
-    std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + f);
+    std::string bytes = gen::readFile(gen::fixturePath(f));
     ASSERT_FALSE(bytes.empty()) << f;
     Mesh whole;
     ASSERT_TRUE(gen::read(bytes, whole).ok()) << f;

@@ -765,12 +765,7 @@ TEST(Repair, CrossingBodiesKeepTheirPairsThroughTheSteps) {
 }
 
 TEST(Repair, EveryFixture) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
-    if (e.is_regular_file() && e.path().extension() != ".md" && !gen::skipLargeFixture(e.path().string()))
-      files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = gen::fixtureFiles(gen::kWithoutLarge);
   int repaired = 0;
   for (const std::string& f : files) {
     Mesh m;

@@ -645,7 +645,7 @@ TEST(RepairFill, FairMovesOnlyTheNewVertices) {
 
 TEST(RepairFill, DracoBunnyHolesAreFilled) {
   Mesh m;
-  Status s = gen::read(gen::readFile(std::string(STLTOPO_FIXTURES) + "/google_draco/testdata/STL/bunny.stl"), m);
+  Status s = gen::read(gen::readFile(gen::fixturePath("google_draco/testdata/STL/bunny.stl")), m);
   ASSERT_TRUE(s.ok()) << s.message;
   for (bool refine : {false, true}) {
     EditableMesh em;

@@ -592,22 +592,8 @@ TEST(StitchStep, APinchingPairIsSkippedWithTheReason) {
 // ------------------------------------------------------------------------ fixtures
 
 namespace {
-std::vector<std::string> stlFixtures() {
-  namespace fs = std::filesystem;
-  std::vector<std::string> out;
-  const fs::path root(STLTOPO_FIXTURES);
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    if (!e.is_regular_file() || e.path().extension() == ".md") continue;
-    std::string rel = fs::relative(e.path(), root).generic_string();
-    if (rel.rfind("regress/", 0) == 0) continue;
-    out.push_back(rel);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-bool loadFixture(const std::string& rel, EditableMesh& em, double& diag) {
-  std::string bytes = gen::readFile(std::string(STLTOPO_FIXTURES) + "/" + rel);
+bool loadFixture(const std::string& path, EditableMesh& em, double& diag) {
+  std::string bytes = gen::readFile(path);
   Mesh m;
   if (!gen::read(bytes, m).ok() || m.nTriangles() == 0) return false;
   if (!em.init(m).ok()) return false;
@@ -624,11 +610,11 @@ bool loadFixture(const std::string& rel, EditableMesh& em, double& diag) {
 TEST(StitchStep, NeverMakesAFixtureWorse) {
   const double fractions[] = {0, 1e-6, 1e-4, 1e-3, 1e-2};
   uint32_t files = 0;
-  for (const std::string& rel : stlFixtures()) {
-    if (gen::skipLargeFixture(std::string(STLTOPO_FIXTURES) + "/" + rel)) continue;
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutRegress | gen::kWithoutLarge)) {
+    const std::string rel = gen::fixtureName(path);
     EditableMesh probe;
     double diag = 0;
-    if (!loadFixture(rel, probe, diag)) continue;
+    if (!loadFixture(path, probe, diag)) continue;
     ++files;
     const Counts start = counts(probe);
     const bool defective = start.boundary + start.nonManifoldEdges + start.inconsistent + start.nonManifoldVertices > 0;
@@ -637,7 +623,7 @@ TEST(StitchStep, NeverMakesAFixtureWorse) {
                       std::to_string(start.nonManifoldVertices);
     for (double f : fractions) {
       EditableMesh em;
-      ASSERT_TRUE(loadFixture(rel, em, diag));
+      ASSERT_TRUE(loadFixture(path, em, diag));
       RepairOptions o;
       o.stitchTolerance = f * diag;
       RepairStepPlan plan;
@@ -662,10 +648,11 @@ TEST(StitchStep, NeverMakesAFixtureWorse) {
 // left, positions stay, the mesh is valid; non-manifold vertices remain only where their
 // fans are joined through inconsistent edges (listed as skipped).
 TEST(SplitNonManifoldStep, Fixtures) {
-  for (const std::string& rel : stlFixtures()) {
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutRegress)) {
+    const std::string rel = gen::fixtureName(path);
     EditableMesh em;
     double diag = 0;
-    if (!loadFixture(rel, em, diag)) continue;
+    if (!loadFixture(path, em, diag)) continue;
     const Counts start = counts(em);
     if (start.nonManifoldEdges + start.nonManifoldVertices == 0) continue;
     auto corners = cornerPositions(em);

@@ -491,20 +491,11 @@ std::vector<BruteShell> bruteForce(const Mesh& m, const Topology& t, const std::
   return out;
 }
 
-std::vector<std::string> fixtureFiles() {
-  namespace fs = std::filesystem;
-  std::vector<std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(STLTOPO_FIXTURES))
-    if (e.is_regular_file() && e.path().extension() != ".md") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 }  // namespace
 
 TEST(Shells, EveryFixtureAgreesWithABruteForceCountAndTheWholeReport) {
   uint32_t checked = 0;
-  for (const std::string& path : fixtureFiles()) {
+  for (const std::string& path : gen::fixtureFiles()) {
     SCOPED_TRACE(path);
     Analyzed a;
     if (!gen::read(gen::readFile(path), a.mesh).ok()) continue;
@@ -612,7 +603,7 @@ TEST(ShellsCli, UsageErrors) {
 
 TEST(ExtractShell, EveryShellOfEveryFixtureReportsAsItDidInItsMesh) {
   uint32_t checked = 0;
-  for (const std::string& path : fixtureFiles()) {
+  for (const std::string& path : gen::fixtureFiles()) {
     SCOPED_TRACE(path);
     std::string bytes = gen::readFile(path);
     Analyzed a;
@@ -698,7 +689,7 @@ TEST(ShellsCli, SplitWritesOneFilePerShellThatReadsBackAsThatShell) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("stltopo-split-" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string in = std::string(STLTOPO_FIXTURES) + "/mikedh_trimesh/models/multibody.stl";
+  const std::string in = gen::fixturePath("mikedh_trimesh/models/multibody.stl");
   std::string out;
   ASSERT_EQ(cli("split --binary '" + in + "' '" + dir.string() + "'", out), 0);
   Analyzed whole;

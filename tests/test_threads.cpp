@@ -198,8 +198,7 @@ TEST(Threads, FixturesAreTheSameForEveryThreadCount) {
   SmallGrain grain(1);
   const uint64_t splits = stltopo::parallelSplitsForTesting();
   size_t n = 0;
-  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
-    if ((path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) || gen::skipLargeFixture(path)) continue;
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutLarge)) {
     expectSameForAllThreads(path, gen::readFile(path));
     ++n;
   }
@@ -215,9 +214,7 @@ TEST(Threads, ChunkedLoopsGiveTheWholeLoopsResult) {
     ~Chunk() { stltopo::setChunkItemsForTesting(0); }
   };
   std::vector<std::pair<std::string, std::string>> inputs;
-  for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
-    if (!(path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) && !gen::skipLargeFixture(path))
-      inputs.emplace_back(path, gen::readFile(path));
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutLarge)) inputs.emplace_back(path, gen::readFile(path));
   gen::Soup t = gen::torus(60, 40, {7, 500, 501, 2000});
   std::mt19937 rng(11);
   std::shuffle(t.f.begin(), t.f.end(), rng);
@@ -237,7 +234,7 @@ TEST(Threads, ChunkedLoopsGiveTheWholeLoopsResult) {
 TEST(Threads, FuzzSeedsAreTheSameForEveryThreadCount) {
   SmallGrain grain(1);
   size_t n = 0;
-  for (const std::string& path : filesUnder(std::string(STLTOPO_FIXTURES) + "/../fuzz/seeds")) {
+  for (const std::string& path : filesUnder(gen::fixturePath("../fuzz/seeds"))) {
     expectSameForAllThreads(path, gen::readFile(path));
     ++n;
   }
@@ -364,8 +361,7 @@ TEST(Threads, RepairIsTheSameForEveryThreadCount) {
   SmallGrain grain(1);
   const uint64_t splits = stltopo::parallelSplitsForTesting();
   size_t n = 0;
-  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
-    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) continue;
+  for (const std::string& path : gen::fixtureFiles()) {
     const std::string bytes = gen::readFile(path);
     if (bytes.size() > (size_t(1) << 20)) continue;  // the time of the suite (and of the sanitizer run)
     const std::string one = repairWith(bytes, 1);
@@ -396,9 +392,7 @@ std::string cli(const std::string& args) {
 // the stages split down to single items.
 TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
   std::string files;
-  for (const std::string& path : filesUnder(STLTOPO_FIXTURES))
-    if ((path.size() < 3 || path.compare(path.size() - 3, 3, ".md") != 0) && !gen::skipLargeFixture(path))
-      files += " '" + path + "'";
+  for (const std::string& path : gen::fixtureFiles(gen::kWithoutLarge)) files += " '" + path + "'";
   for (const char* flags :
        {"info --json --shells --defects --intersections --max-pairs 1000", "info --tolerance 0.001"}) {
     const std::string one = cli(std::string(flags) + " --threads 1" + files);
@@ -418,8 +412,7 @@ TEST(Threads, CliPrintsTheSameBytesForEveryThreadCount) {
 TEST(Threads, CliRepairIsTheSameForEveryThreadCount) {
   const std::string dir = ::testing::TempDir();
   size_t n = 0;
-  for (const std::string& path : filesUnder(STLTOPO_FIXTURES)) {
-    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".md") == 0) continue;
+  for (const std::string& path : gen::fixtureFiles()) {
     if (std::filesystem::file_size(path) > (size_t(1) << 20) || n++ % 4) continue;  // a quarter: the suite's time
     std::string outs[2];
     std::string files[2];

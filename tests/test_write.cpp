@@ -58,12 +58,10 @@ WriteOptions asciiOptions() {
 // The fixtures that read without an error (the others have nothing to write).
 std::vector<std::string> readableFixtures() {
   std::vector<std::string> out;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(STLTOPO_FIXTURES)) {
-    if (!e.is_regular_file() || e.path().extension() == ".md") continue;
+  for (const std::string& path : gen::fixtureFiles()) {
     Mesh m;
-    if (gen::read(gen::readFile(e.path().string()), m).ok()) out.push_back(e.path().string());
+    if (gen::read(gen::readFile(path), m).ok()) out.push_back(path);
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 
@@ -182,7 +180,7 @@ TEST(WriteStl, ComputedNormalsAreUnitLengthFromTheWindingAndZeroWhenDegenerate) 
 TEST(WriteStl, ChunksAreBoundedAndJoinToTheSameFile) {
   Mesh m;
   ASSERT_TRUE(
-      gen::read(gen::readFile(std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/stl_binary/rear_case.stl"), m)
+      gen::read(gen::readFile(gen::fixturePath("wolph_numpy-stl/tests/stl_binary/rear_case.stl")), m)
           .ok());
   for (Format f : {Format::Binary, Format::Ascii}) {
     WriteOptions big;
@@ -464,7 +462,7 @@ size_t entries(const std::string& dir) {
 
 TEST(ConvertCli, WritesWhatTheLibraryWritesFromFilesAndPipes) {
   std::string dir = freshDir("convert");
-  std::string in = std::string(STLTOPO_FIXTURES) + "/mikedh_trimesh/models/multibody.stl";  // ASCII, 2 solids
+  std::string in = gen::fixturePath("mikedh_trimesh/models/multibody.stl");  // ASCII, 2 solids
   Mesh m;
   ASSERT_TRUE(gen::read(gen::readFile(in), m).ok());
   Ran r = shell(cli() + " convert '" + in + "' '" + dir + "/a.stl' --binary");
@@ -496,7 +494,7 @@ TEST(ConvertCli, AFailedConversionLeavesNoOutputBehind) {
   std::string out = dir + "/out.stl";
   // An input that does not read: exit 1, the error JSON on stderr, no OUT.
   Ran r =
-      shell(cli() + " convert '" + std::string(STLTOPO_FIXTURES) + "/regress/stream-long-number.stl' '" + out + "'");
+      shell(cli() + " convert '" + gen::fixturePath("regress/stream-long-number.stl' '") + out + "'");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("\"code\":\"ascii-syntax\""), std::string::npos) << r.err;
   EXPECT_EQ(entries(dir), 0u);
@@ -506,7 +504,7 @@ TEST(ConvertCli, AFailedConversionLeavesNoOutputBehind) {
     std::ofstream f(out);
     f << "old";
   }
-  std::string in = std::string(STLTOPO_FIXTURES) + "/wolph_numpy-stl/tests/stl_binary/rear_case.stl";
+  std::string in = gen::fixturePath("wolph_numpy-stl/tests/stl_binary/rear_case.stl");
   r = shell("ulimit -f 100; " + cli() + " convert '" + in + "' '" + out + "'");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("\"code\":\"write-failed\""), std::string::npos) << r.err;
