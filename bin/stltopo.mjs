@@ -4,12 +4,9 @@
 // (0 all read, 1 a file failed, 2 usage), the same text report, and with --json
 // byte-identical JSON (both come from stltopo::infoJson / errorJson).
 import { mkdir, open, rename, stat, unlink } from 'node:fs/promises';
-import { randomBytes } from 'node:crypto';
 import path from 'node:path';
 import { api, fileSource } from '../dist/instance.node.js';
 import { DEFAULTS, REPAIR_DEFAULTS, REPAIR_STEPS, normalizeOptions } from '../dist/options.js';
-import { EditableMesh } from '../dist/node.js';
-import { RAW_JSON } from '../dist/edit.js';
 import { cliCalls } from './cli-wasm.mjs';
 import { expand, readList, reportAll, stdinSource, strerror } from './cli-corpus.mjs';
 
@@ -258,6 +255,7 @@ function outputFile(output, fail) {
         if (output === '-') {
           out = { write: (c) => write(process.stdout, c), close: async () => {} };
         } else {
+          const { randomBytes } = await import('node:crypto'); // here: info, the common call, never writes
           temp = path.join(path.dirname(output), `.${path.basename(output)}.tmp-${randomBytes(4).toString('hex').slice(0, 6)}`);
           try {
             out = await open(temp, 'wx', 0o666);
@@ -432,6 +430,8 @@ async function repair(argv) {
   if (!source) return;
   let em = null;
   try {
+    // The editor's modules only for repair (info, the common call, starts without them).
+    const [{ EditableMesh }, { RAW_JSON }] = await Promise.all([import('../dist/node.js'), import('../dist/edit.js')]);
     const mesh = await api.loadFromSource(source, normalizeOptions({ topology: false }));
     em = await EditableMesh.from(mesh);
     const plan = em.planRepair(o);

@@ -7,7 +7,6 @@
 import { readFile } from 'node:fs/promises';
 import { availableParallelism } from 'node:os';
 import { pathToFileURL } from 'node:url';
-import { Worker as NodeWorker } from 'node:worker_threads';
 import createStltopoModule from './stltopo-wasm.js';
 import { createStltopo } from './wasm.js';
 import createStltopoFullModule from './stltopo-full.js';
@@ -31,7 +30,9 @@ function wasmSource(module) {
 // A Web Worker as the threaded glue uses one (new Worker(url), onmessage, onerror,
 // postMessage, terminate), on worker_threads: pthread-node.js runs the glue's worker script.
 // Unref'd once loaded, so that an idle pool never keeps Node running (a load blocks the main
-// thread while the pool works, so nothing is cut short).
+// thread while the pool works, so nothing is cut short). NodeWorker is worker_threads' Worker,
+// imported by the first threaded instantiation (a process without threads never loads it).
+let NodeWorker = null;
 class PoolWorker {
   constructor(url) {
     this.onmessage = null;
@@ -86,6 +87,7 @@ async function instantiateThreaded(kind, pool, extra) {
   const wasm = new URL(files.wasm, base);
   const source = { url: wasm.href, read: () => readFile(wasm) };
   const options = { ...extra, ...threadedModuleOptions(pool, new URL(files.worker, base).href, glue.href) };
+  NodeWorker ??= (await import('node:worker_threads')).Worker;
   return instantiateModule(create, source, options, { threaded: true, Worker: PoolWorker });
 }
 
