@@ -451,11 +451,18 @@ Status pairSides(uint32_t nt, uint32_t nv, unsigned threads, bool markLater, Top
   if (n > 1) {
     PairCounts counts[detail::kMaxThreads];
     bool ok[detail::kMaxThreads] = {};
+    // Ranges of about equal numbers of sides, not of vertices: a side is in the bucket of its
+    // edge's smaller vertex, so in a file in random order the first vertices (numbered in order
+    // of appearance) hold most sides (the 4M shuffled torus: 68.5% in the first half).
+    const auto rangeBegin = [&](unsigned part) {
+      const uint64_t want = uint64_t(offsets[nv]) * part / n;
+      return part == n ? nv : uint32_t(std::lower_bound(offsets, offsets + nv, want) - offsets);
+    };
     detail::runParts(n, [&](unsigned part) {
       // A non-manifold edge's unpaired sides of each direction, oldest first from head[d].
       Array<uint32_t> queue[2];
       SharedUnionFind shared(uf.parent.data());
-      const uint32_t v0 = uint32_t(detail::partBegin(nv, n, part)), v1 = uint32_t(detail::partBegin(nv, n, part + 1));
+      const uint32_t v0 = rangeBegin(part), v1 = rangeBegin(part + 1);
       ok[part] = markLater ? pairRange<true>(v0, v1, offsets, keys, P, shared, counts[part], queue)
                            : pairRange<false>(v0, v1, offsets, keys, P, shared, counts[part], queue);
       shared.flush();
