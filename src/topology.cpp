@@ -867,8 +867,13 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
   const Work::VertexInfo* vi = w.vinfo.data();
   uint32_t* vh = out.vertexHalfedge.data();
   uint8_t* nm = out.vertexNonManifold.data();
-  // Vertices [v0, v1): their entries and counts; false when a cycle does not close.
-  auto classify = [&](uint32_t v0, uint32_t v1, uint32_t& nUsed, uint32_t& nNonManifold) {
+  // Vertices [v0, v1): their entries, and their counts added to usedOut and nonManifoldOut;
+  // false when a cycle does not close. The counts are kept in locals: a store through nm
+  // (bytes) could alias the outputs, so counting in them stored one per vertex, and on threads
+  // the parts' outputs share a cache line (the 4M torus's pass took 12.5 ms on 2 threads
+  // against 7 ms on one).
+  auto classify = [&](uint32_t v0, uint32_t v1, uint32_t& usedOut, uint32_t& nonManifoldOut) {
+    uint32_t nUsed = 0, nNonManifold = 0;
     for (uint32_t v = v0; v < v1; ++v) {
       uint32_t e0 = vi[v].he, deg = vi[v].deg;
       nm[v] = 0;
@@ -889,6 +894,8 @@ Status classifyVertices(uint32_t nv, unsigned threads, Topology& out, Work& w) {
         ++nNonManifold;
       }
     }
+    usedOut += nUsed;
+    nonManifoldOut += nNonManifold;
     return true;
   };
   uint32_t nUsed = 0, nNonManifold = 0;
