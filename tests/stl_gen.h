@@ -143,9 +143,14 @@ enum FixtureSet : unsigned {
   kWithoutLarge = 2,    // without the files skipLargeFixture skips (in the sanitizer run)
 };
 
+// A fixture file's name: its path relative to tests/fixtures, with '/' separators.
+inline std::string fixtureName(const std::string& path) {
+  return std::filesystem::relative(path, STLTOPO_FIXTURES).generic_string();
+}
+
 // The fixture files (under STLTOPO_FIXTURES, tests/fixtures), as paths in sorted order: every
 // regular file but the .md notes, less what `set` leaves out. The one list every test that loops
-// over the fixtures reads; fixtureName gives a path's name relative to the folder.
+// over the fixtures reads.
 inline std::vector<std::string> fixtureFiles(unsigned set = kEveryFixture) {
   namespace fs = std::filesystem;
   const fs::path root(STLTOPO_FIXTURES);
@@ -153,16 +158,12 @@ inline std::vector<std::string> fixtureFiles(unsigned set = kEveryFixture) {
   for (const auto& e : fs::recursive_directory_iterator(root)) {
     if (!e.is_regular_file() || e.path().extension() == ".md") continue;
     const std::string path = e.path().string();
-    if ((set & kWithoutRegress) && fs::relative(e.path(), root).generic_string().rfind("regress/", 0) == 0) continue;
+    if ((set & kWithoutRegress) && fixtureName(path).rfind("regress/", 0) == 0) continue;
     if ((set & kWithoutLarge) && skipLargeFixture(path)) continue;
     out.push_back(path);
   }
   std::sort(out.begin(), out.end());
   return out;
-}
-
-inline std::string fixtureName(const std::string& path) {
-  return std::filesystem::relative(path, STLTOPO_FIXTURES).generic_string();
 }
 
 inline std::string fixturePath(const std::string& name) { return std::string(STLTOPO_FIXTURES) + "/" + name; }
