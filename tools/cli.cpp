@@ -88,8 +88,8 @@ struct Args {
 // the advice stays on that stretch, and the arrays that reuse it fault in 2 MiB at a time.
 // The library advises its own arrays of 4 MiB and more, but only their whole 2 MiB-aligned
 // stretches; this also covers the smaller arrays and the arrays' ends. On this VM it made
-// `info` of the 100k torus 1.4-1.6x faster as a whole process (2,000 page faults -> 270) and
-// of the 1M tori 1.2-1.3x, for about 1 MiB more peak memory (bench/PROFILE.md, *Stop 53*).
+// `info` of the 100k tori 1.4-1.6x faster as a whole process (page faults 1,960 -> about 300)
+// and of the 1M tori 1.2-1.5x, for about 1 MiB more peak memory (bench/PROFILE.md, *Stop 53*).
 // Nothing is touched: a block the heap cannot give, or that glibc maps apart, changes nothing.
 void adviseHeap(uint64_t bytes) {
 #if defined(__GLIBC__)
