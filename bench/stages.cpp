@@ -20,6 +20,10 @@
 //   stltopo_stages FILE --intersections THREADS [REPS]
 // instead times the intersection pass on one thread against THREADS threads, alternated in
 // one process (see intersectionSpeed), and prints JSON with the median speed-up.
+//   stltopo_stages FILE --paired THREADS [REPS]
+// instead times the whole pipeline above on one thread against THREADS threads, alternated
+// call by call in one process (see pairedSpeed), and prints JSON with the median of the
+// pairs' ratios: the threads' speed-up that bench/threads.mjs reports.
 //   stltopo_stages FILE --write [REPS]
 // instead reads FILE once and writes the mesh as binary and as ASCII STL through writeStl
 // REPS times (default 5) into a sink that only counts the bytes, and prints the median
@@ -45,6 +49,17 @@
 #include "stltopo/stltopo.h"
 
 using Clock = std::chrono::steady_clock;
+
+// The whole file at path into bytes; false (the message printed) when it cannot be opened.
+static bool readBytes(const char* path, std::vector<uint8_t>& bytes) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    std::fprintf(stderr, "cannot open %s\n", path);
+    return false;
+  }
+  bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  return true;
+}
 
 static double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -128,12 +143,8 @@ static int streamedPeak(const char* path) {
 }
 
 static int writeSpeed(const char* path, int reps) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    std::fprintf(stderr, "cannot open %s\n", path);
-    return 1;
-  }
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes;
+  if (!readBytes(path, bytes)) return 1;
   stltopo::Mesh mesh;
   stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh);
   if (!s.ok()) {
@@ -179,12 +190,8 @@ static int writeSpeed(const char* path, int reps) {
 // the tolerance weld costs the difference of the two topologies. Interleaved in one process,
 // so that a machine's drift moves both; prints the medians and the median ratio as JSON.
 static int weldSpeed(const char* path, double tol, int reps) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    std::fprintf(stderr, "cannot open %s\n", path);
-    return 1;
-  }
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes;
+  if (!readBytes(path, bytes)) return 1;
   std::vector<double> read, topo, topoTol, weld, ratio;
   uint32_t nt = 0, nv = 0, welded = 0;
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -222,20 +229,27 @@ static int weldSpeed(const char* path, double tol, int reps) {
   return 0;
 }
 
+// Times of one thread against several, taken in pairs: each pair's ratio (one / several).
+struct PairedTimes {
+  std::vector<double> one, many, ratio;
+  void add(double a, double b) {
+    one.push_back(a);
+    many.push_back(b);
+    ratio.push_back(a / b);
+  }
+};
+
 // The intersection pass (findIntersections) on 1 thread against `threads` threads,
 // alternated in one process after one warm-up call of each; prints JSON with the medians (and
 // the first one-thread call, passFirstMs: the fresh pages a single call in a process pays),
 // the median of the per-repetition ratios and the pass against the read + topology it
 // follows (info's own work, one thread).
 static int intersectionSpeed(const char* path, unsigned threads, int reps) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    std::fprintf(stderr, "cannot open %s\n", path);
-    return 1;
-  }
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes;
+  if (!readBytes(path, bytes)) return 1;
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-  std::vector<double> load, one, many, ratio;
+  std::vector<double> load;
+  PairedTimes p;
   double firstCall = 0;  // the process's first call (one thread): fresh pages, as CGAL's one call
   uint64_t pairs = 0;
   uint32_t nt = 0;
@@ -267,15 +281,86 @@ static int intersectionSpeed(const char* path, unsigned threads, int reps) {
     if (r == 0) firstCall = t[0];
     if (r == 0) continue;
     load.push_back(ms(t0, t1));
-    one.push_back(t[0]);
-    many.push_back(t[1]);
-    ratio.push_back(t[0] / t[1]);
+    p.add(t[0], t[1]);
   }
   std::printf(
       "{\"file\":\"%s\",\"triangles\":%u,\"pairs\":%llu,\"threads\":%u,\"reps\":%d,\"loadMs\":%.2f,"
       "\"passOneThreadMs\":%.2f,\"passFirstMs\":%.2f,\"passThreadsMs\":%.2f,\"speedup\":%.3f}\n",
-      path, nt, (unsigned long long)pairs, threads, reps, median(load), median(one), firstCall, median(many),
-      median(ratio));
+      path, nt, (unsigned long long)pairs, threads, reps, median(load), median(p.one), firstCall, median(p.many),
+      median(p.ratio));
+  return 0;
+}
+
+// What a pipeline call found (the JSON's counts).
+struct Counts {
+  uint32_t nt = 0, nv = 0, holes = 0, edges = 0, boundaryEdges = 0, shells = 0;
+};
+
+// One call of the pipeline the stages time: readStl, buildTopology, and the report as the CLI
+// makes it (with threads, the triangle checks on the threads first, as tools/cli.cpp does; on
+// one thread, inside infoJson). The stages' times (ms) to ms[0..2], the counts to *c; false
+// (the message printed) on a failure.
+static bool pipeline(const std::vector<uint8_t>& bytes, const char* path, unsigned threads, double tolerance,
+                     double ms[3], Counts* c) {
+  stltopo::ReadOptions ro;
+  ro.threads = threads;
+  stltopo::TopologyOptions to;
+  to.threads = threads;
+  to.tolerance = tolerance;
+  auto t0 = Clock::now();
+  stltopo::Mesh mesh;
+  stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh, ro);
+  auto t1 = Clock::now();
+  stltopo::Topology topo;
+  if (s.ok()) s = stltopo::buildTopology(mesh, topo, to);
+  auto t2 = Clock::now();
+  if (!s.ok()) {
+    std::fprintf(stderr, "%s\n", s.message.c_str());
+    return false;
+  }
+  std::string j;
+  if (threads != 1) {
+    stltopo::TriangleChecks checks;
+    stltopo::ReportExtras extras;
+    if (stltopo::checkTriangles(mesh, &topo, checks, threads).ok()) extras.checks = &checks;
+    j = stltopo::infoJson(path, mesh, &topo, extras);
+  } else {
+    j = stltopo::infoJson(path, mesh, &topo);
+  }
+  auto t3 = Clock::now();
+  auto d = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  ms[0] = d(t0, t1);
+  ms[1] = d(t1, t2);
+  ms[2] = d(t2, t3);
+  *c = Counts{mesh.nTriangles(), mesh.nVertices(), topo.nHoles, topo.nEdges, topo.nBoundaryEdges, topo.nShells};
+  return true;
+}
+
+// The pipeline on one thread against `threads` threads, alternated call by call in one
+// process (which goes first alternates too), after one call of each not counted. Prints JSON
+// with the medians of the two and of the pairs' ratios (one thread / threads), and the ratios'
+// range. On a machine whose speed drifts from one process to the next, the pairs' ratio is
+// the figure to trust for the threads' speed-up (bench/threads.mjs reports it).
+static int pairedSpeed(const char* path, unsigned threads, int reps) {
+  std::vector<uint8_t> bytes;
+  if (!readBytes(path, bytes)) return 1;
+  PairedTimes p;
+  Counts c;
+  for (int r = 0; r < reps + 1; ++r) {  // repetition 0 warms up, not counted
+    double t[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      const bool single = (r + k) % 2 == 0;
+      double ms[3];
+      if (!pipeline(bytes, path, single ? 1 : threads, 0, ms, &c)) return 1;
+      t[single ? 0 : 1] = ms[0] + ms[1] + ms[2];
+    }
+    if (r > 0) p.add(t[0], t[1]);
+  }
+  std::printf(
+      "{\"file\":\"%s\",\"triangles\":%u,\"threads\":%u,\"reps\":%d,\"oneThreadMs\":%.2f,\"threadsMs\":%.2f,"
+      "\"speedup\":%.3f,\"speedupMin\":%.3f,\"speedupMax\":%.3f}\n",
+      path, c.nt, threads, reps, median(p.one), median(p.many), median(p.ratio),
+      *std::min_element(p.ratio.begin(), p.ratio.end()), *std::max_element(p.ratio.begin(), p.ratio.end()));
   return 0;
 }
 
@@ -298,6 +383,8 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
+  if (argc > 3 && !std::strcmp(argv[2], "--paired"))
+    return pairedSpeed(argv[1], unsigned(std::atoi(argv[3])), argc > 4 ? std::max(1, std::atoi(argv[4])) : 9);
   if (argc < 2) {
     std::fprintf(stderr, "usage: stltopo_stages FILE [REPS] [--json]\n");
     return 2;
@@ -311,74 +398,32 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = unsigned(std::atoi(argv[++i]));
     if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc) tolerance = std::atof(argv[++i]);
   }
-  stltopo::ReadOptions ro;
-  ro.threads = threads;
-  stltopo::TopologyOptions to;
-  to.threads = threads;
-  to.tolerance = tolerance;
-  std::ifstream f(argv[1], std::ios::binary);
-  if (!f) {
-    std::fprintf(stderr, "cannot open %s\n", argv[1]);
-    return 1;
-  }
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes;
+  if (!readBytes(argv[1], bytes)) return 1;
   Times t;
-  uint32_t nt = 0, nv = 0, holes = 0, edges = 0, boundaryEdges = 0, shells = 0;
+  Counts c;
   long rssBefore = maxRssKiB(), rssAfterFirst = 0;
   for (int r = 0; r < reps; ++r) {
-    double c0 = cpuMs();
-    auto t0 = Clock::now();
-    stltopo::Mesh mesh;
-    stltopo::Status s = stltopo::readStl(bytes.data(), bytes.size(), mesh, ro);
-    auto t1 = Clock::now();
-    if (!s.ok()) {
-      std::fprintf(stderr, "%s\n", s.message.c_str());
-      return 1;
-    }
-    stltopo::Topology topo;
-    s = stltopo::buildTopology(mesh, topo, to);
-    auto t2 = Clock::now();
-    if (!s.ok()) {
-      std::fprintf(stderr, "%s\n", s.message.c_str());
-      return 1;
-    }
-    // The report as the CLI makes it: with threads, the triangle checks on the threads first
-    // (tools/cli.cpp); on one thread, inside infoJson.
-    std::string j;
-    if (threads != 1) {
-      stltopo::TriangleChecks checks;
-      stltopo::ReportExtras extras;
-      if (stltopo::checkTriangles(mesh, &topo, checks, threads).ok()) extras.checks = &checks;
-      j = stltopo::infoJson(argv[1], mesh, &topo, extras);
-    } else {
-      j = stltopo::infoJson(argv[1], mesh, &topo);
-    }
-    auto t3 = Clock::now();
+    double c0 = cpuMs(), ms[3];
+    if (!pipeline(bytes, argv[1], threads, tolerance, ms, &c)) return 1;
     double c1 = cpuMs();
     if (r == 0) rssAfterFirst = maxRssKiB();
-    nt = mesh.nTriangles();
-    nv = mesh.nVertices();
-    holes = topo.nHoles;
-    edges = topo.nEdges;
-    boundaryEdges = topo.nBoundaryEdges;
-    shells = topo.nShells;
-    auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-    t.add(ms(t0, t1), ms(t1, t2), ms(t2, t3), c1 - c0);
+    t.add(ms[0], ms[1], ms[2], c1 - c0);
   }
   if (json) {
     size_t n = t.total.size();
-    std::string all = jsonStages(t, 0, n, nt);
+    std::string all = jsonStages(t, 0, n, c.nt);
     all.pop_back();  // merge the all-repetitions medians into the top-level object
     std::printf(
         "%s,\"triangles\":%u,\"vertices\":%u,\"edges\":%u,\"boundaryEdges\":%u,\"holes\":%u,\"shells\":%u,"
         "\"reps\":%d,\"first\":%s,\"warm\":%s,\"rssKiB\":{\"beforeFirst\":%ld,\"afterFirst\":%ld},"
         "\"inputBytes\":%zu}\n",
-        all.c_str(), nt, nv, edges, boundaryEdges, holes, shells, reps, jsonStages(t, 0, 1, nt).c_str(),
-        reps > 1 ? jsonStages(t, 1, n, nt).c_str() : "null", rssBefore, rssAfterFirst, bytes.size());
+        all.c_str(), c.nt, c.nv, c.edges, c.boundaryEdges, c.holes, c.shells, reps, jsonStages(t, 0, 1, c.nt).c_str(),
+        reps > 1 ? jsonStages(t, 1, n, c.nt).c_str() : "null", rssBefore, rssAfterFirst, bytes.size());
   } else {
     double total = median(t.total);
     std::printf("%s: %u triangles; read %.1f ms, topology %.1f ms, report %.2f ms, total %.1f ms (%.1f M tri/s)\n",
-                argv[1], nt, median(t.read), median(t.topo), median(t.report), total, nt / total / 1000);
+                argv[1], c.nt, median(t.read), median(t.topo), median(t.report), total, c.nt / total / 1000);
   }
   return 0;
 }
