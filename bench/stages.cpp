@@ -20,10 +20,10 @@
 //   stltopo_stages FILE --intersections THREADS [REPS]
 // instead times the intersection pass on one thread against THREADS threads, alternated in
 // one process (see intersectionSpeed), and prints JSON with the median speed-up.
-//   stltopo_stages FILE --paired THREADS [REPS]
+//   stltopo_stages FILE --paired THREADS [PAIRS]
 // instead times the whole pipeline above on one thread against THREADS threads, alternated
-// call by call in one process (see pairedSpeed), and prints JSON with the median of the
-// pairs' ratios: the threads' speed-up that bench/threads.mjs reports.
+// call by call in one process (PAIRS pairs, default 9; see pairedSpeed), and prints JSON with
+// the median of the pairs' ratios: the threads' speed-up that bench/threads.mjs reports.
 //   stltopo_stages FILE --write [REPS]
 // instead reads FILE once and writes the mesh as binary and as ASCII STL through writeStl
 // REPS times (default 5) into a sink that only counts the bytes, and prints the median
@@ -49,6 +49,11 @@
 #include "stltopo/stltopo.h"
 
 using Clock = std::chrono::steady_clock;
+
+// Milliseconds from a to b.
+static double msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
 // The whole file at path into bytes; false (the message printed) when it cannot be opened.
 static bool readBytes(const char* path, std::vector<uint8_t>& bytes) {
@@ -167,7 +172,7 @@ static int writeSpeed(const char* path, int reps) {
             return true;
           },
           &written, o);
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      ms.push_back(msBetween(t0, Clock::now()));
       if (!s.ok()) {
         std::fprintf(stderr, "%s\n", s.message.c_str());
         return 1;
@@ -194,7 +199,6 @@ static int weldSpeed(const char* path, double tol, int reps) {
   if (!readBytes(path, bytes)) return 1;
   std::vector<double> read, topo, topoTol, weld, ratio;
   uint32_t nt = 0, nv = 0, welded = 0;
-  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   for (int r = 0; r < reps + 1; ++r) {  // repetition 0 warms up, not counted
     auto t0 = Clock::now();
     stltopo::Mesh mesh;
@@ -215,10 +219,10 @@ static int weldSpeed(const char* path, double tol, int reps) {
     nv = mesh.nVertices();
     welded = tolerant.nWeldedVertices;
     if (r == 0) continue;
-    read.push_back(ms(t0, t1));
-    topo.push_back(ms(t1, t2));
-    topoTol.push_back(ms(t2, t3));
-    weld.push_back(ms(t2, t3) - ms(t1, t2));
+    read.push_back(msBetween(t0, t1));
+    topo.push_back(msBetween(t1, t2));
+    topoTol.push_back(msBetween(t2, t3));
+    weld.push_back(msBetween(t2, t3) - msBetween(t1, t2));
     ratio.push_back(weld.back() / read.back());
   }
   std::printf(
@@ -247,7 +251,6 @@ struct PairedTimes {
 static int intersectionSpeed(const char* path, unsigned threads, int reps) {
   std::vector<uint8_t> bytes;
   if (!readBytes(path, bytes)) return 1;
-  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   std::vector<double> load;
   PairedTimes p;
   double firstCall = 0;  // the process's first call (one thread): fresh pages, as CGAL's one call
@@ -270,7 +273,7 @@ static int intersectionSpeed(const char* path, unsigned threads, int reps) {
       stltopo::Intersections found;
       auto a = Clock::now();
       s = stltopo::findIntersections(mesh, topo, checks, found, io);
-      t[first ? 0 : 1] = ms(a, Clock::now());
+      t[first ? 0 : 1] = msBetween(a, Clock::now());
       pairs = found.nPairs();
     }
     if (!s.ok()) {
@@ -280,7 +283,7 @@ static int intersectionSpeed(const char* path, unsigned threads, int reps) {
     nt = mesh.nTriangles();
     if (r == 0) firstCall = t[0];
     if (r == 0) continue;
-    load.push_back(ms(t0, t1));
+    load.push_back(msBetween(t0, t1));
     p.add(t[0], t[1]);
   }
   std::printf(
@@ -328,10 +331,9 @@ static bool pipeline(const std::vector<uint8_t>& bytes, const char* path, unsign
     j = stltopo::infoJson(path, mesh, &topo);
   }
   auto t3 = Clock::now();
-  auto d = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-  ms[0] = d(t0, t1);
-  ms[1] = d(t1, t2);
-  ms[2] = d(t2, t3);
+  ms[0] = msBetween(t0, t1);
+  ms[1] = msBetween(t1, t2);
+  ms[2] = msBetween(t2, t3);
   *c = Counts{mesh.nTriangles(), mesh.nVertices(), topo.nHoles, topo.nEdges, topo.nBoundaryEdges, topo.nShells};
   return true;
 }
@@ -341,12 +343,12 @@ static bool pipeline(const std::vector<uint8_t>& bytes, const char* path, unsign
 // with the medians of the two and of the pairs' ratios (one thread / threads), and the ratios'
 // range. On a machine whose speed drifts from one process to the next, the pairs' ratio is
 // the figure to trust for the threads' speed-up (bench/threads.mjs reports it).
-static int pairedSpeed(const char* path, unsigned threads, int reps) {
+static int pairedSpeed(const char* path, unsigned threads, int pairs) {
   std::vector<uint8_t> bytes;
   if (!readBytes(path, bytes)) return 1;
   PairedTimes p;
   Counts c;
-  for (int r = 0; r < reps + 1; ++r) {  // repetition 0 warms up, not counted
+  for (int r = 0; r < pairs + 1; ++r) {  // pair 0 warms up, not counted
     double t[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
       const bool single = (r + k) % 2 == 0;
@@ -359,7 +361,7 @@ static int pairedSpeed(const char* path, unsigned threads, int reps) {
   std::printf(
       "{\"file\":\"%s\",\"triangles\":%u,\"threads\":%u,\"reps\":%d,\"oneThreadMs\":%.2f,\"threadsMs\":%.2f,"
       "\"speedup\":%.3f,\"speedupMin\":%.3f,\"speedupMax\":%.3f}\n",
-      path, c.nt, threads, reps, median(p.one), median(p.many), median(p.ratio),
+      path, c.nt, threads, pairs, median(p.one), median(p.many), median(p.ratio),
       *std::min_element(p.ratio.begin(), p.ratio.end()), *std::max_element(p.ratio.begin(), p.ratio.end()));
   return 0;
 }
