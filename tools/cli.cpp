@@ -91,12 +91,14 @@ struct Args {
 // `info` of the 100k tori 1.4-1.6x faster as a whole process (page faults 1,960 -> about 300)
 // and of the 1M tori 1.2-1.5x, for about 1 MiB more peak memory (bench/PROFILE.md, *Stop 53*).
 // Nothing is touched: a block the heap cannot give, or that glibc maps apart, changes nothing.
+// The block stays below half the trim threshold, so that freeing it never trims the heap.
+constexpr int kHeapTrimThreshold = 1 << 30;  // main()'s M_TRIM_THRESHOLD
 void adviseHeap(uint64_t bytes) {
 #if defined(__GLIBC__)
   static std::mutex m;
   static uint64_t advised = 0;  // the largest block advised so far
   const std::lock_guard<std::mutex> lock(m);
-  bytes = std::min<uint64_t>(bytes, uint64_t(1) << 29);
+  bytes = std::min<uint64_t>(bytes, kHeapTrimThreshold / 2);
   if (bytes <= advised) return;
   void* p = std::malloc(size_t(bytes));
   if (!p) return;
@@ -755,7 +757,7 @@ int main(int argc, char** argv) {
   // in fresh zeroed ones (bench/PROFILE.md has the measurement). glibc
   // still maps memory when the heap cannot grow.
   mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, kHeapTrimThreshold);
 #endif
   Args a;
   if (argc < 2) {
