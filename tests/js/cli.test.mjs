@@ -42,18 +42,24 @@ function firstDiff(a, b) {
   return '(same lines)';
 }
 
-test('--json: byte-identical on every fixture, one file per run', { skip }, async () => {
-  // A few files at a time: each is a native and an npm CLI process.
-  const status = await pool(files, async (f) => {
+test('--json: byte-identical, one file per run (every failing fixture, one in three of the rest)', { skip }, async () => {
+  // A few files at a time: a native CLI process for each, and an npm CLI process (about 210 ms
+  // to start) for each file the native CLI fails on and for one in three of the others; the
+  // next test compares every fixture's bytes in one run of each CLI.
+  let compared = 0;
+  const status = await pool(files, async (f, i) => {
     const args = ['info', '--json', f];
     const a = await runAsync(nativeCli, args, undefined, { cwd: root });
-    const b = await runAsync(process.execPath, [npmCli, ...args], undefined, { cwd: root });
-    assertSame(args, a, b);
     assert.equal(a.stdout.toString().split('\n').length, 2, f);
+    if (a.status !== 0 || i % 3 === 0) {
+      ++compared;
+      assertSame(args, a, await runAsync(process.execPath, [npmCli, ...args], undefined, { cwd: root }));
+    }
     return a.status;
   });
   const failures = status.filter((x) => x === 1).length;
   assert.ok(failures > 0 && failures < files.length);
+  assert.ok(compared >= failures + 20, `${compared} compared`);
 });
 
 test('--json and text, all fixtures in one run, with missing files', { skip }, () => {
