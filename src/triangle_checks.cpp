@@ -212,7 +212,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
     return {};
 #endif
   };
-  const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(16384));
+  const unsigned n = detail::partsFor(detail::threadCount(threads), nt, detail::parallelGrain(65536));
   if (n <= 1) {
     Status s;
     // (Not detail::forChunksIf: compiled at -Oz in wasm, as this file is, the one-call

@@ -93,15 +93,32 @@ struct Args {
 // Nothing is touched: a block the heap cannot give, or that glibc maps apart, changes nothing.
 // The block stays below half the trim threshold, so that freeing it never trims the heap.
 constexpr int kHeapTrimThreshold = 1 << 30;  // main()'s M_TRIM_THRESHOLD
+void* volatile heapPad = nullptr;  // adviseHeap's pad, kept (volatile: an unused malloc is elided)
 void adviseHeap(uint64_t bytes) {
 #if defined(__GLIBC__)
   static std::mutex m;
   static uint64_t advised = 0;  // the largest block advised so far
   const std::lock_guard<std::mutex> lock(m);
-  bytes = std::min<uint64_t>(bytes, kHeapTrimThreshold / 2);
+  // Only whole 2 MiB stretches can be huge pages: the block is a number of them, and starts
+  // at a boundary. It starts where the heap's free end does, so the first arrays took the 4 kB
+  // pages below its first 2 MiB boundary (up to 2 MiB: the 100k tori's weld faulted 100-270
+  // times there). Once, a pad is kept up to that boundary and the block taken again from it;
+  // the pad is address space, never touched.
+  constexpr uintptr_t kHuge = uintptr_t(2) << 20;
+  bytes = std::min<uint64_t>((bytes + kHuge - 1) / kHuge * kHuge, kHeapTrimThreshold / 2);
   if (bytes <= advised) return;
   void* p = std::malloc(size_t(bytes));
   if (!p) return;
+  static bool padded = false;
+  const uintptr_t at = reinterpret_cast<uintptr_t>(p);
+  const uintptr_t gap = (kHuge - at % kHuge) % kHuge;
+  if (!padded && gap >= 4096) {
+    padded = true;
+    std::free(p);
+    heapPad = std::malloc(size_t(gap - 2 * sizeof(size_t)));  // less the next chunk's header
+    p = std::malloc(size_t(bytes));
+    if (!p) return;
+  }
   stltopo::detail::adviseHugePages(p, size_t(bytes));
   std::free(p);
   advised = bytes;
