@@ -109,11 +109,9 @@ void adviseHeap(uint64_t bytes) {
   if (bytes <= advised) return;
   void* p = std::malloc(size_t(bytes));
   if (!p) return;
-  static bool padded = false;
   const uintptr_t at = reinterpret_cast<uintptr_t>(p);
   const uintptr_t gap = (kHuge - at % kHuge) % kHuge;
-  if (!padded && gap >= 4096) {
-    padded = true;
+  if (!heapPad && gap >= 4096) {
     std::free(p);
     heapPad = std::malloc(size_t(gap - 2 * sizeof(size_t)));  // less the next chunk's header
     p = std::malloc(size_t(bytes));

@@ -249,24 +249,21 @@ test('convert: the npm CLI writes the native CLI\'s bytes on every fixture', { s
   // job, in this process, against a native CLI process; the npm CLI itself runs as a process on
   // one job in eight (each flag set among them), as a user runs it. One
   // process per job took 48 s of the suite (about 210 ms per npm CLI start), this takes ~13.
+  // Each set of flags with the write options the npm CLI makes of it.
+  const flagSets = [
+    { flags: [], w: {} },
+    { flags: ['--ascii'], w: { format: 'ascii' } },
+    { flags: ['--binary', '--colors', 'viscam', '--name', 'x'], w: { format: 'binary', colors: 'viscam', name: 'x' } },
+  ];
   const jobs = [];
-  for (const f of readable)
-    for (const flags of [[], ['--ascii'], ['--binary', '--colors', 'viscam', '--name', 'x']]) jobs.push({ f, flags });
-  const writeOptions = (flags) => {
-    const w = {};
-    for (let i = 0; i < flags.length; ++i) {
-      if (flags[i] === '--ascii' || flags[i] === '--binary') w.format = flags[i].slice(2);
-      else w[flags[i].slice(2)] = flags[++i];
-    }
-    return w;
-  };
+  for (const f of readable) for (const set of flagSets) jobs.push({ f, ...set });
   let processes = 0;
-  await pool(jobs, async ({ f, flags }, i) => {
+  await pool(jobs, async ({ f, flags, w }, i) => {
     const a = path.join(dir, `native${i}.stl`), b = path.join(dir, `npm${i}.stl`);
     const rn = await runAsync(nativeCli, ['convert', f, a, ...flags], undefined, { cwd: root });
     assert.equal(rn.status, 0, rn.stderr.toString());
     const chunks = [];
-    for await (const c of cliWasm.convert(await fileSource(f), writeOptions(flags))) chunks.push(Buffer.from(c));
+    for await (const c of cliWasm.convert(await fileSource(f), w)) chunks.push(Buffer.from(c));
     assert.ok(readFileSync(a).equals(Buffer.concat(chunks)), `${name(f)} ${flags.join(' ')} (in process)`);
     if (i % 8 === 0) {
       ++processes;
