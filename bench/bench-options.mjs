@@ -14,11 +14,16 @@ export const rel = (p) => path.relative(root, p);
 export const SIZES = { tiny: 3000, '100k': 100000, '1M': 1000000, '4M': 4000000 };
 export const ASCII_SIZES = ['tiny', '100k', '1M'];
 export const HALFEDGE_SIZES = ['tiny', '100k', '1M'];
-export const ALL_CONTENDERS = ['native', 'native-cli', 'wasm-read', 'wasm-full', 'wasm-view', 'three', 'three-halfedge', 'admesh'];
+export const ALL_CONTENDERS = ['native', 'native-cli', 'wasm-read', 'wasm-full', 'wasm-view', 'wasm-full-kept', 'three', 'three-kept', 'three-halfedge', 'admesh'];
+// The "-kept" contenders run in a Node whose allocator keeps the memory it frees
+// (contenders.mjs, KEPT_ENV); they are measured on the 1M binary cases only (and the tiny
+// ones, for the smoke run of `npm test`).
+export const KEPT_CONTENDERS = ['wasm-full-kept', 'three-kept'];
 
 function usage(code) {
   (code ? console.error : console.log)(`usage: node bench/run.mjs [options]
-  --quick              the 100k cases only, without wasm-view, one warm three.js call (under a minute)
+  --quick              the 100k cases only, without wasm-view and the -kept contenders, one warm three.js
+                       call (under a minute)
   --tiny               ${SIZES.tiny}-triangle cases, 1 repetition (the npm test smoke run)
   --sizes LIST         comma-separated sizes from ${Object.keys(SIZES).join(',')} (default 100k,1M,4M)
   --reps N             repetitions per contender and case (default 3; --tiny 1)
@@ -60,8 +65,9 @@ export const opt = {
     }
   }
   for (const s of opt.sizes || []) if (!(s in SIZES)) { console.error(`run.mjs: unknown size ${s}`); usage(2); }
-  // --quick leaves out wasm-view (not a contender of the issue) to stay under a minute.
-  opt.contenders ??= opt.quick ? ALL_CONTENDERS.filter((k) => k !== 'wasm-view') : ALL_CONTENDERS;
+  // --quick leaves out wasm-view and the -kept contenders (not contenders of the issue) to stay
+  // under a minute.
+  opt.contenders ??= opt.quick ? ALL_CONTENDERS.filter((k) => k !== 'wasm-view' && !KEPT_CONTENDERS.includes(k)) : ALL_CONTENDERS;
   for (const c of opt.contenders) if (!ALL_CONTENDERS.includes(c)) { console.error(`run.mjs: unknown contender ${c}`); usage(2); }
   opt.sizes ??= opt.tiny ? ['tiny'] : opt.quick ? ['100k'] : ['100k', '1M', '4M'];
   opt.reps ??= opt.tiny ? 1 : 3;

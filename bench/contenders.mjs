@@ -2,7 +2,7 @@
 // process per measurement; bench/child.mjs for the Node ones).
 import fs from 'node:fs';
 import path from 'node:path';
-import { root, rel, SIZES, HALFEDGE_SIZES, opt, BIN, DATA, CHILD, NODE_FLAGS } from './bench-options.mjs';
+import { root, rel, SIZES, HALFEDGE_SIZES, KEPT_CONTENDERS, opt, BIN, DATA, CHILD, NODE_FLAGS } from './bench-options.mjs';
 import { log, median, run, lastJsonLine, procstat } from './bench-util.mjs';
 
 // ---------------------------------------------------------------------------
@@ -23,8 +23,16 @@ export function ensureMesh(file, triangles, flags) {
 }
 
 export function contendersFor(c) {
-  return opt.contenders.filter((k) => k !== 'three-halfedge' || (c.format === 'binary' && HALFEDGE_SIZES.includes(c.size)));
+  return opt.contenders.filter((k) => (k !== 'three-halfedge' || (c.format === 'binary' && HALFEDGE_SIZES.includes(c.size))) &&
+    (!KEPT_CONTENDERS.includes(k) || (c.format === 'binary' && (c.size === '1M' || c.size === 'tiny'))));
 }
+
+// The environment of the "-kept" contenders: glibc's malloc serves every block from its heap
+// (no mmap) and never returns freed memory to the kernel, so that the arrays of one call reuse
+// the pages of the call before instead of faulting in fresh ones. The native CLI does the same
+// for itself with mallopt (tools/cli.cpp); Node cannot, so a Node user sets these tunables.
+// On these VMs fresh memory costs a host fault a 4 kB page (bench/PROFILE.md, *Stop 55*).
+export const KEPT_ENV = { GLIBC_TUNABLES: 'glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=4294967295' };
 
 // ---------------------------------------------------------------------------
 // One measurement per contender
@@ -83,13 +91,18 @@ export const measure = {
   'wasm-read': (c) => nodeChild('wasm-read', c),
   'wasm-full': (c) => nodeChild('wasm-full', c),
   'wasm-view': (c) => nodeChild('wasm-view', c),
+  // (a budget of 20 s for its warm calls: the first of them may still find the first call's
+  // pages in use, as V8 frees an ArrayBuffer's memory a while after the collection that found
+  // it dead)
+  'wasm-full-kept': (c) => nodeChild('wasm-full', c, { env: KEPT_ENV, budgetMs: 20000 }),
   three: (c) => nodeChild('three', c, { warm: opt.quick ? 1 : opt.warm }),
+  'three-kept': (c) => nodeChild('three', c, { warm: opt.warm, env: KEPT_ENV }),
   'three-halfedge': (c) => nodeChild('three-halfedge', c, { warm: 0, capSec: opt.halfedgeCap }),
 };
 
-export function nodeChild(mode, c, { warm = opt.warm, capSec = opt.childCap } = {}) {
-  const budgetMs = opt.tiny ? 2000 : 10000;
-  const r = run(process.execPath, [...NODE_FLAGS, CHILD, mode, c.file, String(warm), String(budgetMs)], { timeoutSec: capSec });
+export function nodeChild(mode, c, { warm = opt.warm, capSec = opt.childCap, env, budgetMs = 10000 } = {}) {
+  if (opt.tiny) budgetMs = 2000;
+  const r = run(process.execPath, [...NODE_FLAGS, CHILD, mode, c.file, String(warm), String(budgetMs)], { timeoutSec: capSec, env });
   if (r.timedOut) return { timedOut: true, capMs: capSec * 1000 };
   if (r.status !== 0) throw new Error(`${mode} child exited ${r.status} (${r.signal || ''}): ${r.stderr.slice(-600)}`);
   return lastJsonLine(r.stdout);

@@ -87,7 +87,7 @@ export function summarize(c, samples, idle) {
     }
     else Object.assign(out.contenders[k], { disconnectedEdges: s[0].disconnectedEdges });
   }
-  for (const k of ['wasm-read', 'wasm-full', 'wasm-view', 'three', 'three-halfedge']) {
+  for (const k of ['wasm-read', 'wasm-full', 'wasm-view', 'wasm-full-kept', 'three', 'three-kept', 'three-halfedge']) {
     const all = samples[k] || [];
     if (!all.length) continue;
     const s = ok(k);
@@ -113,7 +113,7 @@ export function summarize(c, samples, idle) {
       r.heapIdleBytes = s[0].heapIdleBytes;
       r.heapBytesPerTriangle = perTri(r.heapBytes);
       r.holes = s[0].holes;
-      if (k === 'wasm-full') r.derivedHalfedgesMs = round(med(s, (x) => x.derivedHalfedgesMs));
+      if (k === 'wasm-full' || k === 'wasm-full-kept') r.derivedHalfedgesMs = round(med(s, (x) => x.derivedHalfedgesMs));
     } else {
       const st = (pick) => {
         const xs = s.map(pick).filter(Boolean);
@@ -139,8 +139,8 @@ export function summarize(c, samples, idle) {
   const ref = C.native || C['native-cli'];
   if (ref) {
     const agree = (name, a, b) => { if (a !== undefined && a !== null && b !== undefined && b !== null) out.checks[name] = a === b; };
-    for (const k of ['native-cli', 'wasm-read', 'wasm-full', 'wasm-view', 'three', 'three-halfedge']) if (C[k]) agree(`${k} vertices`, C[k].vertices, ref.vertices);
-    for (const k of ['native-cli', 'wasm-full', 'wasm-view']) if (C[k]) agree(`${k} holes`, C[k].holes, ref.holes);
+    for (const k of ['native-cli', 'wasm-read', 'wasm-full', 'wasm-view', 'wasm-full-kept', 'three', 'three-kept', 'three-halfedge']) if (C[k]) agree(`${k} vertices`, C[k].vertices, ref.vertices);
+    for (const k of ['native-cli', 'wasm-full', 'wasm-view', 'wasm-full-kept']) if (C[k]) agree(`${k} holes`, C[k].holes, ref.holes);
     if (C.admesh) agree('admesh disconnected edges = boundary edges', C.admesh.disconnectedEdges, ref.boundaryEdges);
     if (C['three-halfedge']) agree('three-mesh-halfedge boundary half-edges = boundary edges', C['three-halfedge'].boundaryHalfedges, ref.boundaryEdges);
     for (const [name, v] of Object.entries(out.checks)) if (!v) errors.push(`${c.id}: check failed: ${name}`);
@@ -151,6 +151,10 @@ export function summarize(c, samples, idle) {
   const div = (a, b) => (a && b ? round(a / b, 2) : null);
   const R = out.ratios;
   R.wasmFullVsThree = div(t('three'), t('wasm-full'));
+  // Both in a Node whose allocator keeps freed memory (contenders.mjs, KEPT_ENV): what the
+  // copies cost without fresh pages, and what three.js's time does in the same setting.
+  R.wasmFullVsThreeKept = div(t('three-kept'), t('wasm-full-kept'));
+  R.wasmFullKeptOverWasmFull = div(t('wasm-full-kept'), t('wasm-full'));
   R.wasmFullVsThreeFirstCall = C.three && C['wasm-full'] ? div(C.three.firstMs, C['wasm-full'].firstMs) : null;
   if (C['three-halfedge']) {
     const he = C['three-halfedge'];
@@ -205,6 +209,7 @@ export function evaluateTargets(results) {
   const bin = (r) => r.format === 'binary';
   return [
     target('wasm full pipeline vs three.js parse+mergeVertices (x faster)', 20, '>=', bin, (r) => r.ratios.wasmFullVsThree, { exactSize: '1M' }),
+    target('the same, both in a Node whose allocator keeps freed memory (GLIBC_TUNABLES, bench/contenders.mjs KEPT_ENV)', 20, '>=', bin, (r) => r.ratios.wasmFullVsThreeKept, { exactSize: '1M' }),
     target('wasm full pipeline vs three.js + three-mesh-halfedge (x faster)', 50, '>=', (r) => bin(r) && HALFEDGE_SIZES.includes(r.size), (r) => r.ratios.wasmFullVsThreeHalfedge, { exactSize: '1M' }),
     target('wasm full / native in-process, ordered (slowdown)', 1.2, '<=', (r) => bin(r) && r.order === 'ordered', (r) => r.ratios.wasmFullOverNative),
     target('wasm full / native in-process, shuffled (slowdown)', 1.2, '<=', (r) => bin(r) && r.order === 'shuffled', (r) => r.ratios.wasmFullOverNative),
@@ -254,7 +259,7 @@ export function reportTables({ env, results, writes, targets }) {
   md.push('### Time (ms; lower is better)');
   md.push('');
   md.push(table(
-    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process; --threads 1 / the default, --threads 0: all cores)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'three.js + halfedge', '`admesh -e` (process)'],
+    ['case', 'triangles', 'native in-process (warm)', 'native `info --json` (process; --threads 1 / the default, --threads 0: all cores)', 'wasm topology:false first / warm', 'wasm full first / warm', 'wasm full, view: true (warm)', 'three.js parse+merge', 'wasm full / three.js, freed memory kept (warm)', 'three.js + halfedge', '`admesh -e` (process)'],
     results.map((r) => [
       r.id, mt(r.triangles || 0),
       C(r, 'native') ? ms(C(r, 'native').warm.totalMs) : '–',
@@ -263,10 +268,15 @@ export function reportTables({ env, results, writes, targets }) {
       C(r, 'wasm-full') ? `${ms(C(r, 'wasm-full').firstMs)} / ${ms(C(r, 'wasm-full').warmMs)}` : '–',
       C(r, 'wasm-view') ? ms(C(r, 'wasm-view').timeMs) : '–',
       C(r, 'three') ? ms(C(r, 'three').timeMs) : '–',
+      C(r, 'wasm-full-kept') || C(r, 'three-kept') ? `${C(r, 'wasm-full-kept') ? ms(C(r, 'wasm-full-kept').timeMs) : '–'} / ${C(r, 'three-kept') ? ms(C(r, 'three-kept').timeMs) : '–'}` : '–',
       heCell(r),
       C(r, 'admesh') ? ms(C(r, 'admesh').wallMs) : '–',
     ]),
   ));
+  md.push('');
+  md.push('Freed memory kept: the same wasm full and three.js measurements (the 1M binary cases) in a Node started with ' +
+    '`GLIBC_TUNABLES=glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=4294967295`, so that glibc serves the JS arrays from ' +
+    'its heap and keeps the pages they free for the next call: what the copies out of wasm memory cost without fresh pages.');
   md.push('');
   md.push('### stltopo stages, native in-process (ms, warm; first call in parentheses) and throughput');
   md.push('');
@@ -323,11 +333,11 @@ export function reportTables({ env, results, writes, targets }) {
   md.push('### Ratios');
   md.push('');
   md.push(table(
-    ['case', 'wasm full vs three.js (x)', 'wasm full vs three+halfedge (x)', 'wasm full / native', '(CPU time)', 'wasm view / native', 'wasm read / native read', 'wasm first / warm', 'native process vs admesh (x, wall)', '(x, CPU time)', 'native in-process vs admesh (x)'],
+    ['case', 'wasm full vs three.js (x)', '(both with freed memory kept)', 'wasm full vs three+halfedge (x)', 'wasm full / native', '(CPU time)', 'wasm view / native', 'wasm read / native read', 'wasm first / warm', 'native process vs admesh (x, wall)', '(x, CPU time)', 'native in-process vs admesh (x)'],
     results.map((r) => {
       const R = r.ratios;
       return [
-        r.id, f(R.wasmFullVsThree), R.wasmFullVsThreeHalfedge === undefined ? 'n/a' : `${R.wasmFullVsThreeHalfedgeIsLowerBound ? '> ' : ''}${f(R.wasmFullVsThreeHalfedge)}`,
+        r.id, f(R.wasmFullVsThree), f(R.wasmFullVsThreeKept), R.wasmFullVsThreeHalfedge === undefined ? 'n/a' : `${R.wasmFullVsThreeHalfedgeIsLowerBound ? '> ' : ''}${f(R.wasmFullVsThreeHalfedge)}`,
         f(R.wasmFullOverNative, 2), f(R.wasmFullOverNativeCpu, 2), f(R.wasmViewOverNative, 2), f(R.wasmReadOverNativeRead, 2), f(R.wasmFirstOverWarm, 2), f(R.nativeCliVsAdmesh, 2), f(R.nativeCliVsAdmeshCpu, 2), f(R.nativeInProcessVsAdmesh, 2),
       ];
     }),

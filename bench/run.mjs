@@ -15,6 +15,9 @@
 //   wasm-full     loadStl(bytes) (full topology), first call and warm
 //   wasm-view     loadStl(bytes, { view: true }) + dispose(): the same without copying the
 //                 arrays out of wasm memory (shows what the copies cost)
+//   wasm-full-kept, three-kept  wasm-full and three in a Node whose allocator keeps the memory it
+//                 frees (contenders.mjs, KEPT_ENV; the 1M binary cases): the copies
+//                 without fresh pages
 //   three         three.js STLLoader.parse + deleteAttribute('normal') + mergeVertices
 //   three-halfedge  the same + three-mesh-halfedge HalfedgeDS.setFromGeometry (binary,
 //                 up to 1M triangles, one call per process, killed at --halfedge-cap)

@@ -20,16 +20,18 @@ if ! bash scripts/bench.sh --tiny --out "$tmp/smoke.json" >"$tmp/table.md" 2>"$t
 fi
 node -e '
   const r = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
-  const want = ["native", "native-cli", "wasm-read", "wasm-full", "wasm-view", "three", "three-halfedge", "admesh"];
+  const want = ["native", "native-cli", "wasm-read", "wasm-full", "wasm-view", "wasm-full-kept", "three", "three-kept", "three-halfedge", "admesh"];
+  const binaryOnly = ["three-halfedge", "wasm-full-kept", "three-kept"];
   const bad = [];
   for (const c of r.cases) for (const k of want) {
-    if (k === "three-halfedge" && c.format !== "binary") continue;
+    if (binaryOnly.includes(k) && c.format !== "binary") continue;
     const x = c.contenders[k];
     if (!x || !(x.timeMs > 0)) bad.push(`${c.id} ${k}`);
+    if (k === "wasm-full-kept" && !(c.ratios.wasmFullVsThreeKept > 0)) bad.push(`${c.id} wasmFullVsThreeKept`);
   }
-  if (r.cases.length !== 5 || r.targets.length !== 11 || bad.length) {
+  if (r.cases.length !== 5 || r.targets.length !== 12 || bad.length) {
     console.error("bench smoke: missing figures:", bad.join(", ") || `${r.cases.length} cases, ${r.targets.length} targets`);
     process.exit(1);
   }
 ' "$tmp/smoke.json"
-echo "bench smoke: ok, 5 cases x 8 contenders ($((SECONDS - start)) s)"
+echo "bench smoke: ok, 5 cases x 10 contenders ($((SECONDS - start)) s)"
