@@ -151,10 +151,9 @@ export function summarize(c, samples, idle) {
   const div = (a, b) => (a && b ? round(a / b, 2) : null);
   const R = out.ratios;
   R.wasmFullVsThree = div(t('three'), t('wasm-full'));
-  // Both in a Node whose allocator keeps freed memory (contenders.mjs, KEPT_ENV): what the
-  // copies cost without fresh pages, and what three.js's time does in the same setting.
+  // Both in a Node whose allocator keeps freed memory (contenders.mjs, KEPT_ENV): the copies
+  // without fresh pages, against three.js in the same setting.
   R.wasmFullVsThreeKept = div(t('three-kept'), t('wasm-full-kept'));
-  R.wasmFullKeptOverWasmFull = div(t('wasm-full-kept'), t('wasm-full'));
   R.wasmFullVsThreeFirstCall = C.three && C['wasm-full'] ? div(C.three.firstMs, C['wasm-full'].firstMs) : null;
   if (C['three-halfedge']) {
     const he = C['three-halfedge'];
