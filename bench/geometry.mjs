@@ -102,12 +102,25 @@ for (const c of cases) {
     }
   }
   const m = (k, f = 'wallMs') => median(runs[k]?.map((r) => r[f]) ?? []);
-  const passNative = m('intersections') - m('info');
-  const passWasm = m('npm intersections') - m('npm info');
-  const passOverShellsNative = m('intersections shells') - m('shells');
-  const passOverShellsWasm = m('npm intersections shells') - m('npm shells');
+  // What a pass costs as whole processes: the median over the repetitions of (with - without),
+  // the two run one after the other in each repetition, so that a drift of the machine between
+  // repetitions cancels (a difference of the two medians went below zero on this VM). When the
+  // median difference is not above zero the processes' noise hides the pass: null (the tables
+  // print "–"), and the pair is listed in noisyDifferences.
+  const noisy = [];
+  const diff = (withPass, without) => {
+    const d = median(runs[withPass].map((r, i) => r.wallMs - runs[without][i].wallMs));
+    if (d > 0) return d;
+    noisy.push(`${withPass} - ${without}`);
+    return null;
+  };
+  const ratio = (a, b) => (a && b ? a / b : null);
+  const passNative = diff('intersections', 'info');
+  const passWasm = diff('npm intersections', 'npm info');
+  const passOverShellsNative = diff('intersections shells', 'shells');
+  const passOverShellsWasm = diff('npm intersections shells', 'npm shells');
   const threaded = CORES > 1;
-  const passThreads = threaded ? m('intersections threads') - m('info threads') : null;
+  const passThreads = threaded ? diff('intersections threads', 'info threads') : null;
   // The pass alone in process, as CGAL's figure is its search alone: stltopo_stages times
   // findIntersections on one thread (median of opt.reps after a warm-up; CGAL's is one call).
   // The wasm build of the same harness alternates with it (3 runs each, or opt.reps when more;
@@ -134,14 +147,15 @@ for (const c of cases) {
   const r = {
     case: c.id, triangles: c.triangles,
     infoMs: m('info'), intersectionsMs: m('intersections'), ratioToInfo: m('intersections') / m('info'),
-    passNativeMs: passNative, passWasmMs: passWasm, wasmToNative: passWasm / passNative,
+    passNativeMs: passNative, passWasmMs: passWasm, wasmToNative: ratio(passWasm, passNative),
     passOverShellsNativeMs: passOverShellsNative, passOverShellsWasmMs: passOverShellsWasm,
-    wasmToNativeOverShells: passOverShellsWasm / passOverShellsNative,
+    wasmToNativeOverShells: ratio(passOverShellsWasm, passOverShellsNative),
+    noisyDifferences: noisy,
     extraBytesPerTriangle: ((m('intersections', 'maxRssKiB') - m('info', 'maxRssKiB')) * 1024) / c.triangles,
     pairs: runs.intersections[0].pairs,
     cgalSearchMs: haveCgal ? m('cgal', 'searchMs') : null, cgalWallMs: haveCgal ? m('cgal') : null,
     cgalPairs: haveCgal ? runs.cgal[0].pairs : null,
-    cgalToStltopoPass: haveCgal ? m('cgal', 'searchMs') / passNative : null,
+    cgalToStltopoPass: haveCgal ? ratio(m('cgal', 'searchMs'), passNative) : null,
     passInProcessMs: passInProcess,
     passInProcessWasmMs: passInProcessWasm,
     wasmToNativeInProcess: passInProcess && passInProcessWasm ? passInProcessWasm / passInProcess : null,
@@ -157,7 +171,7 @@ for (const c of cases) {
     ratioThreadsToInfo: threaded ? m('intersections threads') / m('info') : null,
     ratioThreadsToInfoThreads: threaded ? m('intersections threads') / m('info threads') : null,
     passThreadsMs: passThreads,
-    cgalToStltopoPassThreads: haveCgal && threaded ? m('cgal', 'searchMs') / passThreads : null,
+    cgalToStltopoPassThreads: haveCgal && threaded ? ratio(m('cgal', 'searchMs'), passThreads) : null,
   };
   results.push(r);
   console.error(JSON.stringify(r));
@@ -192,4 +206,9 @@ if (table2.length) {
   console.log('\n| case | threads | info ms | info --intersections ms | / info (1 thread) | / info (same threads) | pass ms | CGAL/stltopo pass |');
   console.log('|---|---|---|---|---|---|---|---|');
   for (const row of table2) console.log(row);
+}
+const hidden = results.filter((r) => r.noisyDifferences.length);
+if (hidden.length) {
+  console.log('\nNot above the noise (the median difference of the pair was not above zero; "–" above):');
+  for (const r of hidden) console.log(`- ${r.case}: ${r.noisyDifferences.join('; ')}`);
 }
