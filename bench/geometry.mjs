@@ -158,7 +158,7 @@ for (const c of cases) {
     cgalToStltopoPass: haveCgal ? ratio(m('cgal', 'searchMs'), passNative) : null,
     passInProcessMs: passInProcess,
     passInProcessWasmMs: passInProcessWasm,
-    wasmToNativeInProcess: passInProcess && passInProcessWasm ? passInProcessWasm / passInProcess : null,
+    wasmToNativeInProcess: ratio(passInProcessWasm, passInProcess),
     cgalWarmSearchMs: haveCgal ? m('cgal', 'warmSearchMs') : null,
     // warm against warm (both in process, after a first call), and first call against first call
     cgalToStltopoPassInProcess: haveCgal && passInProcess ? m('cgal', 'warmSearchMs') / passInProcess : null,
