@@ -95,9 +95,8 @@ void BinaryParser::feed(const uint8_t* p, size_t n) {
     // records: the threads' private weld arrays are about 46 B a record of fresh memory,
     // which in a smaller file cost more than the second thread saves.
     if (threads > 1 && partCount >= 2 * parallelGrain(65536)) {
-      constexpr uint64_t kParallelBatch = uint64_t(1) << 18;
       while (whole - k >= 2 * parallelGrain(4096)) {
-        const uint32_t count = uint32_t(std::min<uint64_t>(kParallelBatch, whole - k));
+        const uint32_t count = uint32_t(std::min<uint64_t>(b.parallelBatchRecords(), whole - k));
         const uint64_t done = b.addBatchParallel(p + i, count, offset, threads);
         i += size_t(done) * kRecordBytes;
         offset += done * kRecordBytes;

@@ -4,12 +4,17 @@
 
 #include "prefetch.h"
 
-#if STLTOPO_THREADS && !defined(__EMSCRIPTEN__)
 #include <atomic>
+#if STLTOPO_THREADS && !defined(__EMSCRIPTEN__)
 #include <thread>
 #endif
 
 namespace stltopo::detail {
+
+namespace {
+// How many batches addBatchParallel welded each way (ranges, pieces, lookups), for the tests.
+std::atomic<uint64_t> gBatchesByWay[3];
+}  // namespace
 
 void trim(const char*& b, const char*& e) {
   auto ws = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
@@ -179,10 +184,10 @@ bool Builder::mergeRange(RangeWeld& w, uint32_t* tri, uint32_t count, unsigned t
   // from where it stopped: the slots before were full and stay full (the keys inserted
   // since are other keys: a range's vertices are distinct), unless the table grew.
   const Slot* probed = table.data();
-  mergedVertices += nv;
+  batchCorners += 3 * uint64_t(count);
+  batchRepeats += 3 * uint64_t(count) - nv;
   for (uint32_t v = 0; v < nv; ++v) {
     if (map[v] != kInvalid) continue;
-    ++mergedNew;
     const float* x = q + 3 * size_t(v);
     Slot k = keyOf(x[0], x[1], x[2]);
     uint32_t i = table.data() == probed ? hint[v] : slotHash(k) & mask;
@@ -238,15 +243,22 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
   // (gzipped) larger, over its download budget, for no gain we could measure in Node.
   return addBatchRanges(rec, count, offset, n);
 #else
-  // Which way: pieces when more than 3 in 4 of the vertices that the batch before merged were
-  // new (a file in grid order: only those at the ranges' seams were known); ranges otherwise,
-  // and for the first batch. In a file in random order many are known (a third already in the
-  // first batch of the 1M shuffled torus), a piece's merge then looks up nearly every vertex
-  // on one thread while the others wait, and pieces made `stltopo info` of that file 7%
-  // slower, with 4 MB more memory, when they also took its first batch.
-  const bool mostlyNew = mergedNew * 4 > mergedVertices * 3;
-  mergedNew = mergedVertices = 0;
-  return mostlyNew ? addBatchPieces(rec, count, offset, n) : addBatchRanges(rec, count, offset, n);
+  // Which way, from the batch before: pieces when more than 3 in 5 of its corners repeated a
+  // vertex that first appeared in that batch (a file in grid order: a vertex's triangles come
+  // close together, so pieces weld apart with few vertices at their seams); lookups otherwise
+  // (a file in random order: a vertex's triangles are spread over the file, and past its first
+  // batches most corners find their vertex in the mesh's table); ranges for the first batch,
+  // a small one (parallelBatchRecords). Ranges and pieces both weld each stretch twice (in a
+  // private table, then the merge's lookups), which on the 4M shuffled torus cost as much as
+  // the one-thread read: there lookups made the read 0.77x the ranges' time (2 threads, pairs
+  // alternated, bench/PROFILE.md *Stop 57*); grid order kept the pieces' time.
+  const bool first = batchCorners == 0;
+  const bool local = batchRepeats * 5 > batchCorners * 3;
+  batchCorners = batchRepeats = 0;
+  const unsigned way = first ? 0 : local ? 1 : 2;
+  gBatchesByWay[way].fetch_add(1, std::memory_order_relaxed);
+  if (way == 0) return addBatchRanges(rec, count, offset, n);
+  return way == 1 ? addBatchPieces(rec, count, offset, n) : addBatchLookups(rec, count, n);
 #endif
 }
 
@@ -384,6 +396,113 @@ uint64_t Builder::addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t of
   });
   return result;
 }
+
+uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n) {
+  if (!lookupHint.resize(3 * size_t(count)) || !lookupArea.resize(count) || !lookupVolume.resize(count))
+    return 0;  // one by one
+  const uint32_t t0 = mesh.nTriangles();
+  uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
+  uint16_t* attrs = mesh.attributes.data() + t0;
+  float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
+  uint32_t* hint = lookupHint.data();
+  double* area = lookupArea.data();
+  double* volume = lookupVolume.data();
+  const Slot* tb = table.data();
+  const uint32_t m = mask;
+  uint32_t mismatches[kMaxThreads] = {}, sinks[kMaxThreads] = {};
+  bool visCam[kMaxThreads] = {}, nonFinite[kMaxThreads] = {};
+  // 1. On the threads, by records: each corner's id in the mesh (kInvalid when not there, and
+  // the empty slot where its probe stopped), the attributes, normals and figures.
+  runParts(n, [&](unsigned part) {
+    const uint32_t b = uint32_t(partBegin(count, n, part)), e = uint32_t(partBegin(count, n, part + 1));
+    uint32_t h[3 * kBatchRecords];
+    uint32_t mm = 0;
+    bool vc = false, bad = false;
+    for (uint32_t g = b; g < e; g += kBatchRecords) {
+      const uint32_t ng = std::min(kBatchRecords, e - g);
+      for (uint32_t r = 0; r < ng; ++r)
+        for (int c = 0; c < 3; ++c) {
+          const uint8_t* q = rec + 50 * size_t(g + r) + 12 + 12 * c;
+          h[3 * r + c] = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
+        }
+      touchSlots(tb, m, h, 3 * ng, sinks[part]);
+      for (uint32_t r = 0; r < ng; ++r) {
+        const size_t t = g + r;
+        float f[12];
+        uint16_t attr;
+        decodeRecord(rec + 50 * t, f, attr);
+        const float* v = f + 3;
+        for (int c = 0; c < 3; ++c) {
+          const Slot k = keyOf(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
+          bad |= !finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z);
+          const uint32_t i = findSlot(tb, m, k, h[3 * r + c]);
+          tri[3 * t + c] = tb[i].id;
+          hint[3 * t + c] = i;
+        }
+        attrs[t] = attr;
+        if (normals) std::memcpy(normals + 3 * t, f, 3 * sizeof(float));
+        const TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
+        area[t] = fig.area;
+        volume[t] = fig.volume;
+        mm += normalMismatch(f, fig);
+        vc |= (attr & 0x8000u) != 0;
+      }
+    }
+    mismatches[part] = mm;
+    visCam[part] = vc;
+    nonFinite[part] = bad;
+  });
+  uint32_t sink = 0;
+  for (unsigned p = 0; p < n; ++p) {
+    sink += sinks[p];
+    if (nonFinite[p]) return 0;  // one by one, for add()'s error at the first such record
+  }
+  touchSink += sink;
+  // 2. On the caller, in corner order: the corners not found, looked up again from where
+  // their probe stopped (the slots before were full then and stay full: a key added since
+  // went to the first empty slot on its path, and the table has not grown since, or the probe
+  // starts over), and the new vertices added, as weld() adds them.
+  const Slot* probed = table.data();
+  constexpr size_t kMissAhead = 32;
+  uint64_t misses = 0, added = 0;
+  const size_t nc = 3 * size_t(count);
+  for (size_t c = 0; c < nc; ++c) {
+    if (c + kMissAhead < nc && tri[c + kMissAhead] == kInvalid) __builtin_prefetch(&table[hint[c + kMissAhead]]);
+    if (tri[c] != kInvalid) continue;
+    ++misses;
+    const uint8_t* q = rec + 50 * (c / 3) + 12 + 12 * (c % 3);
+    const float x = floatLE(q), y = floatLE(q + 4), z = floatLE(q + 8);
+    Slot k = keyOf(x, y, z);
+    uint32_t i = table.data() == probed ? hint[c] : slotHash(k) & mask;
+    while (table[i].id != kInvalid && !(table[i].x == k.x && table[i].y == k.y && table[i].z == k.z))
+      i = (i + 1) & mask;
+    if (table[i].id != kInvalid) {
+      tri[c] = table[i].id;
+      continue;
+    }
+    ++added;
+    k.id = appendVertex(x, y, z);
+    if (k.id == kInvalid || (table[i] = k, size_t(k.id + 1) * 2 > table.size() && !growTable(k.id + 1))) {
+      error = oom(k.id == kInvalid ? "the vertex array" : "the weld table");
+      return c / 3 + 1;
+    }
+    tri[c] = k.id;
+  }
+  batchCorners += 3 * uint64_t(count);
+  batchRepeats += misses - added;
+  // The sums in record order (float64 addition is not associative).
+  double a = mesh.area, v = mesh.volume;
+  for (uint32_t r = 0; r < count; ++r) a += area[r];
+  for (uint32_t r = 0; r < count; ++r) v += volume[r];
+  mesh.area = a;
+  mesh.volume = v;
+  for (unsigned p = 0; p < n; ++p) {
+    mesh.normalMismatches += mismatches[p];
+    anyVisCamBit |= visCam[p];
+  }
+  endBatchAt(size_t(t0) + count);
+  return count;
+}
 #endif  // !__EMSCRIPTEN__
 #endif  // STLTOPO_THREADS
 
@@ -454,3 +573,9 @@ bool Builder::addWarning(Code c, const std::string& msg, uint64_t offset, uint64
 }
 
 }  // namespace stltopo::detail
+
+namespace stltopo {
+uint64_t threadedReadBatchesForTesting(unsigned way) {
+  return way < 3 ? detail::gBatchesByWay[way].load(std::memory_order_relaxed) : 0;
+}
+}  // namespace stltopo

@@ -96,6 +96,11 @@ struct Builder {
     recent.release();
 #if STLTOPO_THREADS
     for (RangeWeld& r : ranges) r = RangeWeld{};
+#if !defined(__EMSCRIPTEN__)
+    lookupHint.release();
+    lookupArea.release();
+    lookupVolume.release();
+#endif
 #endif
   }
   void dropArrays();
@@ -126,13 +131,27 @@ struct Builder {
   uint64_t addBatchRanges(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n);
 #if !defined(__EMSCRIPTEN__)
   uint64_t addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t offset, unsigned n);
+  // A third way, for files whose batches find most of their vertices in the mesh already (a
+  // file in random order, past its first batch): every corner looked up in the mesh's table
+  // on the threads (which only read it), with the records' figures; then, on the caller, in
+  // corner order, the corners not found are looked up again and the new vertices added, as
+  // add() adds them. Its work arrays (a corner's slot hint, a record's area and volume) are
+  // kept from one batch to the next.
+  uint64_t addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n);
+  Array<uint32_t> lookupHint;
+  Array<double> lookupArea, lookupVolume;
 #endif
   // The mesh's triangle arrays sized to nt triangles, once a batch's stretch is merged.
   void endBatchAt(size_t nt);
   // add() of `count` records at rec, one by one; the records added, the failing one included.
   uint32_t addRecords(const uint8_t* rec, uint32_t count, uint64_t offset);
-  // The vertices the merges of the current batch looked up, and how many of them were new.
-  uint64_t mergedVertices = 0, mergedNew = 0;
+  // The corners of the last batch that addBatchParallel welded on threads (of its ranges or
+  // pieces past the first, or all), and how many of them were the repeat of a vertex that
+  // first appeared in the same batch (a sign of a file in grid order: see addBatchParallel).
+  uint64_t batchCorners = 0, batchRepeats = 0;
+  // The records of addBatchParallel's next batch: a small first one (32,768 records), whose
+  // corners tell which way the next ones go, then 262,144 (both scale with the test grain).
+  size_t parallelBatchRecords() const { return (batchCorners == 0 ? 8 : 64) * parallelGrain(4096); }
   // Welds `count` records at rec into w: local ids to tri (3 a record), attributes to attrs,
   // stored normals to normals (when not null), the figures to w. False on a non-finite
   // coordinate or when memory runs out.

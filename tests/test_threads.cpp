@@ -322,6 +322,63 @@ TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
   EXPECT_EQ(s.triangle, 15000u);
 }
 
+// The threaded read welds its first batch by ranges, then by pieces where a batch's corners
+// repeat its own vertices (grid order) and by lookups in the mesh's table where they do not
+// (random order): src/mesh_builder.cpp, addBatchParallel. Each way gives one thread's mesh,
+// here also with a table that grows during a batch (a soup whose vertices are few times
+// shared, past the table's reservation) and a non-finite coordinate in a batch of lookups.
+TEST(Threads, TheReadWeldsGridOrderByPiecesAndRandomOrderByLookups) {
+#if defined(STLTOPO_WASM_TESTS)
+  GTEST_SKIP() << "the wasm modules weld by ranges only";
+#endif
+  if (!kThreaded) GTEST_SKIP() << "no threads in this build";
+  const gen::Soup t = gen::torus(120, 90, {7, 500});
+  const std::string grid = gen::binary(t);
+  gen::Soup sh = t;
+  std::mt19937 rng(11);
+  std::shuffle(sh.f.begin(), sh.f.end(), rng);
+  const std::string shuffled = gen::binary(sh);
+  gen::Soup soup;  // 20,000 triangles on 40,000 random points, some of them -0 and +0
+  std::uniform_real_distribution<float> coord(-100.0f, 100.0f);
+  for (int i = 0; i < 40000; ++i) soup.v.push_back({coord(rng), coord(rng), i % 97 == 0 ? -0.0f : coord(rng)});
+  for (int i = 0; i < 40000; i += 97) soup.v[size_t(i) + 1][2] = 0.0f;
+  std::uniform_int_distribution<uint32_t> point(0, 39999);
+  for (int i = 0; i < 20000; ++i) soup.f.push_back({point(rng), point(rng), point(rng)});
+  const std::string random = gen::binary(soup);
+  std::string nonFinite = shuffled;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::memcpy(&nonFinite[84 + 50 * 9000 + 12 + 24 + 8], &inf, 4);  // triangle 9000, corner 2, z
+  auto ways = [] {
+    return std::vector<uint64_t>{stltopo::threadedReadBatchesForTesting(0), stltopo::threadedReadBatchesForTesting(1),
+                                 stltopo::threadedReadBatchesForTesting(2)};
+  };
+  SmallGrain grain(64);  // batches of 512 records, then of 4,096
+  struct Case {
+    const char* name;
+    const std::string* bytes;
+    unsigned way;  // the way of the batches after the first
+  };
+  for (const Case& c : {Case{"grid", &grid, 1}, Case{"shuffled", &shuffled, 2}, Case{"random soup", &random, 2},
+                        Case{"non-finite", &nonFinite, 2}}) {
+    const std::string one = run(*c.bytes, 1, 0, false);
+    const std::vector<uint64_t> before = ways();
+    EXPECT_TRUE(run(*c.bytes, 2, 0, false) == one) << c.name << ": 2 threads differ from one";
+    const std::vector<uint64_t> after = ways();
+    EXPECT_EQ(after[0], before[0] + 1) << c.name << ": its first batch by ranges";
+    EXPECT_GT(after[c.way], before[c.way]) << c.name << ": the way of the batches after the first";
+    EXPECT_EQ(after[3 - c.way], before[3 - c.way]) << c.name << ": the other way";
+    EXPECT_TRUE(run(*c.bytes, 3, 4096, false) == run(*c.bytes, 1, 4096, false)) << c.name << ": in 4096-byte pieces";
+  }
+  stltopo::Mesh m;
+  stltopo::ReadOptions ro;
+  ro.threads = 2;
+  const stltopo::Status s = gen::read(nonFinite, m, ro);
+  EXPECT_EQ(s.code, stltopo::Code::NonFinite);
+  EXPECT_EQ(s.triangle, 9000u);
+  ASSERT_TRUE(gen::read(random, m, ro).ok());
+  EXPECT_GT(m.nVertices(), 20000u / 2 + 16) << "the weld table did not have to grow";
+}
+
 // The plan, the change log and the result of a repair with every step, on `threads`.
 std::string repairWith(const std::string& bytes, unsigned threads) {
   stltopo::Mesh mesh;
