@@ -240,7 +240,8 @@ uint64_t Builder::addBatchParallel(const uint8_t* rec, uint32_t count, uint64_t 
   }
 #if defined(__EMSCRIPTEN__)
   // The threaded wasm modules weld by ranges only: pieces made their core module 1.6 kB
-  // (gzipped) larger, over its download budget, for no gain we could measure in Node.
+  // (gzipped) larger, over its download budget, for no gain we could measure in Node, and
+  // lookups 2.0 kB for none either (bench/PROFILE.md, *Stop 57*).
   return addBatchRanges(rec, count, offset, n);
 #else
   // Which way, from the batch before: pieces when more than 3 in 5 of its corners repeated a
