@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `npm test`: every test suite, in order: native (GoogleTest + reference check + CMake
-# consumers), sanitizers and fuzz smoke, Node (wasm package), browser (demo page).
+# consumers), sanitizers and fuzz smoke, ThreadSanitizer on the threaded stages, Node (wasm
+# package), browser (demo page).
 # Installs what a fresh Debian machine lacks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +16,7 @@ step() {
   echo "=== $name: ok ($((SECONDS - t0)) s)"
 }
 step native bash scripts/test-native.sh
-for s in test-sanitize test-node test-browser test-consumers test-bench-smoke; do
+for s in test-sanitize test-tsan test-node test-browser test-consumers test-bench-smoke; do
   if [ -f "scripts/$s.sh" ]; then step "$s" bash "scripts/$s.sh"; fi
 done
 echo "=== all tests passed"
