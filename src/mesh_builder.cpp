@@ -182,15 +182,16 @@ bool Builder::mergeRange(RangeWeld& w, uint32_t* tri, uint32_t count, unsigned t
   for (unsigned p = 0; p < nl; ++p) touchSink += sinks[p];
   // 2. In order, the ones not found are appended, as weld() appends them. The probe goes on
   // from where it stopped: the slots before were full and stay full (the keys inserted
-  // since are other keys: a range's vertices are distinct), unless the table grew.
-  const Slot* probed = table.data();
+  // since are other keys: a range's vertices are distinct), unless the table grew (told by its
+  // size, which only grows: a grown table's address can be the old one's).
+  const size_t probed = table.size();
   batchCorners += 3 * uint64_t(count);
   batchRepeats += 3 * uint64_t(count) - nv;
   for (uint32_t v = 0; v < nv; ++v) {
     if (map[v] != kInvalid) continue;
     const float* x = q + 3 * size_t(v);
     Slot k = keyOf(x[0], x[1], x[2]);
-    uint32_t i = table.data() == probed ? hint[v] : slotHash(k) & mask;
+    uint32_t i = table.size() == probed ? hint[v] : slotHash(k) & mask;
     while (table[i].id != kInvalid) i = (i + 1) & mask;
     k.id = appendVertex(x[0], x[1], x[2]);
     if (k.id == kInvalid) {
@@ -462,8 +463,8 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
   // 2. On the caller, in corner order: the corners not found, looked up again from where
   // their probe stopped (the slots before were full then and stay full: a key added since
   // went to the first empty slot on its path, and the table has not grown since, or the probe
-  // starts over), and the new vertices added, as weld() adds them.
-  const Slot* probed = table.data();
+  // starts over; see mergeRange), and the new vertices added, as weld() adds them.
+  const size_t probed = table.size();
   constexpr size_t kMissAhead = 32;
   uint64_t misses = 0, added = 0;
   const size_t nc = 3 * size_t(count);
@@ -474,7 +475,7 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
     const uint8_t* q = rec + 50 * (c / 3) + 12 + 12 * (c % 3);
     const float x = floatLE(q), y = floatLE(q + 4), z = floatLE(q + 8);
     Slot k = keyOf(x, y, z);
-    uint32_t i = table.data() == probed ? hint[c] : slotHash(k) & mask;
+    uint32_t i = table.size() == probed ? hint[c] : slotHash(k) & mask;
     while (table[i].id != kInvalid && !(table[i].x == k.x && table[i].y == k.y && table[i].z == k.z))
       i = (i + 1) & mask;
     if (table[i].id != kInvalid) {
