@@ -400,25 +400,27 @@ uint64_t Builder::addBatchPieces(const uint8_t* rec, uint32_t count, uint64_t of
 }
 
 uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n) {
-  if (!lookupHint.resize(3 * size_t(count)) || !lookupArea.resize(count) || !lookupVolume.resize(count))
+  if (!lookupMisses.resize(6 * size_t(count)) || !lookupArea.resize(count) || !lookupVolume.resize(count))
     return 0;  // one by one
   const uint32_t t0 = mesh.nTriangles();
   uint32_t* tri = mesh.triangles.data() + size_t(t0) * 3;
   uint16_t* attrs = mesh.attributes.data() + t0;
   float* normals = opt.keepNormals ? mesh.normals.data() + size_t(t0) * 3 : nullptr;
-  uint32_t* hint = lookupHint.data();
+  uint32_t* misses = lookupMisses.data();  // part p's from 6 * partBegin(p): (corner, slot) pairs
   double* area = lookupArea.data();
   double* volume = lookupVolume.data();
   const Slot* tb = table.data();
   const uint32_t m = mask;
-  uint32_t mismatches[kMaxThreads] = {}, sinks[kMaxThreads] = {};
+  uint32_t mismatches[kMaxThreads] = {}, sinks[kMaxThreads] = {}, missed[kMaxThreads] = {};
   bool visCam[kMaxThreads] = {}, nonFinite[kMaxThreads] = {};
-  // 1. On the threads, by records: each corner's id in the mesh (kInvalid when not there, and
-  // the empty slot where its probe stopped), the attributes, normals and figures.
+  // 1. On the threads, by records: each corner's id in the mesh, or, when it is not there, the
+  // corner and the empty slot where its probe stopped on the part's list of misses (in corner
+  // order); the attributes, normals and figures.
   runParts(n, [&](unsigned part) {
     const uint32_t b = uint32_t(partBegin(count, n, part)), e = uint32_t(partBegin(count, n, part + 1));
     uint32_t h[3 * kBatchRecords];
-    uint32_t mm = 0;
+    uint32_t mm = 0, nm = 0;
+    uint32_t* list = misses + 6 * size_t(b);
     bool vc = false, bad = false;
     for (uint32_t g = b; g < e; g += kBatchRecords) {
       const uint32_t ng = std::min(kBatchRecords, e - g);
@@ -438,8 +440,13 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
           const Slot k = keyOf(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
           bad |= !finiteBits(k.x) || !finiteBits(k.y) || !finiteBits(k.z);
           const uint32_t i = findSlot(tb, m, k, h[3 * r + c]);
-          tri[3 * t + c] = tb[i].id;
-          hint[3 * t + c] = i;
+          const uint32_t id = tb[i].id;
+          tri[3 * t + c] = id;
+          if (id == kInvalid) {
+            list[2 * nm] = uint32_t(3 * t + c);
+            list[2 * nm + 1] = i;
+            ++nm;
+          }
         }
         attrs[t] = attr;
         if (normals) std::memcpy(normals + 3 * t, f, 3 * sizeof(float));
@@ -451,6 +458,7 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
       }
     }
     mismatches[part] = mm;
+    missed[part] = nm;
     visCam[part] = vc;
     nonFinite[part] = bad;
   });
@@ -465,33 +473,36 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
   // went to the first empty slot on its path, and the table has not grown since, or the probe
   // starts over; see mergeRange), and the new vertices added, as weld() adds them.
   const size_t probed = table.size();
-  constexpr size_t kMissAhead = 32;
-  uint64_t misses = 0, added = 0;
-  const size_t nc = 3 * size_t(count);
-  for (size_t c = 0; c < nc; ++c) {
-    if (c + kMissAhead < nc && tri[c + kMissAhead] == kInvalid) __builtin_prefetch(&table[hint[c + kMissAhead]]);
-    if (tri[c] != kInvalid) continue;
-    ++misses;
-    const uint8_t* q = rec + 50 * (c / 3) + 12 + 12 * (c % 3);
-    const float x = floatLE(q), y = floatLE(q + 4), z = floatLE(q + 8);
-    Slot k = keyOf(x, y, z);
-    uint32_t i = table.size() == probed ? hint[c] : slotHash(k) & mask;
-    while (table[i].id != kInvalid && !(table[i].x == k.x && table[i].y == k.y && table[i].z == k.z))
-      i = (i + 1) & mask;
-    if (table[i].id != kInvalid) {
-      tri[c] = table[i].id;
-      continue;
+  constexpr uint32_t kMissAhead = 16;
+  uint64_t nMissed = 0, added = 0;
+  for (unsigned p = 0; p < n; ++p) {
+    const uint32_t* list = misses + 6 * partBegin(count, n, p);
+    const uint32_t nm = missed[p];
+    nMissed += nm;
+    for (uint32_t j = 0; j < nm; ++j) {
+      if (j + kMissAhead < nm) __builtin_prefetch(&table[list[2 * (j + kMissAhead) + 1]]);
+      const uint32_t c = list[2 * j];
+      const uint8_t* q = rec + 50 * size_t(c / 3) + 12 + 12 * (c % 3);
+      const float x = floatLE(q), y = floatLE(q + 4), z = floatLE(q + 8);
+      Slot k = keyOf(x, y, z);
+      uint32_t i = table.size() == probed ? list[2 * j + 1] : slotHash(k) & mask;
+      while (table[i].id != kInvalid && !(table[i].x == k.x && table[i].y == k.y && table[i].z == k.z))
+        i = (i + 1) & mask;
+      if (table[i].id != kInvalid) {
+        tri[c] = table[i].id;
+        continue;
+      }
+      ++added;
+      k.id = appendVertex(x, y, z);
+      if (k.id == kInvalid || (table[i] = k, size_t(k.id + 1) * 2 > table.size() && !growTable(k.id + 1))) {
+        error = oom(k.id == kInvalid ? "the vertex array" : "the weld table");
+        return c / 3 + 1;
+      }
+      tri[c] = k.id;
     }
-    ++added;
-    k.id = appendVertex(x, y, z);
-    if (k.id == kInvalid || (table[i] = k, size_t(k.id + 1) * 2 > table.size() && !growTable(k.id + 1))) {
-      error = oom(k.id == kInvalid ? "the vertex array" : "the weld table");
-      return c / 3 + 1;
-    }
-    tri[c] = k.id;
   }
   batchCorners += 3 * uint64_t(count);
-  batchRepeats += misses - added;
+  batchRepeats += nMissed - added;
   // The sums in record order (float64 addition is not associative).
   double a = mesh.area, v = mesh.volume;
   for (uint32_t r = 0; r < count; ++r) a += area[r];

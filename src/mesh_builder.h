@@ -97,7 +97,7 @@ struct Builder {
 #if STLTOPO_THREADS
     for (RangeWeld& r : ranges) r = RangeWeld{};
 #if !defined(__EMSCRIPTEN__)
-    lookupHint.release();
+    lookupMisses.release();
     lookupArea.release();
     lookupVolume.release();
 #endif
@@ -135,10 +135,10 @@ struct Builder {
   // file in random order, past its first batch): every corner looked up in the mesh's table
   // on the threads (which only read it), with the records' figures; then, on the caller, in
   // corner order, the corners not found are looked up again and the new vertices added, as
-  // add() adds them. Its work arrays (a corner's slot hint, a record's area and volume) are
-  // kept from one batch to the next.
+  // add() adds them. Its work arrays (the corners not found, with the slot where their probe
+  // stopped; a record's area and volume) are kept from one batch to the next.
   uint64_t addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n);
-  Array<uint32_t> lookupHint;
+  Array<uint32_t> lookupMisses;
   Array<double> lookupArea, lookupVolume;
 #endif
   // The mesh's triangle arrays sized to nt triangles, once a batch's stretch is merged.
