@@ -99,11 +99,7 @@ bool Builder::weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32
   bool visCam = false;
   for (uint32_t g = 0; g < count; g += kBatchRecords) {
     const uint32_t ng = std::min(kBatchRecords, count - g);
-    for (uint32_t r = 0; r < ng; ++r)
-      for (int c = 0; c < 3; ++c) {
-        const uint8_t* q = rec + 50 * size_t(g + r) + 12 + 12 * c;
-        w.hash[3 * r + c] = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
-      }
+    hashCorners(rec + 50 * size_t(g), ng, w.hash);
     touchSlots(w.table.data(), w.mask, w.hash, 3 * ng, sink);
     for (uint32_t r = 0; r < ng; ++r) {
       const size_t t = g + r;
@@ -424,11 +420,7 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
     bool vc = false, bad = false;
     for (uint32_t g = b; g < e; g += kBatchRecords) {
       const uint32_t ng = std::min(kBatchRecords, e - g);
-      for (uint32_t r = 0; r < ng; ++r)
-        for (int c = 0; c < 3; ++c) {
-          const uint8_t* q = rec + 50 * size_t(g + r) + 12 + 12 * c;
-          h[3 * r + c] = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
-        }
+      hashCorners(rec + 50 * size_t(g), ng, h);
       touchSlots(tb, m, h, 3 * ng, sinks[part]);
       for (uint32_t r = 0; r < ng; ++r) {
         const size_t t = g + r;

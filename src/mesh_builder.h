@@ -192,6 +192,14 @@ struct Builder {
       attr = __builtin_bswap16(attr);
     }
   }
+  // The key hashes of the corners of `count` binary records at rec, 3 a record, to h.
+  static void hashCorners(const uint8_t* rec, uint32_t count, uint32_t* h) {
+    for (uint32_t r = 0; r < count; ++r, rec += 50)
+      for (int c = 0; c < 3; ++c) {
+        const uint8_t* q = rec + 12 + 12 * c;
+        h[3 * r + c] = slotHash(keyOf(floatLE(q), floatLE(q + 4), floatLE(q + 8)));
+      }
+  }
   // Fills batchHash for `count` (<= kBatchRecords) records at rec; the table must exist.
   void prepareBatch(const uint8_t* rec, uint32_t count) {
     uint32_t acc = 0;
