@@ -328,9 +328,6 @@ TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
 // here also with a table that grows during a batch (a soup whose vertices are few times
 // shared, past the table's reservation) and a non-finite coordinate in a batch of lookups.
 TEST(Threads, TheReadWeldsGridOrderByPiecesAndRandomOrderByLookups) {
-#if defined(STLTOPO_WASM_TESTS)
-  GTEST_SKIP() << "the wasm modules weld by ranges only";
-#endif
   if (!kThreaded) GTEST_SKIP() << "no threads in this build";
   const gen::Soup t = gen::torus(120, 90, {7, 500});
   const std::string grid = gen::binary(t);

@@ -74,7 +74,8 @@ void setChunkItemsForTesting(size_t items);
 // process started (so that a test can tell that the threaded paths ran).
 uint64_t parallelSplitsForTesting();
 // Test-only: how many batches of binary records the threaded read has welded each way since
-// the process started: 0 by ranges, 1 by pieces, 2 by lookups (src/mesh_builder.h).
+// the process started: 0 by ranges, 1 by pieces, 2 by lookups (src/mesh_builder.h). Native
+// builds only: the threaded wasm modules weld by ranges and do not count.
 uint64_t threadedReadBatchesForTesting(unsigned way);
 
 }  // namespace stltopo
