@@ -168,12 +168,17 @@ Status groupSidesByEdge(uint32_t nt, uint32_t nv, unsigned threads, Topology& ou
   // Threaded: each part takes a range of triangles, counts its sides per bucket in an array
   // of its own, and then puts them at its own cursors: a bucket holds part 0's sides, then
   // part 1's, and so on, each in file order, which is the file order of the one-part pass.
-  const unsigned n = detail::partsFor(threads, nt, detail::parallelGrain(65536));
+  // A part's array is 4 B a vertex: when one cannot be allocated, the pass runs in as many
+  // parts as got theirs (on one part, the one-part pass below), with the same result.
+  unsigned n = detail::partsFor(threads, nt, detail::parallelGrain(65536));
+  Array<uint32_t> counts[detail::kMaxThreads];  // per part: its sides per bucket, then its cursors
+  for (unsigned part = 0; part < n && n > 1; ++part)
+    if (!counts[part].assign(nv, 0)) {
+      n = part;
+      if (n == 1) counts[0].release();  // the one-part pass needs none
+    }
   if (n > 1) {
     uint32_t live[detail::kMaxThreads] = {}, degenerate[detail::kMaxThreads] = {};
-    Array<uint32_t> counts[detail::kMaxThreads];  // per part: its sides per bucket, then its cursors
-    for (unsigned part = 0; part < n; ++part)
-      if (!counts[part].assign(nv, 0)) return detail::oom(kArrays);
     detail::runParts(n, [&](unsigned part) {
       const uint32_t t0 = uint32_t(detail::partBegin(nt, n, part)), t1 = uint32_t(detail::partBegin(nt, n, part + 1));
       uint32_t* o = counts[part].data();
@@ -556,9 +561,11 @@ Status numberHalfedgesInParts(unsigned n, uint32_t nt, uint32_t nv, bool full, T
   // The vertices' choices while the ranges run: key = the boundary-loop half-edge's id, or
   // kOther | another half-edge's id, so that the least key is the one-thread choice.
   constexpr uint32_t kOther = 0x80000000u;
+  // When a part's array cannot be allocated, the numbering runs in as many parts as got one
+  // (part 0 writes w.vinfo): the same result on fewer threads.
   Array<Work::VertexInfo> own[detail::kMaxThreads];
   for (unsigned part = 1; part < n; ++part)
-    if (!own[part].assign(nv, Work::VertexInfo{kInvalid, 0})) return detail::oom(kArrays);
+    if (!own[part].assign(nv, Work::VertexInfo{kInvalid, 0})) n = part;
   uint32_t opens[detail::kMaxThreads + 1] = {}, unpaired[detail::kMaxThreads + 1] = {};
   auto range = [&](unsigned part, uint32_t& t0, uint32_t& t1) {
     t0 = uint32_t(detail::partBegin(nt, n, part));
@@ -670,6 +677,9 @@ Status numberHalfedgesInParts(unsigned n, uint32_t nt, uint32_t nv, bool full, T
   w.C = nullptr;
   return Status{};
 }
+
+// The most parts numberHalfedgesInParts runs in (see buildTopologyIn).
+constexpr unsigned kMaxNumberParts = 4;
 
 // Pass numberHalfedges. Needs the partner words. One pass over the live sides in file
 // order: a side either opens a new pair k (half-edge 2k, pairKind[k] from its word) or, when
@@ -956,7 +966,12 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
 #else
   constexpr bool kNumberInParts = true;
 #endif
-  const unsigned numberParts = kNumberInParts ? detail::partsFor(threads, nt, detail::parallelGrain(65536)) : 1;
+  // Each part after the first holds a vertex array of its own (8 B a vertex, about 4 B a
+  // triangle), so the numbering runs in at most kMaxNumberParts parts whatever the threads:
+  // with a part a thread, `info` of the 4M shuffled torus peaked at 71.7, 78.5, 86.9, 105.1 and
+  // 134.7 B a triangle on 1, 2, 4, 8 and 16 threads (bench/PROFILE.md, *Stop 58*).
+  const unsigned numberParts =
+      kNumberInParts ? std::min(detail::partsFor(threads, nt, detail::parallelGrain(65536)), kMaxNumberParts) : 1;
   if (!(s = pairSides<kChunked>(nt, nv, threads, numberParts > 1, out, w)).ok()) return s;
   numberShells<kChunked>(nt, options.triangleShell, out, w);
   if (!(s = numberHalfedges<kChunked>(nt, nv, full, numberParts, out, w)).ok()) return s;
