@@ -765,6 +765,18 @@ int repair(int argc, char** argv) {
   return verdict(log.after);
 }
 
+// One malloc arena for the process. A stage's threads allocate little and seldom, but with an
+// arena each (glibc's default) the blocks they free stay in their own arenas, away from the
+// later arrays of the rest: `info --intersections` of the 1M shuffled torus peaked at 104.3 B a
+// triangle on 2 threads and 120.5 on 16, against 100.1 and 107.5 with one arena, in the same
+// time (bench/PROFILE.md, *Stop 58*). Called before any thread starts; not for `info --jobs N`,
+// whose jobs allocate all the time and would queue for the one arena's lock.
+void oneMallocArena() {
+#if defined(__GLIBC__)
+  mallopt(M_ARENA_MAX, 1);
+#endif
+}
+
 int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Large arrays from the heap, and freed blocks kept there: a later array then reuses
@@ -788,6 +800,7 @@ int main(int argc, char** argv) {
     std::puts("stltopo 0.1.0");
     return 0;
   }
+  if (cmd != "info") oneMallocArena();
   if (cmd == "convert") return convert(argc, argv);
   if (cmd == "split") return split(argc, argv);
   if (cmd == "repair") return repair(argc, argv);
@@ -945,5 +958,6 @@ int main(int argc, char** argv) {
   c.to.triangleShell = a.topology && (a.shells || defects || a.intersections);
   c.io.maxPairs = a.maxPairs;
   c.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
+  if (jobs <= 1 || inputs.size() <= 1) oneMallocArena();
   return reportAll(inputs, c, jobs);
 }
