@@ -188,7 +188,10 @@ val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bo
   to.tolerance = tolerance > 0 ? tolerance : 0;
   to.prevAndFace = prevAndFace;
   to.triangleShell = shells;
-  Status s = topologyOf(to);
+  // prev and face (8 B a half-edge, 24 a triangle) are asked for views and validate(): when
+  // the heap cannot hold them, the topology without them (JS derives them on first read).
+  Status s;
+  while ((s = topologyOf(to)).code == Code::OutOfMemory && to.prevAndFace) to.prevAndFace = false;
   if (!s.ok()) return remember(s);
   hasTopology_ = true;
   if (shells) {

@@ -429,7 +429,11 @@ export declare class Mesh<T extends boolean = boolean> {
   // END arrays
   stats: Stats<T>;
 
-  /** Checks every topology invariant. */
+  /**
+   * Checks every topology invariant. { ok: false, code: 'out-of-memory' } when its work arrays,
+   * or the prev and face it needs in the wasm heap, did not fit there (a view or worker load of
+   * a mesh too large for the heap to hold them: prev and face were then derived in JS).
+   */
   validate(): ValidateResult;
   /** Frees the wasm memory of a { view: true } mesh; a no-op otherwise. */
   dispose(): void;

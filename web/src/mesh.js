@@ -182,6 +182,15 @@ export class Mesh {
     this.nHalfedges = raw.hasTopology ? arrays.next.length : 0;
     const cache = live ? { ...arrays } : arrays;
     let derived = null; // deriveHalfedges() of a copy, on the first read of prev, face or vert
+    // The arrays deriveHalfedges reads, as views that memory growth has not detached.
+    const liveArrays = () => {
+      const a = {};
+      for (const n of ['next', 'triangleHalfedge', 'loopHalfedges', 'loopOffsets', 'triangles', 'vertexWeld']) {
+        if (cache[n] !== undefined && cache[n].buffer.byteLength === 0) cache[n] = session.array(n, false);
+        a[n] = cache[n];
+      }
+      return a;
+    };
     const groups = new Map(); // group name -> its object, or null when none of its arrays exists
     for (const d of raw.layout) {
       let obj = this;
@@ -195,15 +204,18 @@ export class Mesh {
       }
       if (!isPresent(d, raw)) {
         obj[d.key] = null;
-      } else if (!live && arrays[d.name] === undefined && d.derived) {
+      } else if (arrays[d.name] === undefined && d.derived) {
         if (!DERIVED_HALFEDGE_ARRAYS.includes(d.name)) throw new Error(`stltopo: no JS rebuild for the derived array ${d.name}`);
+        // (a view whose heap could not hold prev and face: derived from its views, and read
+        // through this getter, which answers the disposed error as the views' getters do)
         Object.defineProperty(obj, d.key, {
           enumerable: true,
           configurable: true,
           get: () => {
-            derived ??= deriveHalfedges(arrays, raw.nTriangles);
+            if (this.#disposed) throw disposedError();
+            derived ??= deriveHalfedges(live ? liveArrays() : arrays, raw.nTriangles);
             const a = derived[d.name];
-            Object.defineProperty(obj, d.key, { value: a, enumerable: true, writable: true, configurable: true });
+            if (!live) Object.defineProperty(obj, d.key, { value: a, enumerable: true, writable: true, configurable: true });
             return a;
           },
         });
@@ -303,8 +315,8 @@ export class Mesh {
   /** Checks every topology invariant: { ok: true } or the first violation. */
   validate() {
     if (this.#disposed) throw disposedError();
-    if (this.#session) return toValidation(this.#session.validate());
     if (this.#validation) return { ...this.#validation };
+    if (this.#session) return toValidation(this.#session.validate());
     if (!this.halfedges) {
       return { ok: false, code: 'invalid-argument', message: 'invalid-argument: the mesh has no topology (loaded with topology: false)' };
     }
@@ -329,6 +341,14 @@ export function meshArray(mesh, d) {
   const obj = d.group ? mesh[d.group] : mesh;
   return obj ? obj[d.key] : null;
 }
+
+/** validate()'s result for a mesh whose prev and face did not fit in the wasm heap. */
+export const NO_ROOM_FOR_PREV_FACE = Object.freeze({
+  ok: false,
+  code: 'out-of-memory',
+  message: 'out-of-memory: validate() needs prev and face in the wasm heap, which could not hold them with this mesh ' +
+    '(they were derived in JS)',
+});
 
 /** validate()'s result from a status object of the bindings (null = ok). */
 export function toValidation(st) {

@@ -5,7 +5,7 @@ import { normalizeOptions, normalizeWriteOptions, normalizeIndexedOptions } from
 import { toSource } from './sources.js';
 import { lazyModule } from './wasm-load.js';
 import { threadsFor } from './threads.js';
-import { Mesh, isPresent, isMeshArray, toValidation, meshArray, liveSession, workerHome, writeInput,
+import { Mesh, isPresent, isMeshArray, toValidation, NO_ROOM_FOR_PREV_FACE, meshArray, liveSession, workerHome, writeInput,
   setIntersectionFinder } from './mesh.js';
 
 const CHUNK = 1 << 20; // bytes handed to the core per feed() call
@@ -225,6 +225,11 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
   // validate() in wasm and hand the arrays over).
   function extractRaw(entry, session, copy, { validate = false } = {}) {
     const meta = session.meta();
+    // prev and face, asked for views and validate(), are not in the heap when it could not
+    // hold them with the rest (the bindings then built the topology without them): they are
+    // derived in JS on first read, as for copies, and validate() cannot run in wasm.
+    const noPrevFace = meta.hasTopology && (copy ? validate : true) &&
+      session.array('prev', false).length !== session.array('next', false).length;
     const raw = {
       format: meta.format,
       colorConvention: meta.colorConvention,
@@ -241,13 +246,14 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
       counts: meta.counts,
       statsJson: session.infoJson('', false, false, 0),
       threads: entry.module._threads(),
-      validation: validate && meta.hasTopology ? toValidation(session.validate()) : null,
+      validation: noPrevFace ? NO_ROOM_FOR_PREV_FACE : validate && meta.hasTopology ? toValidation(session.validate()) : null,
       layout: entry.layout,
       arrays: {},
     };
     const arrays = raw.arrays;
     for (const d of entry.layout) {
       if (!isPresent(d, raw) || (copy && d.derived && !validate)) continue;
+      if (noPrevFace && (d.name === 'prev' || d.name === 'face')) continue;
       arrays[d.name] = session.array(d.name, copy || d.copied);
     }
     if (meta.hasTopology) {
