@@ -114,3 +114,17 @@ test("a worker's load (copies, validated in wasm) whose heap cannot hold prev an
   assert.ok(derived.length >= 3, `derived prev and face in ${derived.length} of ${seen.map((r) => r.kind)}`);
   for (const r of seen.filter((x) => x.kind === 'heap')) assert.deepEqual(r.snap, expected);
 });
+
+test('the threaded module: a view on 2 threads whose heap cannot hold prev and face', async () => {
+  const expected = snapshot(await loadStl(STL));
+  const mt = await _internal.moduleFor('load', { threads: 2, topology: true });
+  assert.ok(mt.module.wasmMemory.buffer instanceof SharedArrayBuffer, 'the threaded module');
+  const seen = await sweep(mt.module, async () => {
+    const m = await loadStl(STL, { threads: 2, view: true });
+    assert.equal(m.threads, 2);
+    return m;
+  });
+  const derived = seen.filter((r) => r.kind === 'derived');
+  assert.ok(derived.length >= 3, `derived prev and face in ${derived.length} of ${seen.map((r) => r.kind)}`);
+  for (const r of seen.filter((x) => x.kind !== 'oom')) assert.deepEqual(r.snap, expected);
+});

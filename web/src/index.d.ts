@@ -45,7 +45,10 @@ export interface LoadOptions {
    * fraction 1. fraction is NaN while the total size is unknown (plain streams).
    */
   onProgress?: (fraction: number, bytesRead: number) => void;
-  /** Zero-copy: arrays are borrowed views into wasm memory; call mesh.dispose(). */
+  /**
+   * Zero-copy: arrays are borrowed views into wasm memory; call mesh.dispose(). (When the heap
+   * cannot hold halfedges.prev and face beside the rest, those two are derived in JS instead.)
+   */
   view?: boolean;
   /** Parse in a Web Worker (worker_threads in Node); arrays are transferred. */
   worker?: boolean;
