@@ -182,15 +182,15 @@ export class Mesh {
     this.nHalfedges = raw.hasTopology ? arrays.next.length : 0;
     const cache = live ? { ...arrays } : arrays;
     let derived = null; // deriveHalfedges() of a copy, on the first read of prev, face or vert
-    // The arrays deriveHalfedges reads, as views that memory growth has not detached.
-    const liveArrays = () => {
-      const a = {};
-      for (const n of ['next', 'triangleHalfedge', 'loopHalfedges', 'loopOffsets', 'triangles', 'vertexWeld']) {
-        if (cache[n] !== undefined && cache[n].buffer.byteLength === 0) cache[n] = session.array(n, false);
-        a[n] = cache[n];
-      }
+    // A view's array `name`, re-created when memory growth detached it.
+    const current = (name) => {
+      let a = cache[name];
+      if (a.buffer.byteLength === 0) cache[name] = a = session.array(name, false);
       return a;
     };
+    // The arrays deriveHalfedges reads, for a view.
+    const liveArrays = () => Object.fromEntries(
+      ['next', 'triangleHalfedge', 'loopHalfedges', 'loopOffsets', 'triangles', 'vertexWeld'].map((n) => [n, current(n)]));
     const groups = new Map(); // group name -> its object, or null when none of its arrays exists
     for (const d of raw.layout) {
       let obj = this;
@@ -226,9 +226,7 @@ export class Mesh {
           enumerable: true,
           get: () => {
             if (this.#disposed) throw disposedError();
-            let a = cache[d.name];
-            if (a.buffer.byteLength === 0) cache[d.name] = a = session.array(d.name, false);
-            return a;
+            return current(d.name);
           },
         });
       }
