@@ -190,6 +190,10 @@ val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bo
   to.triangleShell = shells;
   // prev and face (8 B a half-edge, 24 a triangle) are asked for views and validate(): when
   // the heap cannot hold them, the topology without them (JS derives them on first read).
+  // The core goes on without them when they are what fails (prevAndFaceIfRoom), so that its
+  // first passes do not run twice; a later allocation that fails with them held (the loops,
+  // the vertex classes) builds the topology again without them.
+  to.prevAndFaceIfRoom = true;
   Status s;
   while ((s = topologyOf(to)).code == Code::OutOfMemory && to.prevAndFace) to.prevAndFace = false;
   if (!s.ok()) return remember(s);

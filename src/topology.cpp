@@ -694,8 +694,10 @@ constexpr unsigned kMaxNumberParts = 4;
 // storage.
 // parts: the number of triangle ranges it runs in (numberHalfedgesInParts when 2 or more, after
 // pairSides with markLater).
+// full: in, whether to write prev and face; out, false when they could not be allocated and
+// ifRoom allowed going on without them (TopologyOptions::prevAndFaceIfRoom).
 template <bool kChunked>
-Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topology& out, Work& w) {
+Status numberHalfedges(uint32_t nt, uint32_t nv, bool& full, bool ifRoom, unsigned parts, Topology& out, Work& w) {
   const uint32_t nLive = w.nLive, nCouples = w.nCouples;
   const uint32_t nPairs = nLive - nCouples;
   const uint32_t nh = 2 * nPairs;
@@ -704,8 +706,13 @@ Status numberHalfedges(uint32_t nt, uint32_t nv, bool full, unsigned parts, Topo
       !out.triangleHalfedge.resize(nt) || !out.vertexHalfedge.resize(nv) || !w.boundary.resize(nBoundarySides) ||
       !w.vinfo.assign(nv, Work::VertexInfo{kInvalid, 0}))
     return detail::oom(kArrays);
-  if (!w.unlabelled.assign((size_t(nh) + 63) / 64, 0) || (full && (!out.prev.resize(nh) || !out.face.resize(nh))))
-    return detail::oom(kArrays);
+  if (!w.unlabelled.assign((size_t(nh) + 63) / 64, 0)) return detail::oom(kArrays);
+  if (full && (!out.prev.resize(nh) || !out.face.resize(nh))) {
+    if (!ifRoom) return detail::oom(kArrays);
+    out.prev.release();
+    out.face.release();
+    full = false;
+  }
   const uint32_t* C = w.C;
   const uint8_t* degen = out.triangleDegenerate.data();
   uint32_t* next = out.next.data();
@@ -952,7 +959,7 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
     return fail(Code::TooLarge, "too many triangles for 32-bit half-edge ids");
   if (3 * nt >= kNone) return fail(Code::TooLarge, "too many triangles for the topology");
   // prev and face are only written, never read, by the passes, so they can be skipped.
-  const bool full = options.prevAndFace;
+  bool full = options.prevAndFace;
   const unsigned threads = detail::threadCount(options.threads);
   Work w;
   Status s;
@@ -974,7 +981,7 @@ Status buildTopologyIn(const Mesh& mesh, Topology& out, const TopologyOptions& o
       kNumberInParts ? std::min(detail::partsFor(threads, nt, detail::parallelGrain(65536)), kMaxNumberParts) : 1;
   if (!(s = pairSides<kChunked>(nt, nv, threads, numberParts > 1, out, w)).ok()) return s;
   numberShells<kChunked>(nt, options.triangleShell, out, w);
-  if (!(s = numberHalfedges<kChunked>(nt, nv, full, numberParts, out, w)).ok()) return s;
+  if (!(s = numberHalfedges<kChunked>(nt, nv, full, options.prevAndFaceIfRoom, numberParts, out, w)).ok()) return s;
   if (!(s = linkBoundaryLoops(full, out, w)).ok()) return s;
   if (!(s = labelLoops(mesh, full, out, w)).ok()) return s;
   return classifyVertices<kChunked>(nv, threads, out, w);

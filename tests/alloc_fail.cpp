@@ -176,6 +176,75 @@ TEST(AllocFail, ThreadedTopologyRunsInFewerPartsWhenAPartsArrayFails) {
   EXPECT_EQ(std::count(fellBack.begin(), fellBack.end(), 8 * nv), 3);
 }
 
+namespace {
+template <class T>
+std::vector<T> vec(const Array<T>& a) {
+  return std::vector<T>(a.data(), a.data() + a.size());
+}
+// Every array of a topology but prev and face, and the counts (through the report).
+void expectSameButPrevAndFace(const Mesh& m, const Topology& a, const Topology& b) {
+  EXPECT_EQ(vec(a.next), vec(b.next));
+  EXPECT_EQ(vec(a.vert), vec(b.vert));
+  EXPECT_EQ(vec(a.pairKind), vec(b.pairKind));
+  EXPECT_EQ(vec(a.triangleHalfedge), vec(b.triangleHalfedge));
+  EXPECT_EQ(vec(a.vertexHalfedge), vec(b.vertexHalfedge));
+  EXPECT_EQ(vec(a.loopHalfedge), vec(b.loopHalfedge));
+  EXPECT_EQ(vec(a.loopOffsets), vec(b.loopOffsets));
+  EXPECT_EQ(vec(a.loopHalfedges), vec(b.loopHalfedges));
+  EXPECT_EQ(vec(a.vertexNonManifold), vec(b.vertexNonManifold));
+  EXPECT_EQ(infoJson("f", m, &a), infoJson("f", m, &b));
+}
+}  // namespace
+
+// TopologyOptions::prevAndFaceIfRoom: when the allocation of prev or of face fails, the
+// topology goes on without both (the arrays of prevAndFace = false, the same report) instead
+// of failing; every other failed allocation still gives out-of-memory, or the full result
+// where it had a fallback. Without the option, the same failures are out-of-memory.
+TEST(AllocFail, PrevAndFaceIfRoomGoesOnWithoutThem) {
+  const std::string bytes = gen::binary(gen::torus(12, 8, {3, 40}), "a torus with two holes");
+  Mesh m;
+  ASSERT_TRUE(readStl(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), m).ok());
+  Topology full, lean;
+  TopologyOptions to, leanOptions;
+  leanOptions.prevAndFace = false;
+  ASSERT_TRUE(buildTopology(m, full, to).ok());
+  ASSERT_TRUE(buildTopology(m, lean, leanOptions).ok());
+  const uint32_t nh = full.nHalfedges();
+  ASSERT_EQ(full.prev.size(), nh);
+  ASSERT_TRUE(lean.prev.empty() && lean.face.empty());
+  for (bool ifRoom : {true, false}) {
+    to.prevAndFaceIfRoom = ifRoom;
+    std::vector<size_t> wentOn;
+    long failures = 0;
+    sweepEach(ifRoom ? "if room" : "not if room", [&](long k) {
+      Topology t;
+      arm(k);
+      Status s = buildTopology(m, t, to);
+      disarm();
+      if (!s.ok()) {
+        EXPECT_EQ(s.code, Code::OutOfMemory) << s.message;
+        ++failures;
+        return;
+      }
+      if (t.prev.size() == nh) {
+        EXPECT_EQ(vec(t.prev), vec(full.prev));
+        EXPECT_EQ(vec(t.face), vec(full.face));
+        expectSameButPrevAndFace(m, t, full);
+      } else {
+        EXPECT_TRUE(t.prev.empty() && t.face.empty()) << t.prev.size() << " " << t.face.size();
+        expectSameButPrevAndFace(m, t, lean);
+        wentOn.push_back(failedSize);
+      }
+    });
+    if (ifRoom) {  // the failures of prev's and of face's allocation, and no other
+      EXPECT_EQ(wentOn, std::vector<size_t>(2, sizeof(uint32_t) * nh));
+    } else {
+      EXPECT_TRUE(wentOn.empty());
+    }
+    EXPECT_GT(failures, 5);
+  }
+}
+
 TEST(AllocFail, AsciiSolidsStreamed) {
   std::string two = gen::ascii(gen::cube(), "first solid with a long enough name") +
                     gen::ascii(gen::cube(2, 0, 0), "second solid with a long enough name");

@@ -324,7 +324,7 @@ TEST(Threads, GeneratedMeshesAreTheSameForEveryThreadCount) {
 
 // The threaded read welds its first batch by ranges, then by pieces where a batch's corners
 // repeat its own vertices (grid order) and by lookups in the mesh's table where they do not
-// (random order): src/mesh_builder.cpp, addBatchParallel. Each way gives one thread's mesh,
+// (random order): src/mesh_builder_threads.cpp, addBatchParallel. Each way gives one thread's mesh,
 // here also with a table that grows during a batch (a soup whose vertices are few times
 // shared, past the table's reservation) and a non-finite coordinate in a batch of lookups.
 TEST(Threads, TheReadWeldsGridOrderByPiecesAndRandomOrderByLookups) {

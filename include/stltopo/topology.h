@@ -19,6 +19,11 @@ struct TopologyOptions {
   // bytes per half-edge, about 24 per triangle. Navigation through prev or face (lPrev,
   // oNext, lFace, rFace, ...) and validate() need them.
   bool prevAndFace = true;
+  // true (with prevAndFace): when prev and face cannot be allocated (they are the last arrays
+  // of the pass that peaks), go on without them, as prevAndFace = false would, instead of
+  // failing with out-of-memory. The caller tells by prev.size() != nHalfedges(). For callers
+  // that can derive them later (the wasm bindings, near the 4 GB heap's end).
+  bool prevAndFaceIfRoom = false;
   // true: also build Topology::triangleShell (the shell of each triangle, for the shell
   // report and extractShell): 4 more bytes per triangle in the result, and at the peak.
   bool triangleShell = false;
