@@ -58,14 +58,16 @@ const char* duplicateOrientationName(DuplicateOrientation o) {
 // sideAcross); only a cut edge (more sides) leaves the question open (Maybe).
 namespace {
 enum class DuplicateTest : uint8_t { None, Maybe, ThirdCorner };
-inline DuplicateTest duplicateTest(const Topology& topo, uint32_t e) {
+// (On the raw pairKind array, for the wasm pass below.)
+inline DuplicateTest duplicateTestOf(const uint8_t* pairKind, uint32_t e) {
   if (e == kInvalid) return DuplicateTest::None;
-  switch (EdgeKind(topo.pairKind[e >> 1])) {
+  switch (EdgeKind(pairKind[e >> 1])) {
     case EdgeKind::Boundary: return DuplicateTest::None;
     case EdgeKind::Interior: return DuplicateTest::ThirdCorner;
     default: return DuplicateTest::Maybe;
   }
 }
+inline DuplicateTest duplicateTest(const Topology& topo, uint32_t e) { return duplicateTestOf(topo.pairKind.data(), e); }
 // The other triangle's side leaving e's origin: it runs to that triangle's third corner.
 inline uint32_t sideAcross(const Topology& topo, uint32_t e) { return topo.next[e ^ 1u] ^ 1u; }
 }  // namespace
@@ -157,24 +159,42 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
     // blocks instead: first canHaveDuplicate's reads for the block, in two runs of independent
     // loads (the edge's kind and the side across, then for an interior edge the third corner
     // of the triangle across), whose misses overlap in a scattered file; then the tests.
+    // On raw pointers: at -Oz (this file's level in wasm) the arrays' accessors (operator[],
+    // data()) stayed calls in this loop, `flatten` notwithstanding (it inlines the lambda's own
+    // calls, not theirs); -O3 for the file cost 0.8 kB gzipped of the core module. The report
+    // of the 1M and 4M tori took 0.72-0.89x its time (bench/PROFILE.md, *Stop 60*).
     constexpr uint32_t kBlock = 64;
     uint32_t across[kBlock];
     DuplicateTest test[kBlock];  // canHaveDuplicate's, across[i] the third corner across
+    const uint32_t* tri = mesh.triangles.data();
+    const uint32_t* weld = w.weld;
+    const float* xyz = mesh.positions.data();
+    const uint32_t* firstSide = useTopology ? topo->triangleHalfedge.data() : nullptr;
+    const uint8_t* kind = useTopology ? topo->pairKind.data() : nullptr;
+    const uint32_t* next = useTopology ? topo->next.data() : nullptr;
+    const uint32_t* vert = useTopology ? topo->vert.data() : nullptr;
     for (uint32_t b0 = t0; b0 < t1; b0 += kBlock) {
-      const uint32_t m = std::min(kBlock, t1 - b0);
+      const uint32_t m = t1 - b0 < kBlock ? t1 - b0 : kBlock;
       if (useTopology) {
         for (uint32_t i = 0; i < m; ++i) {
-          const uint32_t e = topo->triangleHalfedge[b0 + i];
-          test[i] = duplicateTest(*topo, e);
-          across[i] = e == kInvalid ? 0 : sideAcross(*topo, e);
+          const uint32_t e = firstSide[b0 + i];
+          test[i] = duplicateTestOf(kind, e);
+          across[i] = e == kInvalid ? 0 : next[e ^ 1u] ^ 1u;  // sideAcross
         }
         for (uint32_t i = 0; i < m; ++i)
-          if (test[i] == DuplicateTest::ThirdCorner) across[i] = topo->vert[across[i]];
+          if (test[i] == DuplicateTest::ThirdCorner) across[i] = vert[across[i]];
       }
       for (uint32_t i = 0; i < m; ++i) {
-        const uint32_t t = b0 + i, a = w.v(t, 0), b = w.v(t, 1), c = w.v(t, 2);
+        const uint32_t t = b0 + i;
+        uint32_t a = tri[3 * size_t(t)], b = tri[3 * size_t(t) + 1], c = tri[3 * size_t(t) + 2];
+        if (weld) {
+          a = weld[a];
+          b = weld[b];
+          c = weld[c];
+        }
         if (a == b || b == c || a == c) continue;  // degenerate
-        if (pred::collinear(w.p(a), w.p(b), w.p(c)) && !zeroArea.push_back(t)) return oom("the zero-area list");
+        if (pred::collinear(xyz + 3 * size_t(a), xyz + 3 * size_t(b), xyz + 3 * size_t(c)) && !zeroArea.push_back(t))
+          return oom("the zero-area list");
         const bool maybe = useTopology && (test[i] == DuplicateTest::Maybe ||
                                            (test[i] == DuplicateTest::ThirdCorner && across[i] == c));
         if (maybe && !candidates.push_back(t)) return oom("the duplicate candidates");
