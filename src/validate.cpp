@@ -1,5 +1,4 @@
 // validate(): checks every invariant of a Topology against its Mesh.
-#include <algorithm>
 #include <cstdio>
 
 #include "stltopo/mesh.h"
@@ -24,7 +23,7 @@ Status badCount(const char* what, uint32_t expected) {
 }
 
 // Triangles joined by union-find with path halving, for the shell count.
-uint32_t findRoot(Array<uint32_t>& parent, uint32_t x) {
+uint32_t findRoot(uint32_t* parent, uint32_t x) {
   while (parent[x] != x) {
     parent[x] = parent[parent[x]];
     x = parent[x];
@@ -50,57 +49,70 @@ Status validate(const Mesh& mesh, const Topology& t) {
   if (t.loopOffsets.size() != size_t(nl) + 1 || t.loopIsSeam.size() != nl || t.loopPerimeter.size() != nl)
     return bad("per-loop arrays have the wrong length", nl);
   if (t.nHoles + t.nSeams != nl) return bad("holes + seams differ from the number of loops", nl);
+  // The arrays as raw pointers (their lengths are checked above): in wasm this file is compiled
+  // for size (-Oz), which kept every Array accessor a call, one per element read; on pointers,
+  // validate() of the 1M tori took about 0.7x its time (bench/PROFILE.md, *Stop 60*).
+  const uint32_t *next = t.next.data(), *prev = t.prev.data(), *vert = t.vert.data(), *face = t.face.data();
+  const uint8_t* pairKind = t.pairKind.data();
+  const uint32_t *triangleHalfedge = t.triangleHalfedge.data(), *vertexHalfedge = t.vertexHalfedge.data();
+  const uint32_t* vertexWeld = t.vertexWeld.data();
+  const uint8_t *triangleDegenerate = t.triangleDegenerate.data(), *vertexNonManifold = t.vertexNonManifold.data();
+  const uint32_t *loopHalfedge = t.loopHalfedge.data(), *loopOffsets = t.loopOffsets.data();
+  const uint32_t* loopHalfedges = t.loopHalfedges.data();
+  const uint8_t* loopIsSeam = t.loopIsSeam.data();
+  const uint32_t* corners = mesh.triangles.data();
 
   for (uint32_t e = 0; e < nh; ++e) {
-    uint32_t n = t.next[e];
+    uint32_t n = next[e];
     if (n >= nh) return bad("next out of range", e);
-    if (t.prev[n] != e) return bad("next is not a permutation (prev[next[e]] != e)", e);
-    if (t.vert[e] >= nv) return bad("vert out of range", e);
-    if (t.face[e] >= nf) return bad("face out of range", e);
-    if (t.face[n] != t.face[e]) return bad("next leaves the face", e);
-    if (t.vert[n] != t.vert[e ^ 1u]) return bad("vert[next[e]] != vert[twin(e)]", e);
-    if (t.vert[e] == t.vert[e ^ 1u]) return bad("half-edge is a self-loop", e);
+    if (prev[n] != e) return bad("next is not a permutation (prev[next[e]] != e)", e);
+    if (vert[e] >= nv) return bad("vert out of range", e);
+    if (face[e] >= nf) return bad("face out of range", e);
+    if (face[n] != face[e]) return bad("next leaves the face", e);
+    if (vert[n] != vert[e ^ 1u]) return bad("vert[next[e]] != vert[twin(e)]", e);
+    if (vert[e] == vert[e ^ 1u]) return bad("half-edge is a self-loop", e);
   }
   // vnext stays at the vertex, so its cycles partition each vertex's outgoing half-edges.
   // (A second pass: next[e ^ 1] is known to be in range only now.)
   for (uint32_t e = 0; e < nh; ++e)
-    if (t.vert[t.next[e ^ 1u]] != t.vert[e]) return bad("vnext leaves the vertex", e);
+    if (vert[next[e ^ 1u]] != vert[e]) return bad("vnext leaves the vertex", e);
   // Every triangle has its 3 half-edges; next cycles are exactly the faces.
-  Array<uint32_t> perFace;
-  if (!perFace.assign(nf, 0)) {
+  Array<uint32_t> perFaceArray;
+  if (!perFaceArray.assign(nf, 0)) {
     return detail::oom(kWorkArrays);
   }
-  for (uint32_t e = 0; e < nh; ++e) ++perFace[t.face[e]];
+  uint32_t* perFace = perFaceArray.data();
+  for (uint32_t e = 0; e < nh; ++e) ++perFace[face[e]];
   for (uint32_t f = 0; f < nt; ++f) {
-    uint32_t h = t.triangleHalfedge[f];
-    bool degen = t.triangleDegenerate[f] != 0;
+    uint32_t h = triangleHalfedge[f];
+    bool degen = triangleDegenerate[f] != 0;
     if (degen) {
       if (h != kInvalid || perFace[f] != 0) return bad("degenerate triangle has half-edges", f);
       continue;
     }
-    if (h >= nh || t.face[h] != f) return bad("triangle half-edge does not belong to the triangle", f);
-    if (t.next[t.next[t.next[h]]] != h || perFace[f] != 3) return bad("triangle is not a 3-cycle", f);
+    if (h >= nh || face[h] != f) return bad("triangle half-edge does not belong to the triangle", f);
+    if (next[next[next[h]]] != h || perFace[f] != 3) return bad("triangle is not a 3-cycle", f);
     for (int c = 0; c < 3; ++c) {
       uint32_t e = h;
-      for (int k = 0; k < c; ++k) e = t.next[e];
-      if (t.vert[e] != t.vertexWeld[mesh.triangles[3 * size_t(f) + c]])
+      for (int k = 0; k < c; ++k) e = next[e];
+      if (vert[e] != vertexWeld[corners[3 * size_t(f) + c]])
         return bad("triangle half-edge vertex differs from its corner", f);
     }
   }
   // The loop offsets span the listing in order (so every index below is in range).
-  if (t.loopOffsets[0] != 0 || t.loopOffsets[nl] != t.loopHalfedges.size())
+  if (loopOffsets[0] != 0 || loopOffsets[nl] != t.loopHalfedges.size())
     return bad("loop offsets do not span the loop listing", nl);
   for (uint32_t l = 0; l < nl; ++l)
-    if (t.loopOffsets[l + 1] < t.loopOffsets[l]) return bad("loop offsets decrease", nt + l);
+    if (loopOffsets[l + 1] < loopOffsets[l]) return bad("loop offsets decrease", nt + l);
   uint64_t loopTotal = 0;
   for (uint32_t l = 0; l < nl; ++l) {
-    uint32_t h = t.loopHalfedge[l], len = t.loopOffsets[l + 1] - t.loopOffsets[l];
-    if (h >= nh || t.face[h] != nt + l) return bad("loop half-edge does not belong to the loop", nt + l);
+    uint32_t h = loopHalfedge[l], len = loopOffsets[l + 1] - loopOffsets[l];
+    if (h >= nh || face[h] != nt + l) return bad("loop half-edge does not belong to the loop", nt + l);
     uint32_t x = h, steps = 0;
     do {
       if (steps >= len) return bad("loop is longer than listed", nt + l);
-      if (t.loopHalfedges[t.loopOffsets[l] + steps] != x) return bad("loop listing differs from next order", nt + l);
-      x = t.next[x];
+      if (loopHalfedges[loopOffsets[l] + steps] != x) return bad("loop listing differs from next order", nt + l);
+      x = next[x];
       ++steps;
     } while (x != h);
     if (steps != len || perFace[nt + l] != len) return bad("loop cycle differs from the loop's half-edges", nt + l);
@@ -109,17 +121,18 @@ Status validate(const Mesh& mesh, const Topology& t) {
   }
   if (loopTotal != t.loopHalfedges.size()) return bad("loop listing length differs", nl);
   // Vertex lookups.
-  Array<uint8_t> used;
-  if (!used.assign(nv, 0)) {
+  Array<uint8_t> usedArray;
+  if (!usedArray.assign(nv, 0)) {
     return detail::oom(kWorkArrays);
   }
-  for (uint32_t e = 0; e < nh; ++e) used[t.vert[e]] = 1;
+  uint8_t* used = usedArray.data();
+  for (uint32_t e = 0; e < nh; ++e) used[vert[e]] = 1;
   uint32_t nUsed = 0;
   for (uint32_t v = 0; v < nv; ++v) {
-    uint32_t h = t.vertexHalfedge[v];
+    uint32_t h = vertexHalfedge[v];
     if (used[v]) {
       ++nUsed;
-      if (h >= nh || t.vert[h] != v) return bad("vertexHalfedge does not leave its vertex", v);
+      if (h >= nh || vert[h] != v) return bad("vertexHalfedge does not leave its vertex", v);
     } else if (h != kInvalid) {
       return bad("unused vertex has a half-edge", v);
     }
@@ -129,18 +142,18 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // Degenerate triangles: two corners on one vertex of the weld.
   uint32_t nDegenerate = 0;
   for (uint32_t f = 0; f < nt; ++f) {
-    const uint32_t* c = mesh.triangles.data() + 3 * size_t(f);
-    uint32_t a = t.vertexWeld[c[0]], b = t.vertexWeld[c[1]], d = t.vertexWeld[c[2]];
+    const uint32_t* c = corners + 3 * size_t(f);
+    uint32_t a = vertexWeld[c[0]], b = vertexWeld[c[1]], d = vertexWeld[c[2]];
     if (a >= nv || b >= nv || d >= nv) return bad("vertexWeld out of range", f);
     bool degen = a == b || b == d || a == d;
-    if (degen != (t.triangleDegenerate[f] != 0)) return bad("triangleDegenerate differs from the welded corners", f);
+    if (degen != (triangleDegenerate[f] != 0)) return bad("triangleDegenerate differs from the welded corners", f);
     nDegenerate += degen;
   }
   if (nDegenerate != t.nDegenerate) return badCount("degenerate-triangle count differs", nDegenerate);
   uint32_t nReps = 0;
   for (uint32_t v = 0; v < nv; ++v) {
-    uint32_t r = t.vertexWeld[v];
-    if (r > v || t.vertexWeld[r] != r) return bad("vertexWeld is not a lowest-id representative", v);
+    uint32_t r = vertexWeld[v];
+    if (r > v || vertexWeld[r] != r) return bad("vertexWeld is not a lowest-id representative", v);
     nReps += r == v;
   }
   if (nReps != t.nWeldedVertices) return badCount("welded-vertex count differs", nReps);
@@ -149,12 +162,15 @@ Status validate(const Mesh& mesh, const Topology& t) {
   // pairs are bucketed by the smaller one, and within a bucket an edge id is given per
   // larger vertex (stamp[b] = the bucket that last saw b): O(n).
   const uint32_t np = nh / 2;
-  Array<uint32_t> off, byLow, edgeOf, stamp, edgeAt;
-  if (!off.assign(size_t(nv) + 1, 0) || !byLow.resize(np) || !edgeOf.resize(np) || !stamp.assign(nv, kInvalid) ||
-      !edgeAt.resize(nv))
+  Array<uint32_t> offArray, byLowArray, edgeOfArray, stampArray, edgeAtArray;
+  if (!offArray.assign(size_t(nv) + 1, 0) || !byLowArray.resize(np) || !edgeOfArray.resize(np) ||
+      !stampArray.assign(nv, kInvalid) || !edgeAtArray.resize(nv))
     return detail::oom(kWorkArrays);
-  auto lo = [&](uint32_t k) { return std::min(t.vert[2 * k], t.vert[2 * k + 1]); };
-  auto hi = [&](uint32_t k) { return std::max(t.vert[2 * k], t.vert[2 * k + 1]); };
+  uint32_t *off = offArray.data(), *byLow = byLowArray.data(), *edgeOf = edgeOfArray.data();
+  uint32_t *stamp = stampArray.data(), *edgeAt = edgeAtArray.data();
+  // (Not std::min and std::max, which -Oz kept out of line.)
+  auto lo = [&](uint32_t k) { return vert[2 * k] < vert[2 * k + 1] ? vert[2 * k] : vert[2 * k + 1]; };
+  auto hi = [&](uint32_t k) { return vert[2 * k] < vert[2 * k + 1] ? vert[2 * k + 1] : vert[2 * k]; };
   for (uint32_t k = 0; k < np; ++k) ++off[lo(k) + 1];
   for (uint32_t v = 0; v < nv; ++v) off[v + 1] += off[v];
   for (uint32_t k = 0; k < np; ++k) byLow[off[lo(k)]++] = k;  // off[v] now ends bucket v
@@ -170,11 +186,13 @@ Status validate(const Mesh& mesh, const Topology& t) {
     }
   }
   // Per edge: its triangle sides and whether a side of it is cut (unpaired).
-  Array<uint32_t> sides;
-  Array<uint8_t> cut;
-  if (!sides.assign(nEdges, 0) || !cut.assign(nEdges, 0)) return detail::oom(kWorkArrays);
+  Array<uint32_t> sidesArray;
+  Array<uint8_t> cutArray;
+  if (!sidesArray.assign(nEdges, 0) || !cutArray.assign(nEdges, 0)) return detail::oom(kWorkArrays);
+  uint32_t* sides = sidesArray.data();
+  uint8_t* cut = cutArray.data();
   for (uint32_t k = 0; k < np; ++k) {
-    bool left = t.face[2 * k] < nt, right = t.face[2 * k + 1] < nt;
+    bool left = face[2 * k] < nt, right = face[2 * k + 1] < nt;
     if (!left && !right) return bad("pair has no triangle side", 2 * k);
     sides[edgeOf[k]] += uint32_t(left) + uint32_t(right);
     if (!left || !right) cut[edgeOf[k]] = 1;
@@ -190,11 +208,11 @@ Status validate(const Mesh& mesh, const Topology& t) {
   }
   for (uint32_t k = 0; k < np; ++k) {
     uint32_t m = sides[edgeOf[k]];
-    bool paired = t.face[2 * k] < nt && t.face[2 * k + 1] < nt;
+    bool paired = face[2 * k] < nt && face[2 * k + 1] < nt;
     EdgeKind want = m == 1   ? EdgeKind::Boundary
                     : m == 2 ? (paired ? EdgeKind::Interior : EdgeKind::Inconsistent)
                              : EdgeKind::NonManifold;
-    if (t.pairKind[k] != uint8_t(want)) return bad("pairKind differs from the sides of its edge", k);
+    if (pairKind[k] != uint8_t(want)) return bad("pairKind differs from the sides of its edge", k);
   }
   if (nEdges != t.nEdges) return badCount("edge count differs", nEdges);
   if (nBoundary != t.nBoundaryEdges) return badCount("boundary-edge count differs", nBoundary);
@@ -205,42 +223,44 @@ Status validate(const Mesh& mesh, const Topology& t) {
   uint32_t nSeams = 0;
   for (uint32_t l = 0; l < nl; ++l) {
     bool seam = false;
-    for (uint32_t i = t.loopOffsets[l]; i < t.loopOffsets[l + 1]; ++i)
-      seam |= t.pairKind[t.loopHalfedges[i] >> 1] != uint8_t(EdgeKind::Boundary);
-    if (seam != (t.loopIsSeam[l] != 0)) return bad("loopIsSeam differs from the loop's edges", nt + l);
+    for (uint32_t i = loopOffsets[l]; i < loopOffsets[l + 1]; ++i)
+      seam |= pairKind[loopHalfedges[i] >> 1] != uint8_t(EdgeKind::Boundary);
+    if (seam != (loopIsSeam[l] != 0)) return bad("loopIsSeam differs from the loop's edges", nt + l);
     nSeams += seam;
   }
   if (nSeams != t.nSeams || nl - nSeams != t.nHoles) return badCount("hole or seam count differs", nl - nSeams);
 
   // Vertices: non-manifold when the vnext cycle through vertexHalfedge misses an outgoing
   // half-edge (vnext is a permutation: next is one, checked above).
-  Array<uint32_t> degree;
-  if (!degree.assign(nv, 0)) return detail::oom(kWorkArrays);
-  for (uint32_t e = 0; e < nh; ++e) ++degree[t.vert[e]];
+  Array<uint32_t> degreeArray;
+  if (!degreeArray.assign(nv, 0)) return detail::oom(kWorkArrays);
+  uint32_t* degree = degreeArray.data();
+  for (uint32_t e = 0; e < nh; ++e) ++degree[vert[e]];
   uint32_t nNonManifoldVertices = 0;
   for (uint32_t v = 0; v < nv; ++v) {
-    uint32_t e0 = t.vertexHalfedge[v];
+    uint32_t e0 = vertexHalfedge[v];
     bool nm = false;
     if (e0 != kInvalid) {
       uint32_t x = e0, steps = 0;
       do {
-        x = t.next[x ^ 1u];
+        x = next[x ^ 1u];
         ++steps;
       } while (x != e0 && steps <= degree[v]);
       nm = steps != degree[v];
     }
-    if (nm != (t.vertexNonManifold[v] != 0)) return bad("vertexNonManifold differs from the vertex's cycles", v);
+    if (nm != (vertexNonManifold[v] != 0)) return bad("vertexNonManifold differs from the vertex's cycles", v);
     nNonManifoldVertices += nm;
   }
   if (nNonManifoldVertices != t.nNonManifoldVertices)
     return badCount("non-manifold-vertex count differs", nNonManifoldVertices);
 
   // Shells: the triangles that share an undirected edge are one shell.
-  Array<uint32_t> parent, firstTriangle;
-  if (!parent.resize(nt) || !firstTriangle.assign(nEdges, kInvalid)) return detail::oom(kWorkArrays);
+  Array<uint32_t> parentArray, firstTriangleArray;
+  if (!parentArray.resize(nt) || !firstTriangleArray.assign(nEdges, kInvalid)) return detail::oom(kWorkArrays);
+  uint32_t *parent = parentArray.data(), *firstTriangle = firstTriangleArray.data();
   for (uint32_t f = 0; f < nt; ++f) parent[f] = f;
   for (uint32_t e = 0; e < nh; ++e) {
-    uint32_t f = t.face[e];
+    uint32_t f = face[e];
     if (f >= nt) continue;
     uint32_t& first = firstTriangle[edgeOf[e >> 1]];
     if (first == kInvalid) {
@@ -248,25 +268,28 @@ Status validate(const Mesh& mesh, const Topology& t) {
       continue;
     }
     uint32_t a = findRoot(parent, first), b = findRoot(parent, f);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    if (a < b) parent[b] = a;
+    if (b < a) parent[a] = b;
   }
   uint32_t nShells = 0;
-  for (uint32_t f = 0; f < nt; ++f) nShells += !t.triangleDegenerate[f] && findRoot(parent, f) == f;
+  for (uint32_t f = 0; f < nt; ++f) nShells += !triangleDegenerate[f] && findRoot(parent, f) == f;
   if (nShells != t.nShells) return badCount("shell count differs", nShells);
   if (!t.triangleShell.empty()) {
     // The shells numbered by their lowest triangle: the first triangle met of each root.
     if (t.triangleShell.size() != nt) return bad("triangleShell has the wrong length", nt);
-    Array<uint32_t> number;
-    if (!number.assign(nt, kInvalid)) return detail::oom(kWorkArrays);
+    Array<uint32_t> numberArray;
+    if (!numberArray.assign(nt, kInvalid)) return detail::oom(kWorkArrays);
+    uint32_t* number = numberArray.data();
+    const uint32_t* triangleShell = t.triangleShell.data();
     uint32_t n = 0;
     for (uint32_t f = 0; f < nt; ++f) {
       uint32_t want = kInvalid;
-      if (!t.triangleDegenerate[f]) {
+      if (!triangleDegenerate[f]) {
         uint32_t& r = number[findRoot(parent, f)];
         if (r == kInvalid) r = n++;
         want = r;
       }
-      if (t.triangleShell[f] != want) return bad("triangleShell differs from the shells", f);
+      if (triangleShell[f] != want) return bad("triangleShell differs from the shells", f);
     }
   }
   return Status{};
