@@ -58,7 +58,7 @@ const char* duplicateOrientationName(DuplicateOrientation o) {
 // sideAcross); only a cut edge (more sides) leaves the question open (Maybe).
 namespace {
 enum class DuplicateTest : uint8_t { None, Maybe, ThirdCorner };
-// (On the raw pairKind array, for the wasm pass below.)
+// duplicateTestOf and sideAcrossOf: on the raw arrays, for the wasm pass below.
 inline DuplicateTest duplicateTestOf(const uint8_t* pairKind, uint32_t e) {
   if (e == kInvalid) return DuplicateTest::None;
   switch (EdgeKind(pairKind[e >> 1])) {
@@ -69,7 +69,8 @@ inline DuplicateTest duplicateTestOf(const uint8_t* pairKind, uint32_t e) {
 }
 inline DuplicateTest duplicateTest(const Topology& topo, uint32_t e) { return duplicateTestOf(topo.pairKind.data(), e); }
 // The other triangle's side leaving e's origin: it runs to that triangle's third corner.
-inline uint32_t sideAcross(const Topology& topo, uint32_t e) { return topo.next[e ^ 1u] ^ 1u; }
+inline uint32_t sideAcrossOf(const uint32_t* next, uint32_t e) { return next[e ^ 1u] ^ 1u; }
+inline uint32_t sideAcross(const Topology& topo, uint32_t e) { return sideAcrossOf(topo.next.data(), e); }
 }  // namespace
 
 bool canHaveDuplicate(const Topology& topo, uint32_t t, uint32_t thirdCorner) {
@@ -179,7 +180,7 @@ Status checkTrianglesIn(const Mesh& mesh, const Topology* topo, TriangleChecks& 
         for (uint32_t i = 0; i < m; ++i) {
           const uint32_t e = firstSide[b0 + i];
           test[i] = duplicateTestOf(kind, e);
-          across[i] = e == kInvalid ? 0 : next[e ^ 1u] ^ 1u;  // sideAcross
+          across[i] = e == kInvalid ? 0 : sideAcrossOf(next, e);
         }
         for (uint32_t i = 0; i < m; ++i)
           if (test[i] == DuplicateTest::ThirdCorner) across[i] = vert[across[i]];
