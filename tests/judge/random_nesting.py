@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""stltopo's shell nesting (`parent`, `depth`), orientation and `solid` against an answer
+computed here, on random scenes of convex closed shells: boxes and tetrahedra on a small
+integer grid, some turned inside out, nested, apart, or sharing a corner, then moved far from
+the origin (2^20) or shrunk (2^-20). Integer grids put many corners of one shell exactly in the
+planes, on the lines and at the heights of another's edges and corners: the cases where a
+point-in-solid test by rays has to decide ties.
+
+The answer, from the definitions of issue 21 (README, *Geometry*): shell A lies in shell B when
+every vertex of A is strictly inside the solid B bounds (for a convex shell: strictly on the
+inner side of each face's plane, by exact integer orientations); `depth` counts the shells A
+lies in, `parent` is the innermost of them; `solid` holds when every shell is outward at even
+depth and inward at odd depth, and nothing else is wrong. Scenes where the CGAL judge finds an
+intersecting pair, a zero-area or a duplicate triangle are skipped (nesting is only defined for
+shells that intersect no other), as are those where two shapes share a side (one shell then).
+
+  random_nesting.py STLTOPO_CLI JUDGE [--cases N] [--seed S] [--keep DIR]
+"""
+import argparse
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from random_agree import write_binary  # noqa: E402
+
+
+def orient(a, b, c, d):
+    """Sign of det[b - a, c - a, d - a] (integers: exact)."""
+    bx, by, bz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    cx, cy, cz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
+    dx, dy, dz = d[0] - a[0], d[1] - a[1], d[2] - a[2]
+    v = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx)
+    return (v > 0) - (v < 0)
+
+
+def box(lo, hi, r):
+    c = lambda i, j, k: ((lo[0], hi[0])[i], (lo[1], hi[1])[j], (lo[2], hi[2])[k])
+    quads = [(c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)), (c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)),
+             (c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)), (c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)),
+             (c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)), (c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1))]
+    out = []
+    for a, b, cc, d in quads:
+        out += [(a, b, cc), (a, cc, d)] if r.random() < 0.5 else [(a, b, d), (b, cc, d)]
+    return out
+
+
+def tetra(r, lo, hi):
+    while True:
+        p = [tuple(r.randint(lo[k], hi[k]) for k in range(3)) for _ in range(4)]
+        o = orient(*p)
+        if o:
+            break
+    a, b, c, d = p
+    if o < 0:
+        b, c = c, b
+    # orient(a, b, c, d) > 0: d is on the positive side of (a, b, c), so outward faces are
+    # the ones whose fourth corner is on their negative side
+    return [(a, c, b), (a, b, d), (b, c, d), (c, a, d)]
+
+
+def strictly_inside(p, tris):
+    """p strictly inside the convex closed outward shell tris."""
+    return all(orient(t[0], t[1], t[2], p) < 0 for t in tris)
+
+
+def scene(r):
+    """Shapes in a region, each either anywhere in it or within an earlier box's inside (so that
+    nesting happens often), on a grid whose planes the shapes share."""
+    g = r.choice([8, 12, 16])
+    shapes = []  # (outward triangles, inward?, the box's (lo, hi) or None)
+    cells = 0
+    for _ in range(r.randint(2, 6)):
+        # a region of its own along x (apart from the others, or sharing their planes) ...
+        x0 = cells * (g + r.choice([0, 1, 2, 2]))
+        lo, hi = [x0, 0, 0], [x0 + g, g, g]
+        if r.random() < 0.2:  # ... or where the others are
+            lo, hi = [0, 0, 0], [g, g, g]
+        else:
+            cells += 1
+        boxes = [s[2] for s in shapes if s[2] and all(h - l >= 3 for l, h in zip(*s[2]))]
+        if boxes and r.random() < 0.7:  # strictly inside an earlier box, or touching it inside
+            blo, bhi = r.choice(boxes)
+            m = 1 if r.random() < 0.85 else 0
+            lo, hi = [l + m for l in blo], [h - m for h in bhi]
+        if r.random() < 0.6:
+            if r.random() < 0.5:  # a large box: room for others inside
+                a = [r.randint(lo[k], lo[k] + (hi[k] - lo[k]) // 4) for k in range(3)]
+                b = [r.randint(hi[k] - (hi[k] - lo[k]) // 4, hi[k]) for k in range(3)]
+            else:
+                a = [r.randint(lo[k], hi[k] - 1) for k in range(3)]
+                b = [r.randint(a[k] + 1, hi[k]) for k in range(3)]
+            shapes.append((box(a, b, r), r.random() < 0.35, (a, b)))
+        else:
+            shapes.append((tetra(r, lo, hi), r.random() < 0.35, None))
+    return shapes
+
+
+def expected(shapes):
+    n = len(shapes)
+    verts = [sorted({p for t in s[0] for p in t}) for s in shapes]
+    inside = [[j != i and all(strictly_inside(p, shapes[j][0]) for p in verts[i]) for j in range(n)]
+              for i in range(n)]
+    depth = [sum(inside[i]) for i in range(n)]
+    parent = []
+    for i in range(n):
+        cands = [j for j in range(n) if inside[i][j]]
+        parent.append(max(cands, key=lambda j: depth[j]) if cands else None)
+    orientation = ['inward' if s[1] else 'outward' for s in shapes]
+    shared = len({p for v in verts for p in v}) != sum(len(v) for v in verts)
+    solid = not shared and all((o == 'outward') == (d % 2 == 0) for o, d in zip(orientation, depth))
+    return parent, depth, orientation, solid
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('cli')
+    ap.add_argument('judge')
+    ap.add_argument('--cases', type=int, default=200)
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--keep')
+    a = ap.parse_args()
+    r = random.Random(a.seed)
+    tmp = tempfile.mkdtemp(prefix='random_nesting.')
+    bad = compared = nested = solids = 0
+    try:
+        for i in range(a.cases):
+            shapes = scene(r)
+            tris = []
+            for s, inward, _ in shapes:
+                tris += [(t[0], t[2], t[1]) for t in s] if inward else s
+            how = r.random()
+            if how < 0.25:
+                off = tuple(r.choice([1 << 20, -(1 << 20), 1 << 18]) for _ in range(3))
+                tris = [tuple(tuple(c + o for c, o in zip(p, off)) for p in t) for t in tris]
+            elif how < 0.5:
+                s = 2.0 ** -r.choice([10, 20])
+                tris = [tuple(tuple(c * s for c in p) for p in t) for t in tris]
+            f = os.path.join(tmp, 'nest%05d.stl' % i)
+            write_binary(f, tris)
+            j = subprocess.run([a.judge, '--count-only', f], capture_output=True, text=True, check=True)
+            head = json.loads(j.stdout.splitlines()[0])
+            if head['pairs'] or head['zeroArea'] or head['duplicateGroups']:
+                continue
+            s = subprocess.run([a.cli, 'info', '--json', '--shells', '--intersections', f],
+                               capture_output=True, text=True, check=True)
+            got = json.loads(s.stdout)
+            if got['shells'] != len(shapes):
+                continue  # two shapes share a side: one shell
+            parent, depth, orientation, solid = expected(shapes)
+            compared += 1
+            nested += any(d > 0 for d in depth)
+            solids += solid
+            problems = []
+            for k, sh in enumerate(got['shellList']):
+                want = (parent[k], depth[k], orientation[k])
+                have = (sh['parent'], sh['depth'], sh['orientation'])
+                if want != have:
+                    problems.append('shell %d: (parent, depth, orientation) %r, expected %r' % (k, have, want))
+            if got['solid'] != solid:
+                problems.append('solid %r, expected %r' % (got['solid'], solid))
+            if problems:
+                bad += 1
+                print('%s: %s' % (f, '; '.join(problems)))
+                if a.keep:
+                    os.makedirs(a.keep, exist_ok=True)
+                    shutil.copy(f, a.keep)
+    finally:
+        shutil.rmtree(tmp)
+    print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting, %d solid, %d differ' %
+          (a.cases, a.seed, compared, nested, solids, bad))
+    return 1 if bad or compared == 0 else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
