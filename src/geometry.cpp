@@ -2395,18 +2395,23 @@ Status findShellNesting(const Mesh& mesh, const Topology& topo, const Array<Shel
         const uint32_t s = topo.triangleShell[t];
         if (s == a) continue;
         const int h = rayHits(p, triOf(w, t));
+        if (h == 0) continue;
+        // A shell that shares a vertex with a is never a's container, and p may be that
+        // vertex: its triangles there hold p, which must not void a's other answers.
+        if (std::binary_search(touching.begin(), touching.end(), uint64_t(a) << 32 | s)) continue;
         if (h < 0) onSurface = true;
         if (h > 0 && !hits.push_back(s)) return oom("the shell nesting");
       }
     }
-    if (onSurface) continue;  // cannot happen for shells that meet no other shell
+    // p on a shell that shares no vertex with a: a triangle of a touches it, a pair, so a is
+    // no candidate; cannot happen.
+    if (onSurface) continue;
     std::sort(hits.begin(), hits.end());
     for (size_t i = 0; i < hits.size();) {
       size_t j = i;
       while (j < hits.size() && hits[j] == hits[i]) ++j;
       const uint32_t b = hits[i];
-      const bool touches = std::binary_search(touching.begin(), touching.end(), uint64_t(a) << 32 | b);
-      if ((j - i) % 2 == 1 && !touches) {
+      if ((j - i) % 2 == 1) {
         if (!inside.push_back(b)) return oom("the shell nesting");
         ++insideOff[a + 1];
       }

@@ -159,6 +159,33 @@ TEST(Geometry, CavityAndNestedBody) {
   EXPECT_TRUE(side.geo.solid);
 }
 
+// Two tetrahedra that share a corner, both in a cube. They are not nested in each other (the
+// shared vertex is not strictly inside either), but each lies in the cube. The ray from a shell's
+// first corner starts at the shared vertex, on the other tetrahedron's faces: that tie must not
+// void the cube's answer (it did, leaving depth 0: random_nesting.py, seed 4).
+TEST(Geometry, ShellsSharingACornerStillNestInAThird) {
+  const std::array<float, 3> p = {15, 15, 15};
+  auto at = [&](float x, float y, float z) { return std::array<float, 3>{p[0] + x, p[1] + y, p[2] + z}; };
+  Result r;
+  analyze(join(join(cubeSoup(0, 0, 0, 30), tetra(p, at(0, 1, 0), at(1, 0, 0), at(0, 0, 1))),
+               tetra(p, at(-1, 0, 0), at(0, -1, 0), at(0, 0, -1))),
+          r);
+  EXPECT_EQ(r.geo.intersections.nPairs(), 0u);
+  ASSERT_EQ(r.geo.shells.size(), 3u);
+  for (uint32_t s : {1u, 2u}) {
+    EXPECT_EQ(r.geo.nesting.parent[s], 0u) << "shell " << s;
+    EXPECT_EQ(r.geo.nesting.depth[s], 1u) << "shell " << s;
+  }
+  EXPECT_EQ(r.geo.nesting.depth[0], 0u);
+  EXPECT_FALSE(r.geo.solid);  // the shared corner is a non-manifold vertex
+  // Moved so that the shared corner is the second tetrahedron's last corner instead: the same.
+  Result q;
+  analyze(join(join(cubeSoup(0, 0, 0, 30), tetra(p, at(0, 1, 0), at(1, 0, 0), at(0, 0, 1))),
+               tetra(at(-1, 0, 0), at(0, -1, 0), at(0, 0, -1), p)),
+          q);
+  for (uint32_t s : {1u, 2u}) EXPECT_EQ(q.geo.nesting.depth[s], 1u) << "shell " << s;
+}
+
 TEST(Geometry, CubesTouchingAlongAFaceWithOtherDiagonals) {
   // The second cube's shared face is split along the other diagonal: coplanar overlaps.
   Soup b = cubeSoup(10, 0, 0, 10);
