@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """stltopo's shell nesting (`parent`, `depth`), orientation and `solid` against an answer
-computed here, on random scenes of convex closed shells: boxes and tetrahedra on a small
-integer grid, some turned inside out, nested, apart, or sharing a corner, then moved far from
-the origin (2^20) or shrunk (2^-20). Integer grids put many corners of one shell exactly in the
-planes, on the lines and at the heights of another's edges and corners: the cases where a
-point-in-solid test by rays has to decide ties.
+computed here, on random scenes of closed shells: boxes, tetrahedra and non-convex voxel shapes
+on a small integer grid, some turned inside out, nested, apart, or sharing a corner, then moved
+far from the origin (2^20) or shrunk (2^-20). Integer grids put many corners of one shell
+exactly in the planes, on the lines and at the heights of another's edges and corners: the
+cases where a point-in-solid test by rays has to decide ties.
 
 The answer, from the definitions of issue 21 (README, *Geometry*): shell A lies in shell B when
 every vertex of A is strictly inside the solid B bounds (for a convex shell: strictly on the
-inner side of each face's plane, by exact integer orientations); `depth` counts the shells A
+inner side of each face's plane, by exact integer orientations; for a voxel shape: every cube
+whose closed box holds the point is filled); `depth` counts the shells A
 lies in, `parent` is the innermost of them; `solid` holds when every shell is outward at even
 depth and inward at odd depth, and nothing else is wrong. Scenes where the CGAL judge finds an
 intersecting pair, a zero-area or a duplicate triangle are skipped (nesting is only defined for
@@ -69,11 +70,64 @@ def strictly_inside(p, tris):
     return all(orient(t[0], t[1], t[2], p) < 0 for t in tris)
 
 
+def blob(r, lo, hi):
+    """A face-connected set of cubic voxels of side 4 in [lo, hi] (None when no room), as its
+    boundary's outward triangles and its exact strict-interior test. A point is strictly inside
+    the union when every voxel whose closed cube holds it is filled."""
+    s = 4
+    dims = [min(4, (hi[k] - lo[k]) // s) for k in range(3)]
+    if min(dims) < 1:
+        return None
+    n = [r.randint(1, d) for d in dims]
+    o = [r.randint(lo[k], hi[k] - n[k] * s) for k in range(3)]
+    start = tuple(r.randrange(n[k]) for k in range(3))
+    full = {start}
+    want = max(1, int(n[0] * n[1] * n[2] * r.uniform(0.4, 0.9)))
+    steps = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+    for _ in range(200):
+        if len(full) >= want:
+            break
+        v = r.choice(sorted(full))
+        d = r.choice(steps)
+        w = tuple(v[k] + d[k] for k in range(3))
+        if all(0 <= w[k] < n[k] for k in range(3)):
+            full.add(w)
+    tris = []
+    # box()'s quads in order: -z, +z, -y, +y, -x, +x
+    dirs = [(0, 0, -1), (0, 0, 1), (0, -1, 0), (0, 1, 0), (-1, 0, 0), (1, 0, 0)]
+    for v in sorted(full):
+        a = [o[k] + v[k] * s for k in range(3)]
+        b = [a[k] + s for k in range(3)]
+        faces = box(a, b, r)
+        for q, d in enumerate(dirs):
+            if tuple(v[k] + d[k] for k in range(3)) not in full:
+                tris += faces[2 * q:2 * q + 2]
+
+    def inside(p):
+        choices = []
+        for k in range(3):
+            u = p[k] - o[k]
+            choices.append([u // s] if u % s else [u // s - 1, u // s])
+        return all((x, y, z) in full for x in choices[0] for y in choices[1] for z in choices[2])
+
+    inside.voxels = True
+    # places for a shape strictly inside: a filled voxel, or two face neighbours, less 1 a side
+    inside.cells = []
+    for v in sorted(full):
+        a = [o[k] + v[k] * s for k in range(3)]
+        inside.cells.append(([c + 1 for c in a], [c + s - 1 for c in a]))
+        for d in steps[::2]:
+            w = tuple(v[k] + d[k] for k in range(3))
+            if w in full:
+                inside.cells.append(([c + 1 for c in a], [a[k] + s - 1 + s * d[k] for k in range(3)]))
+    return tris, inside, (o, [o[k] + n[k] * s for k in range(3)])
+
+
 def scene(r):
     """Shapes in a region, each either anywhere in it or within an earlier box's inside (so that
     nesting happens often), on a grid whose planes the shapes share."""
-    g = r.choice([8, 12, 16])
-    shapes = []  # (outward triangles, inward?, the box's (lo, hi) or None)
+    g = r.choice([8, 12, 16, 24])
+    shapes = []  # (outward triangles, inward?, the box's (lo, hi) or None, strict-interior test)
     cells = 0
     for _ in range(r.randint(2, 6)):
         # a region of its own along x (apart from the others, or sharing their planes) ...
@@ -88,23 +142,32 @@ def scene(r):
             blo, bhi = r.choice(boxes)
             m = 1 if r.random() < 0.85 else 0
             lo, hi = [l + m for l in blo], [h - m for h in bhi]
-        if r.random() < 0.6:
+        voxels = [c for sh in shapes if getattr(sh[3], 'voxels', False) for c in sh[3].cells]
+        if voxels and r.random() < 0.5:  # inside a voxel shape, maybe across a face between voxels
+            lo, hi = r.choice(voxels)
+        made = blob(r, lo, hi) if r.random() < 0.3 else None
+        if made:
+            tris, inside, rng = made
+            shapes.append((tris, r.random() < 0.35, rng, inside))
+        elif r.random() < 0.6:
             if r.random() < 0.5:  # a large box: room for others inside
                 a = [r.randint(lo[k], lo[k] + (hi[k] - lo[k]) // 4) for k in range(3)]
                 b = [r.randint(hi[k] - (hi[k] - lo[k]) // 4, hi[k]) for k in range(3)]
             else:
                 a = [r.randint(lo[k], hi[k] - 1) for k in range(3)]
                 b = [r.randint(a[k] + 1, hi[k]) for k in range(3)]
-            shapes.append((box(a, b, r), r.random() < 0.35, (a, b)))
+            t = box(a, b, r)
+            shapes.append((t, r.random() < 0.35, (a, b), lambda p, t=t: strictly_inside(p, t)))
         else:
-            shapes.append((tetra(r, lo, hi), r.random() < 0.35, None))
+            t = tetra(r, lo, hi)
+            shapes.append((t, r.random() < 0.35, None, lambda p, t=t: strictly_inside(p, t)))
     return shapes
 
 
 def expected(shapes):
     n = len(shapes)
     verts = [sorted({p for t in s[0] for p in t}) for s in shapes]
-    inside = [[j != i and all(strictly_inside(p, shapes[j][0]) for p in verts[i]) for j in range(n)]
+    inside = [[j != i and all(shapes[j][3](p) for p in verts[i]) for j in range(n)]
               for i in range(n)]
     depth = [sum(inside[i]) for i in range(n)]
     parent = []
@@ -127,12 +190,12 @@ def main():
     a = ap.parse_args()
     r = random.Random(a.seed)
     tmp = tempfile.mkdtemp(prefix='random_nesting.')
-    bad = compared = nested = solids = 0
+    bad = compared = nested = solids = in_voxels = 0
     try:
         for i in range(a.cases):
             shapes = scene(r)
             tris = []
-            for s, inward, _ in shapes:
+            for s, inward, _, _ in shapes:
                 tris += [(t[0], t[2], t[1]) for t in s] if inward else s
             how = r.random()
             if how < 0.25:
@@ -150,12 +213,15 @@ def main():
             s = subprocess.run([a.cli, 'info', '--json', '--shells', '--intersections', f],
                                capture_output=True, text=True, check=True)
             got = json.loads(s.stdout)
-            if got['shells'] != len(shapes):
-                continue  # two shapes share a side: one shell
+            if got['shells'] != len(shapes) or any(
+                    not sh['closed'] or not sh['manifold'] or sh['triangles'] != len(shapes[k][0])
+                    for k, sh in enumerate(got['shellList'])):
+                continue  # two shapes share a side (one shell), or voxels meet at an edge or corner only
             parent, depth, orientation, solid = expected(shapes)
             compared += 1
             nested += any(d > 0 for d in depth)
             solids += solid
+            in_voxels += any(p is not None and getattr(shapes[p][3], 'voxels', False) for p in parent)
             problems = []
             for k, sh in enumerate(got['shellList']):
                 want = (parent[k], depth[k], orientation[k])
@@ -172,8 +238,8 @@ def main():
                     shutil.copy(f, a.keep)
     finally:
         shutil.rmtree(tmp)
-    print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting, %d solid, %d differ' %
-          (a.cases, a.seed, compared, nested, solids, bad))
+    print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting (%d in a voxel shape), %d solid, '
+          '%d differ' % (a.cases, a.seed, compared, nested, in_voxels, solids, bad))
     return 1 if bad or compared == 0 else 0
 
 
