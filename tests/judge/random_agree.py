@@ -70,24 +70,26 @@ def neighbours(r):
     return tris
 
 
+def box(lo, hi, r):
+    """A box's 12 outward triangles, each square split along a diagonal r picks."""
+    c = lambda i, j, k: ((lo[0], hi[0])[i], (lo[1], hi[1])[j], (lo[2], hi[2])[k])
+    quads = [(c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)), (c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)),
+             (c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)), (c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)),
+             (c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)), (c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1))]
+    out = []
+    for a, b, cc, d in quads:
+        out += [(a, b, cc), (a, cc, d)] if r.random() < 0.5 else [(a, b, d), (b, cc, d)]
+    return out
+
+
 def boxes(r):
     """Two or three boxes and tetrahedra on a small grid: flush, offset, nested, crossing."""
-    def box(x0, y0, z0, x1, y1, z1):
-        c = lambda i, j, k: ((x0, x1)[i], (y0, y1)[j], (z0, z1)[k])
-        quads = [(c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)), (c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)),
-                 (c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)), (c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)),
-                 (c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)), (c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1))]
-        out = []
-        for a, b, cc, d in quads:
-            out += [(a, b, cc), (a, cc, d)] if r.random() < 0.5 else [(a, b, d), (b, cc, d)]
-        return out
-
     tris = []
     for _ in range(r.randint(2, 3)):
         if r.random() < 0.7:
             lo = [r.randint(0, 3) for _ in range(3)]
             hi = [l + r.randint(1, 3) for l in lo]
-            tris += box(*lo, *hi)
+            tris += box(lo, hi, r)
         else:
             a, b, c, d = (grid_point(r, 4) for _ in range(4))
             tris += [(a, c, b), (a, b, d), (b, c, d), (c, a, d)]

@@ -28,7 +28,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from random_agree import write_binary  # noqa: E402
+from random_agree import box, write_binary  # noqa: E402
 
 
 def orient(a, b, c, d):
@@ -38,17 +38,6 @@ def orient(a, b, c, d):
     dx, dy, dz = d[0] - a[0], d[1] - a[1], d[2] - a[2]
     v = bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx)
     return (v > 0) - (v < 0)
-
-
-def box(lo, hi, r):
-    c = lambda i, j, k: ((lo[0], hi[0])[i], (lo[1], hi[1])[j], (lo[2], hi[2])[k])
-    quads = [(c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)), (c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)),
-             (c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)), (c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)),
-             (c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)), (c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1))]
-    out = []
-    for a, b, cc, d in quads:
-        out += [(a, b, cc), (a, cc, d)] if r.random() < 0.5 else [(a, b, d), (b, cc, d)]
-    return out
 
 
 def tetra(r, lo, hi):
