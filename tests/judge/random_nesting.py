@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """stltopo's shell nesting (`parent`, `depth`), orientation and `solid` against an answer
-computed here, on random scenes of closed shells: boxes, tetrahedra and non-convex voxel shapes
-on a small integer grid, some turned inside out, nested, apart, or sharing a corner, then moved
+computed here, on random scenes of closed shells: boxes, tetrahedra, non-convex voxel shapes
+and non-convex bipyramids with sloped faces on a small integer grid, some turned inside out, nested, apart, or sharing a corner, then moved
 far from the origin (2^20) or shrunk (2^-20). Integer grids put many corners of one shell
 exactly in the planes, on the lines and at the heights of another's edges and corners: the
 cases where a point-in-solid test by rays has to decide ties.
@@ -9,7 +9,8 @@ cases where a point-in-solid test by rays has to decide ties.
 The answer, from the definitions of issue 21 (README, *Geometry*): shell A lies in shell B when
 every vertex of A is strictly inside the solid B bounds (for a convex shell: strictly on the
 inner side of each face's plane, by exact integer orientations; for a voxel shape: every cube
-whose closed box holds the point is filled); `depth` counts the shells A
+whose closed box holds the point is filled; for a bipyramid: in a closed tetrahedron from its
+centre over a face, and on no face); `depth` counts the shells A
 lies in, `parent` is the innermost of them; `solid` holds when every shell is outward at even
 depth and inward at odd depth, and nothing else is wrong. Scenes where the CGAL judge finds an
 intersecting pair, a zero-area or a duplicate triangle are skipped (nesting is only defined for
@@ -19,6 +20,7 @@ shells that intersect no other), as are those where two shapes share a side (one
 """
 import argparse
 import json
+import math
 import os
 import random
 import shutil
@@ -99,7 +101,7 @@ def blob(r, lo, hi):
             choices.append([u // s] if u % s else [u // s - 1, u // s])
         return all((x, y, z) in full for x in choices[0] for y in choices[1] for z in choices[2])
 
-    inside.voxels = True
+    inside.nonconvex = True
     # places for a shape strictly inside: a filled voxel, or two face neighbours, less 1 a side
     inside.cells = []
     for v in sorted(full):
@@ -110,6 +112,60 @@ def blob(r, lo, hi):
             if w in full:
                 inside.cells.append(([c + 1 for c in a], [a[k] + s - 1 + s * d[k] for k in range(3)]))
     return tris, inside, (o, [o[k] + n[k] * s for k in range(3)])
+
+
+def orient2(a, b, c):
+    v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return (v > 0) - (v < 0)
+
+
+def star(r, lo, hi):
+    """A non-convex bipyramid with sloped faces: a star-shaped polygon of 5-9 corners around an
+    axis parallel to z (integer corners, random radii), joined to an apex above and below. It is
+    star-shaped from its centre c, so its solid is the union of the tetrahedra (c, face): a point
+    is strictly inside when it lies in one of them (closed) and on no face. None when there is
+    no room or the polygon is not star-shaped from c."""
+    rmax = min((hi[0] - lo[0]) // 2, (hi[1] - lo[1]) // 2, 12)
+    h = (hi[2] - lo[2]) // 2
+    if rmax < 3 or h < 1:
+        return None
+    c = [r.randint(lo[k] + rmax, hi[k] - rmax) for k in range(2)] + [r.randint(lo[2] + h, hi[2] - h)]
+    k = r.randint(5, 9)
+    ring = []
+    for i in range(k):
+        a = 2 * math.pi * (i + r.uniform(-0.3, 0.3)) / k
+        rad = r.uniform(1.5, rmax)
+        ring.append((c[0] + round(rad * math.cos(a)), c[1] + round(rad * math.sin(a)), c[2]))
+    if any(orient2(c, ring[i], ring[(i + 1) % k]) <= 0 for i in range(k)):
+        return None
+    top = (c[0], c[1], c[2] + r.randint(1, h))
+    bottom = (c[0], c[1], c[2] - r.randint(1, h))
+    tris = []
+    for i in range(k):
+        a, b = ring[i], ring[(i + 1) % k]
+        tris += [(top, a, b), (bottom, b, a)]  # counter-clockwise ring: outward
+    centre = tuple(c)
+
+    def inside(p):
+        for t in tris:
+            # in the face's plane and in the cone from the centre (off that plane) over the face:
+            # on the face, so not strictly inside
+            if orient(t[0], t[1], t[2], p) == 0:
+                n = [orient(t[i], t[(i + 1) % 3], centre, p) for i in range(3)]
+                if all(x <= 0 for x in n) or all(x >= 0 for x in n):
+                    return False
+        for t in tris:
+            # in the closed tetrahedron (t, centre): each corner replaced by p keeps the
+            # orientation's sign or gives 0 (the four volumes add up to the tetrahedron's)
+            s = [orient(p, t[1], t[2], centre), orient(t[0], p, t[2], centre),
+                 orient(t[0], t[1], p, centre), orient(t[0], t[1], t[2], p)]
+            if all(x <= 0 for x in s) or all(x >= 0 for x in s):
+                return True
+        return False
+
+    inside.nonconvex = True
+    inside.cells = [([v - 1 for v in centre], [v + 1 for v in centre])]
+    return tris, inside, None
 
 
 def scene(r):
@@ -131,10 +187,11 @@ def scene(r):
             blo, bhi = r.choice(boxes)
             m = 1 if r.random() < 0.85 else 0
             lo, hi = [l + m for l in blo], [h - m for h in bhi]
-        voxels = [c for sh in shapes if getattr(sh[3], 'voxels', False) for c in sh[3].cells]
-        if voxels and r.random() < 0.5:  # inside a voxel shape, maybe across a face between voxels
-            lo, hi = r.choice(voxels)
-        made = blob(r, lo, hi) if r.random() < 0.3 else None
+        places = [c for sh in shapes for c in getattr(sh[3], 'cells', [])]
+        if places and r.random() < 0.5:  # inside a voxel shape (maybe across a face between two
+            lo, hi = r.choice(places)    # voxels), or around a star's centre
+        pick = r.random()
+        made = blob(r, lo, hi) if pick < 0.3 else star(r, lo, hi) if pick < 0.45 else None
         if made:
             tris, inside, rng = made
             shapes.append((tris, r.random() < 0.35, rng, inside))
@@ -179,7 +236,7 @@ def main():
     a = ap.parse_args()
     r = random.Random(a.seed)
     tmp = tempfile.mkdtemp(prefix='random_nesting.')
-    bad = compared = nested = solids = in_voxels = 0
+    bad = compared = nested = solids = in_nonconvex = 0
     try:
         for i in range(a.cases):
             shapes = scene(r)
@@ -210,7 +267,7 @@ def main():
             compared += 1
             nested += any(d > 0 for d in depth)
             solids += solid
-            in_voxels += any(p is not None and getattr(shapes[p][3], 'voxels', False) for p in parent)
+            in_nonconvex += any(p is not None and getattr(shapes[p][3], 'nonconvex', False) for p in parent)
             problems = []
             for k, sh in enumerate(got['shellList']):
                 want = (parent[k], depth[k], orientation[k])
@@ -227,8 +284,8 @@ def main():
                     shutil.copy(f, a.keep)
     finally:
         shutil.rmtree(tmp)
-    print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting (%d in a voxel shape), %d solid, '
-          '%d differ' % (a.cases, a.seed, compared, nested, in_voxels, solids, bad))
+    print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting (%d in a non-convex shape), '
+          '%d solid, %d differ' % (a.cases, a.seed, compared, nested, in_nonconvex, solids, bad))
     return 1 if bad or compared == 0 else 0
 
 
