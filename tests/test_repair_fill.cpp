@@ -185,6 +185,30 @@ TEST(RepairFill, CubeWithAHoleComesBackWatertightWithVolumeOne) {
   EXPECT_NEAR(m.volume, 1.0, 1e-12);
 }
 
+TEST(RepairFill, AMissingFaceAtASharpEdgeIsPutBack) {
+  // A tetrahedron without one face: its faces turn by more than 90 degrees at every edge,
+  // so the hole's only fill (the face) failed the fold-over angle once. It is put back.
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 1}};
+  s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  for (int missing = 0; missing < 4; ++missing) {
+    gen::Soup t = s;
+    t.f.erase(t.f.begin() + missing);
+    EditableMesh em;
+    makeEditable(t, em);
+    ASSERT_EQ(em.stats().holes, 1u);
+    FillRun r = fill(em);
+    ASSERT_TRUE(r.status.ok()) << r.status.message;
+    ASSERT_EQ(r.plan.items.size(), 1u);
+    EXPECT_FALSE(r.plan.items[0].skipped) << missing << ": " << r.plan.items[0].reason;
+    EXPECT_TRUE(em.stats().watertight);
+    EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+    Mesh m;
+    ASSERT_TRUE(em.toMesh(m).ok());
+    EXPECT_EQ(m.volume, 16.0 / 6) << missing;  // the tetrahedron's own (4 * 4 / 2 * 1 / 3)
+  }
+}
+
 TEST(RepairFill, TorusWithHolesIsFilledEverywhereWithoutCrossings) {
   // Separate holes of one, two and three quads and one of a row of four.
   EditableMesh em;

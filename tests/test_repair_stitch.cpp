@@ -553,6 +553,57 @@ TEST(StitchStep, ClosesAnExactTJunctionWithoutATolerance) {
   EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
 }
 
+TEST(StitchStep, ClosesATJunctionBesideAFlippedTriangle) {
+  // A closed box [0,2]^3 whose edge (0,0,0)-(0,0,2) is cut at (0,0,1) in one of its two
+  // triangles only (a T-junction), and the triangle across the other edge of the uncut side is
+  // flipped (an inconsistent edge that stitch runs before orient fixes). Splitting the uncut
+  // triangle hands that edge to its new part: the edge stays as inconsistent as it was, so
+  // the split may go ahead (it was refused as "two sides running the same way" once).
+  gen::Soup s = gen::cube(0, 0, 0, 2);
+  const std::array<float, 3> lo{0, 0, 0}, hi{0, 0, 2};
+  auto at = [&](const std::array<float, 3>& q) {
+    for (uint32_t i = 0; i < s.v.size(); ++i)
+      if (s.v[i] == q) return i;
+    ADD_FAILURE();
+    return 0u;
+  };
+  const uint32_t a = at(lo), b = at(hi);
+  s.v.push_back({0, 0, 1});
+  const uint32_t m = uint32_t(s.v.size() - 1);
+  int cut = -1, across = -1;
+  for (int i = 0; i < int(s.f.size()); ++i)
+    for (int c = 0; c < 3; ++c) {
+      if (s.f[i][c] == a && s.f[i][(c + 1) % 3] == b) cut = i * 3 + c;
+      if (s.f[i][c] == b && s.f[i][(c + 1) % 3] == a) across = i * 3 + c;
+    }
+  ASSERT_GE(cut, 0);
+  ASSERT_GE(across, 0);
+  const int t = cut / 3, c = cut % 3;
+  const uint32_t o = s.f[t][(c + 2) % 3];
+  s.f[t] = {a, m, o};
+  s.f.push_back({m, b, o});
+  // Flip the neighbour of the uncut triangle across its side from a to its third corner.
+  const int u = across / 3, k = across % 3;
+  const uint32_t d = s.f[u][(k + 2) % 3];
+  int flipped = -1;
+  for (int i = 0; i < int(s.f.size()); ++i)
+    for (int q = 0; q < 3; ++q)
+      if (i != u && s.f[i][q] == d && s.f[i][(q + 1) % 3] == a) flipped = i;
+  ASSERT_GE(flipped, 0);
+  std::swap(s.f[flipped][1], s.f[flipped][2]);
+  EditableMesh em;
+  makeEditable(s, em);
+  ASSERT_EQ(em.stats().inconsistentEdges, 3u);
+  RepairOptions opts;
+  RepairStepPlan plan;
+  ASSERT_TRUE(runStep(RepairStepKind::Stitch, em, opts, plan).ok());
+  ASSERT_EQ(plan.items.size(), 1u);
+  EXPECT_FALSE(plan.items[0].skipped) << plan.items[0].reason;
+  EXPECT_EQ(em.stats().boundaryEdges, 0u);
+  EXPECT_EQ(em.stats().inconsistentEdges, 3u);  // as before: orient's to fix
+  EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
 TEST(StitchStep, ATJunctionWithinTheTolerance) {
   gen::Soup s = tJunction();
   s.v[1][1] = 0.002f;  // the T vertex 0.002 above the lower edge

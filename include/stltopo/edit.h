@@ -264,7 +264,9 @@ class EditableMesh {
   //   - a triangle would get a repeated corner (it uses both vertices of a pair);
   //   - an edge that gains sides from another edge would end with three or more sides or
   //     with two sides running the same way (only boundary sides that pair up may join:
-  //     an edge that merely moves with its vertex keeps its kind);
+  //     an edge that merely moves with its vertex keeps its kind, and so does one that ends
+  //     with as many sides of the same kind as it had, such as a side handed from a split
+  //     triangle to its new part);
   //   - the number of boundary, non-manifold or inconsistent edges would grow;
   //   - unless allowNonManifold, the number of non-manifold vertices would grow (a single
   //     pair of boundary vertices whose edges do not join pinches two fans together: that

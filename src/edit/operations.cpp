@@ -980,7 +980,12 @@ Status EditableMesh::Impl::checkJoin(M& m, bool allowNonManifold) {
     const uint32_t cnt = uint32_t(g - f);
     const EdgeClass cls = classify(cnt, lh);
     ++delta[int(cls)];
-    if (cnt >= 2 && cls != EdgeClass::Interior && !(renamed && countOf(fin[f].oldKey) == cnt))
+    // A defective edge is refused unless it was one already: its sides all come from one
+    // edge with as many sides (renamed by a merge), or the edge had as many sides of the same
+    // class before (a side handed from a split triangle to its new part, beside a flipped
+    // neighbour: the inconsistent edge stays as it was).
+    const bool wasSo = curCount[i] == cnt && classify(curCount[i], curLowToHigh[i]) == cls;
+    if (cnt >= 2 && cls != EdgeClass::Interior && !(renamed && countOf(fin[f].oldKey) == cnt) && !wasSo)
       return refused(detail::format("edge %u-%u would have %s", uint32_t(keys[i] >> 32), uint32_t(keys[i]),
                                     cnt > 2 ? detail::format("%u sides (non-manifold)", cnt).c_str()
                                             : "two sides running the same way (inconsistent)"));

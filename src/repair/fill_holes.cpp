@@ -16,7 +16,8 @@
 //      and faired (umbrella smoothing of the new vertices only, the loop fixed);
 //   5. checked exactly: no zero-area new triangle (collinear corners), no fold-over (a new
 //      triangle's normal against the mesh triangle across its loop edge by more than 90
-//      degrees: the exact sign of the dot product of the normals), no inner edge on an
+//      degrees: the exact sign of the dot product of the normals; not asked of a patch of
+//      one triangle, the only fill of its hole), no inner edge on an
 //      existing edge or used twice (non-manifold), the area limit, and no new triangle
 //      meeting an existing triangle, an earlier fill's or another of its own other than in
 //      the corners and sides they share (the exact pair test of the intersection pass,
@@ -923,8 +924,18 @@ Status check(const Filler& F, const ItemState& it, const Patch& p, std::string& 
       return Status{};
     }
   }
-  // Fold-over across the loop's edges.
-  for (uint32_t s = 0; s < 3 * nt; ++s) {
+  // Fold-over across the loop's edges. A patch of one triangle (a hole of three edges) is
+  // the only fill there is, so the angle has nothing to choose against: it is the file's
+  // missing facet, at a sharp edge as often as not (a tetrahedron's faces turn by 109
+  // degrees). It folds over only onto a neighbour: coplanar on one side, a crossing (refused
+  // below), or the loop of a lone triangle, whose fill would be that triangle reversed (the
+  // angle test below refuses it, at its first edge).
+  bool angles = nt > 1;
+  if (nt == 1 && p.nbr[0] < 0 && p.nbr[1] < 0 && p.nbr[2] < 0) {
+    const uint32_t m = it.nbTri[uint32_t(-1 - p.nbr[0])];
+    angles = it.nbTri[uint32_t(-1 - p.nbr[1])] == m && it.nbTri[uint32_t(-1 - p.nbr[2])] == m;
+  }
+  for (uint32_t s = 0; angles && s < 3 * nt; ++s) {
     const int64_t nb = p.nbr[s];
     if (nb >= 0) continue;
     const uint32_t i = uint32_t(-1 - nb), m = it.nbTri[i];
