@@ -226,14 +226,49 @@ def expected(shapes):
     return parent, depth, orientation, solid
 
 
-def main():
-    ap = argparse.ArgumentParser()
+def move(r, tris):
+    """Moves a scene far from the origin (2^18-2^20), or shrinks it (2^-10, 2^-20), or leaves it."""
+    how = r.random()
+    if how < 0.25:
+        off = tuple(r.choice([1 << 20, -(1 << 20), 1 << 18]) for _ in range(3))
+        return [tuple(tuple(c + o for c, o in zip(p, off)) for p in t) for t in tris]
+    if how < 0.5:
+        s = 2.0 ** -r.choice([10, 20])
+        return [tuple(tuple(c * s for c in p) for p in t) for t in tris]
+    return tris
+
+
+def clean(cli, judge, f, shapes, extra=()):
+    """stltopo's `info --json --shells` (and `extra`) of the scene file f, or None when the judge
+    finds an intersecting pair, a zero-area or a duplicate triangle in it, or a shape is not one
+    closed manifold shell of its own (two shapes share a side, or a voxel shape's cubes meet at
+    an edge or a corner only)."""
+    j = subprocess.run([judge, '--count-only', f], capture_output=True, text=True, check=True)
+    head = json.loads(j.stdout.splitlines()[0])
+    if head['pairs'] or head['zeroArea'] or head['duplicateGroups']:
+        return None
+    s = subprocess.run([cli, 'info', '--json', '--shells', *extra, f], capture_output=True, text=True, check=True)
+    got = json.loads(s.stdout)
+    if got['shells'] != len(shapes) or any(
+            not sh['closed'] or not sh['manifold'] or sh['triangles'] != len(shapes[k][0])
+            for k, sh in enumerate(got['shellList'])):
+        return None
+    return got
+
+
+def arguments(doc):
+    """The command line of the random scene scripts: CLI JUDGE [--cases N] [--seed S] [--keep DIR]."""
+    ap = argparse.ArgumentParser(description=doc)
     ap.add_argument('cli')
     ap.add_argument('judge')
     ap.add_argument('--cases', type=int, default=200)
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--keep')
-    a = ap.parse_args()
+    return ap.parse_args()
+
+
+def main():
+    a = arguments(__doc__)
     r = random.Random(a.seed)
     tmp = tempfile.mkdtemp(prefix='random_nesting.')
     bad = compared = nested = solids = in_nonconvex = 0
@@ -243,26 +278,12 @@ def main():
             tris = []
             for s, inward, _, _ in shapes:
                 tris += [(t[0], t[2], t[1]) for t in s] if inward else s
-            how = r.random()
-            if how < 0.25:
-                off = tuple(r.choice([1 << 20, -(1 << 20), 1 << 18]) for _ in range(3))
-                tris = [tuple(tuple(c + o for c, o in zip(p, off)) for p in t) for t in tris]
-            elif how < 0.5:
-                s = 2.0 ** -r.choice([10, 20])
-                tris = [tuple(tuple(c * s for c in p) for p in t) for t in tris]
+            tris = move(r, tris)
             f = os.path.join(tmp, 'nest%05d.stl' % i)
             write_binary(f, tris)
-            j = subprocess.run([a.judge, '--count-only', f], capture_output=True, text=True, check=True)
-            head = json.loads(j.stdout.splitlines()[0])
-            if head['pairs'] or head['zeroArea'] or head['duplicateGroups']:
+            got = clean(a.cli, a.judge, f, shapes, ['--intersections'])
+            if got is None:
                 continue
-            s = subprocess.run([a.cli, 'info', '--json', '--shells', '--intersections', f],
-                               capture_output=True, text=True, check=True)
-            got = json.loads(s.stdout)
-            if got['shells'] != len(shapes) or any(
-                    not sh['closed'] or not sh['manifold'] or sh['triangles'] != len(shapes[k][0])
-                    for k, sh in enumerate(got['shellList'])):
-                continue  # two shapes share a side (one shell), or voxels meet at an edge or corner only
             parent, depth, orientation, solid = expected(shapes)
             compared += 1
             nested += any(d > 0 for d in depth)
