@@ -11,6 +11,9 @@ then gets up to two kinds of damage, each of which a default step undoes without
 - copies of a triangle, same way round (duplicates removes them);
 - a flat sliver: a triangle (a, b, c) cut at a grid point m inside its side ab into (a, m, c)
   and (m, b, c), and the zero-area triangle (a, b, m) closing the gap (zero-area flips ab);
+- a chain of two slivers: (a, b, c) cut at m1 and m2 inside ab, closed by (a, b, m2) and
+  (a, m2, m1), whose longest side has the first sliver across it (zero-area flips them in
+  rounds);
 - a T-junction: the same cut without the sliver (stitch splits the neighbour's side at m);
 - triangles flipped, fewer than half of the shape's (orient);
 - holes: one or two triangles, or a box face's two, removed, sharing no corner (fill-holes
@@ -97,14 +100,13 @@ def components(tris):
     return sorted(groups.values())
 
 
-def cut_point(r, a, b):
-    """A grid point strictly inside the segment ab, or None."""
+def cut_points(r, a, b, count):
+    """count grid points strictly inside the segment ab, in order from a, or None."""
     d = [b[k] - a[k] for k in range(3)]
     g = math.gcd(math.gcd(abs(d[0]), abs(d[1])), abs(d[2]))
-    if g < 2:
+    if g <= count:
         return None
-    k = r.randint(1, g - 1)
-    return tuple(a[i] + d[i] // g * k for i in range(3))
+    return [tuple(a[i] + d[i] // g * k for i in range(3)) for k in sorted(r.sample(range(1, g), count))]
 
 
 def damage(r, tris):
@@ -117,27 +119,29 @@ def damage(r, tris):
     added = []
     kinds = []
     holed = False
-    for kind in r.sample(['copies', 'sliver', 'tjunction', 'flips', 'holes', 'walls'], r.randint(1, 2)):
+    for kind in r.sample(['copies', 'sliver', 'chain', 'tjunction', 'flips', 'holes', 'walls'], r.randint(1, 2)):
         free = [i for i in range(n) if i not in used]
         if kind == 'copies':
             for i in r.sample(free, min(len(free), r.randint(1, 2))):
                 used.add(i)
                 added += [tris[i]] * r.randint(1, 2)
-        elif kind in ('sliver', 'tjunction'):
+        elif kind in ('sliver', 'tjunction', 'chain'):
             r.shuffle(free)
             for i in free:
                 side = r.randrange(3)
                 a, b, c = tris[i][side], tris[i][(side + 1) % 3], tris[i][(side + 2) % 3]
-                m = cut_point(r, a, b)
+                ms = cut_points(r, a, b, 2 if kind == 'chain' else 1)
                 j = next((j for j in free if j != i and
                           any(tris[j][s] == b and tris[j][(s + 1) % 3] == a for s in range(3))), None)
-                if m is None or j is None:
+                if ms is None or j is None:
                     continue
                 used.update((i, j))
-                tris[i] = (a, m, c)
-                added.append((m, b, c))
+                tris[i] = (a, ms[0], c)
+                added += [(p, q, c) for p, q in zip(ms, ms[1:] + [b])]
                 if kind == 'sliver':
-                    added.append((a, b, m))
+                    added.append((a, b, ms[0]))
+                elif kind == 'chain':  # two slivers, the second only beside the first
+                    added += [(a, b, ms[1]), (a, ms[1], ms[0])]
                 break
             else:
                 continue
