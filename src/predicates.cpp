@@ -260,6 +260,22 @@ int normalsDotExpansion(const float* a, const float* b, const float* c, const fl
   return sign(n, acc);
 }
 
+int distance2Exact(const float* p, const float* q, double tol) {
+  // Each difference is exact in at most 2 components, its square in at most 8; tol^2 in 2.
+  double acc[3 * 8 + 2], sq[2 * 2 * 2 + 1];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const D e(p[k], q[k]);
+    const int m = mul(e.n, e.c, e.n, e.c, sq);
+    n = n == 0 ? (std::memcpy(acc, sq, sizeof(double) * size_t(m)), m) : addTo(n, acc, m, sq);
+  }
+  double t[2];
+  twoProduct(tol, tol, t[1], t[0]);
+  t[0] = -t[0], t[1] = -t[1];
+  n = addTo(n, acc, 2, t);
+  return sign(n, acc);
+}
+
 int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f) {
   // Each normal coordinate l - r is within 3u (|l| + |r|) of the true one (Shewchuk's
   // orient2d bound, u = 2^-53); the dot product of the two then within about 9u of the sum

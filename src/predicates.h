@@ -57,6 +57,23 @@ inline int orient3d(const float* a, const float* b, const float* c, const float*
   return orient3dExact(a, b, c, d);
 }
 
+// Sign of |p - q|^2 - tol^2: <= 0 when p and q lie within distance tol of each other (the
+// tolerance weld's rule). tol2 is fl(tol * tol), computed once by the caller. The computed
+// sum of squares is within 5u of the true one (u = 2^-53: three rounded differences, their
+// squares, two additions; all terms are >= 0), tol2 within u, and their difference within u
+// more: the filter allows 10u of s + tol2. No float32 difference squared underflows or
+// overflows a double; a tol2 of infinity (tol above 1e154) holds every distance.
+int distance2Exact(const float* p, const float* q, double tol);
+inline bool withinDistance(const float* p, const float* q, double tol, double tol2) {
+  const double ex = double(p[0]) - q[0], ey = double(p[1]) - q[1], ez = double(p[2]) - q[2];
+  const double s = ex * ex + ey * ey + ez * ez;
+  if (tol2 == HUGE_VAL) return true;
+  const double d = s - tol2, bound = 1.1102230246251565e-15 * (s + tol2);  // 10u
+  if (d > bound) return false;
+  if (-d > bound) return true;
+  return distance2Exact(p, q, tol) <= 0;
+}
+
 // orient3d(a, b, c, d) for many d against one plane (a, b, c): the cross products are
 // computed once. side(d) gives exactly what orient3d(a, b, c, d) gives: the same
 // floating-point determinant and bound, and the same exact fallback.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "predicates.h"
+
 namespace stltopo::detail {
 namespace {
 
@@ -107,8 +109,7 @@ uint32_t toleranceWeld(const Mesh& mesh, double tol, Array<uint32_t>& rep) {
           if (!cells.mayHold(h)) continue;
           const CellTable::Slot& s = cells.find(kx + dx, ky + dy, kz + dz, h);
           for (uint32_t r = s.head; r != kInvalid; r = chain[r]) {
-            double ex = p[3 * r] - x, ey = p[3 * r + 1] - y, ez = p[3 * r + 2] - z;
-            if (ex * ex + ey * ey + ez * ez <= tol2 && r < best) best = r;
+            if (r < best && pred::withinDistance(p + 3 * size_t(r), p + 3 * size_t(v), tol, tol2)) best = r;
           }
         }
     if (best != kInvalid) {

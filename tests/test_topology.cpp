@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
+#include "predicates.h"  // private (src/): the weld's distance test, checked below
 #include "stl_gen.h"
 
 using namespace stltopo;
@@ -278,7 +280,8 @@ TEST(Topology, EmptyMeshIsNotWatertight) {
 }
 
 // The tolerance weld's rule, by brute force: vertices in id order, each joins the lowest-id
-// representative within tol (the distance in double, as documented) or becomes one. The
+// representative within tol (exactly: pred::withinDistance, checked against integers below)
+// or becomes one. The
 // grid only makes it fast; clouds with points on and near cell sides (multiples of tol, of
 // 4·tol, a float step off them), clusters and far coordinates must give the same answer.
 TEST(Topology, ToleranceWeldEqualsTheBruteForceRule) {
@@ -314,9 +317,7 @@ TEST(Topology, ToleranceWeldEqualsTheBruteForceRule) {
       rep[v] = v;
       for (uint32_t r = 0; r < v; ++r) {
         if (rep[r] != r) continue;
-        double dx = double(p[3 * r]) - p[3 * v], dy = double(p[3 * r + 1]) - p[3 * v + 1],
-               dz = double(p[3 * r + 2]) - p[3 * v + 2];
-        if (dx * dx + dy * dy + dz * dz <= tol * tol) {
+        if (pred::withinDistance(p + 3 * size_t(r), p + 3 * size_t(v), tol, tol * tol)) {
           rep[v] = r;
           break;
         }
@@ -324,6 +325,75 @@ TEST(Topology, ToleranceWeldEqualsTheBruteForceRule) {
     }
     for (uint32_t v = 0; v < mesh.nVertices(); ++v)
       ASSERT_EQ(topo.vertexWeld[v], rep[v]) << "round " << round << " vertex " << v;
+  }
+}
+
+// sign(|p - q|^2 - tol^2) in integers, for coordinates that are multiples of 2^-20 of at most
+// 2^30 in magnitude (integers of at most 2^50 when scaled by 2^20; the squares' sum below 2^105).
+static int exactDistanceSign(const float* p, const float* q, double tol) {
+  unsigned __int128 s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t d = int64_t(std::ldexp(double(p[k]), 20)) - int64_t(std::ldexp(double(q[k]), 20));
+    s += (unsigned __int128)(__int128(d) * d);
+  }
+  int e;
+  const double f = std::frexp(tol, &e);  // tol * 2^20 = m * 2^(k2 / 2), m < 2^53
+  const uint64_t m = uint64_t(std::ldexp(f, 53));
+  const int k2 = 2 * (e - 53 + 20);
+  const unsigned __int128 m2 = (unsigned __int128)m * m;  // below 2^106
+  auto bits = [](unsigned __int128 x) {
+    int n = 0;
+    for (; x; x >>= 1) ++n;
+    return n;
+  };
+  if (s == 0) return -1;
+  const int bs = bits(s), bm = bits(m2) + k2;
+  if (bs != bm) return bs < bm ? -1 : 1;
+  const unsigned __int128 a = k2 < 0 ? s << -k2 : s, b = k2 < 0 ? m2 : m2 << k2;
+  return a < b ? -1 : a > b ? 1 : 0;
+}
+
+// The weld's distance test is exact: against integers, on random points and on tolerances
+// within a few ulps of their distance, where the sum of squares in double rounds either way.
+TEST(Topology, ToleranceWeldDistanceIsExact) {
+  std::mt19937_64 rng(7);
+  auto coord = [&]() {
+    const int64_t k = int64_t(rng() % (uint64_t(1) << 40)) - (int64_t(1) << 39);
+    // 16 to 40 significant bits, rounded to a float, times 2^-20 .. 2^-9: at most 2^30, a
+    // multiple of 2^-20 (a float's 24 bits from an integer of at most 40, shifted)
+    return float(std::ldexp(double(k >> int(rng() % 24)), -20 + int(rng() % 12)));
+  };
+  int ties = 0, wrongInDouble = 0;
+  for (int i = 0; i < 200000; ++i) {
+    float p[3], q[3];
+    for (int k = 0; k < 3; ++k) {
+      p[k] = coord();
+      q[k] = rng() % 4 == 0 ? p[k] : coord();  // often on one axis or in one plane
+    }
+    const double dx = double(p[0]) - q[0], dy = double(p[1]) - q[1], dz = double(p[2]) - q[2];
+    double tol = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (!(tol > 0)) continue;
+    for (int step = int(rng() % 5) - 2; step != 0; step += step > 0 ? -1 : 1)
+      tol = std::nextafter(tol, step > 0 ? 1e300 : 0.0);
+    const int want = exactDistanceSign(p, q, tol);
+    ties += want == 0;
+    wrongInDouble += (dx * dx + dy * dy + dz * dz <= tol * tol) != (want <= 0);
+    ASSERT_EQ(pred::withinDistance(p, q, tol, tol * tol), want <= 0) << i;
+    ASSERT_EQ(pred::distance2Exact(p, q, tol), want) << i;
+  }
+  EXPECT_GT(ties, 0);
+  EXPECT_GT(wrongInDouble, 0);  // the cases a sum of squares in double gets wrong
+}
+
+// A point just beyond tol does not weld, though the sum of squares in double says it is
+// within: (1, 2^-30, 0) is sqrt(1 + 2^-60) from the origin, and 1 + 2^-60 rounds to 1.
+TEST(Topology, ToleranceWeldKeepsAPointJustBeyondTheTolerance) {
+  for (float y : {std::ldexp(1.0f, -30), 0.0f}) {
+    gen::Soup s;
+    s.v = {{0, 0, 0}, {5, 0, 0}, {0, 5, 0}, {1, y, 0}, {1, 5, 5}, {9, 9, 9}};
+    s.f = {{0, 1, 2}, {3, 4, 5}};
+    Built b = build(s, 1.0);
+    EXPECT_EQ(b.topo.nWeldedVertices, y == 0 ? 5u : 6u) << y;  // (1, 0, 0) is exactly 1 away
   }
 }
 
