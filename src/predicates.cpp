@@ -260,6 +260,49 @@ int normalsDotExpansion(const float* a, const float* b, const float* c, const fl
   return sign(n, acc);
 }
 
+void VolumeSum::add(const float* a, const float* b, const float* c) {
+  // det(a, b, c) = ax by cz - ax bz cy - ay bx cz + ay bz cx + az bx cy - az by cx
+  static constexpr int kTerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  static constexpr bool kMinus[6] = {false, true, true, false, false, true};
+  const Fixed fa[3] = {fixedOf(a[0]), fixedOf(a[1]), fixedOf(a[2])};
+  const Fixed fb[3] = {fixedOf(b[0]), fixedOf(b[1]), fixedOf(b[2])};
+  const Fixed fc[3] = {fixedOf(c[0]), fixedOf(c[1]), fixedOf(c[2])};
+  for (int t = 0; t < 6; ++t) {
+    const Fixed &x = fa[kTerm[t][0]], &y = fb[kTerm[t][1]], &z = fc[kTerm[t][2]];
+    if (x.m == 0 || y.m == 0 || z.m == 0) continue;
+    const __int128 m = __int128(int64_t(x.m) * y.m) * z.m;  // |m| < 2^72
+    const bool minus = (m < 0) != kMinus[t];
+    const unsigned __int128 mag = m < 0 ? (unsigned __int128)(-m) : (unsigned __int128)m;
+    const int pos = x.e + y.e + z.e - kLowExponent;  // >= 0: every e >= -149
+    const int q = pos / 64, r = pos % 64;
+    const uint64_t m0 = uint64_t(mag), m1 = uint64_t(mag >> 64);  // m1 < 2^8
+    uint64_t part[3] = {m0, m1, 0};
+    if (r != 0) part[0] = m0 << r, part[1] = (m0 >> (64 - r)) | (m1 << r), part[2] = m1 >> (64 - r);
+    // add (or subtract) part at word q, carrying (or borrowing) through the words above
+    uint64_t carry = 0;
+    for (int i = q; i < kWords; ++i) {
+      const uint64_t v = i - q < 3 ? part[i - q] : 0;
+      if (i - q >= 3 && carry == 0) break;
+      if (!minus) {
+        const uint64_t s1 = words_[i] + v, c1 = s1 < v;
+        const uint64_t s2 = s1 + carry, c2 = s2 < carry;
+        words_[i] = s2, carry = c1 | c2;
+      } else {
+        const uint64_t d1 = words_[i] - v, b1 = words_[i] < v;
+        const uint64_t d2 = d1 - carry, b2 = d1 < carry;
+        words_[i] = d2, carry = b1 | b2;
+      }
+    }
+  }
+}
+
+int VolumeSum::sign() const {
+  if (words_[kWords - 1] >> 63) return -1;
+  for (int i = 0; i < kWords; ++i)
+    if (words_[i]) return 1;
+  return 0;
+}
+
 int distance2Exact(const float* p, const float* q, double tol) {
   // Each difference is exact in at most 2 components, its square in at most 8; tol^2 in 2.
   double acc[3 * 8 + 2], sq[2 * 2 * 2 + 1];

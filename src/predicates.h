@@ -74,6 +74,22 @@ inline bool withinDistance(const float* p, const float* q, double tol, double to
   return distance2Exact(p, q, tol) <= 0;
 }
 
+// The sum of det(a, b, c) = a . (b x c) over triangles (six times the signed volume of the
+// tetrahedra (origin, a, b, c)), exactly: a fixed-point integer of kWords 64-bit words in two's
+// complement, whose bit 0 weighs 2^kLowExponent. Each of a determinant's six products of three
+// float32 values is an integer below 2^72 times 2^e with e >= -447 (3 x -149) and e + 72 <=
+// 384, and 2^32 triangles add at most 35 bits: the bits from 2^-447 to 2^420 and a sign fit in
+// 14 words. For the rare shells whose rounded volume is too close to 0 to tell its sign.
+class VolumeSum {
+ public:
+  void add(const float* a, const float* b, const float* c);
+  int sign() const;  // -1, 0 or 1
+
+ private:
+  static constexpr int kWords = 14, kLowExponent = -447;
+  uint64_t words_[kWords] = {};
+};
+
 // orient3d(a, b, c, d) for many d against one plane (a, b, c): the cross products are
 // computed once. side(d) gives exactly what orient3d(a, b, c, d) gives: the same
 // floating-point determinant and bound, and the same exact fallback.

@@ -10,6 +10,7 @@
 #include "stltopo/topology.h"
 #include "geometry_detail.h"
 #include "parallel.h"
+#include "predicates.h"
 #include "prefetch.h"
 #include "triangle_figures.h"
 #include "try_alloc.h"
@@ -66,10 +67,58 @@ const char* orientationName(Orientation o) {
 Orientation Shell::orientation() const {
   if (inconsistentEdges > 0) return Orientation::Inconsistent;
   if (boundaryEdges > 0) return Orientation::Open;
-  if (volume > 0) return Orientation::Outward;
-  if (volume < 0) return Orientation::Inward;
+  if (volumeSign > 0) return Orientation::Outward;
+  if (volumeSign < 0) return Orientation::Inward;
   return Orientation::Flat;
 }
+
+namespace {
+
+// The sum of the absolute values of the six products in det(a, b, c): the scale of the
+// rounding error of triangleVolume(a, b, c).
+inline double volumePermanent(const float* a, const float* b, const float* c) {
+  const double ax = std::fabs(a[0]), ay = std::fabs(a[1]), az = std::fabs(a[2]);
+  const double bx = std::fabs(b[0]), by = std::fabs(b[1]), bz = std::fabs(b[2]);
+  const double cx = std::fabs(c[0]), cy = std::fabs(c[1]), cz = std::fabs(c[2]);
+  return ax * (by * cz + bz * cy) + ay * (bx * cz + bz * cx) + az * (bx * cy + by * cx);
+}
+
+// Shell::volumeSign of every shell. Each triangle's triangleVolume is within 5u perm / 6 of
+// det / 6 (u = 2^-53; the two products of floats in each 2x2 term are exact, then four
+// roundings and the division), and the volume, summed in triangle order, within
+// (n + 4) u (1 + 1e-6) P / 6 of the exact sum for n < 2^32 triangles (P: the sum of their
+// volumePermanent). Beyond (n + 8) 1.2e-16 P / 6 the rounded volume's sign is the exact one;
+// P = 0 means every product is 0, so the sum is exactly 0. The shells left (flat or nearly
+// flat) get the exact sum (VolumeSum) in one more pass over their triangles.
+Status signVolumes(const Mesh& mesh, const Topology& topo, const Array<double>& perm, Array<Shell>& shells) {
+  Array<uint32_t> slot;  // per shell: its VolumeSum, or kInvalid when decided
+  uint32_t undecided = 0;
+  for (uint32_t s = 0; s < shells.size(); ++s) {
+    Shell& S = shells[s];
+    const double bound = (double(S.triangles) + 8) * 1.2e-16 * (perm[s] / 6);
+    if (perm[s] == 0 || std::fabs(S.volume) > bound) {
+      S.volumeSign = S.volume > 0 ? 1 : S.volume < 0 ? -1 : 0;
+      continue;
+    }
+    if (slot.empty() && !slot.assign(shells.size(), kInvalid)) return detail::oom(kLists);
+    slot[s] = undecided++;
+  }
+  if (undecided == 0) return Status{};
+  Array<pred::VolumeSum> sums;
+  if (!sums.assign(undecided, pred::VolumeSum{})) return detail::oom(kLists);
+  const float* P = mesh.positions.data();
+  for (uint32_t t = 0; t < mesh.nTriangles(); ++t) {
+    const uint32_t s = topo.triangleShell[t];
+    if (s == kInvalid || slot[s] == kInvalid) continue;
+    const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
+    sums[slot[s]].add(P + size_t(corner[0]) * 3, P + size_t(corner[1]) * 3, P + size_t(corner[2]) * 3);
+  }
+  for (uint32_t s = 0; s < shells.size(); ++s)
+    if (slot[s] != kInvalid) shells[s].volumeSign = sums[slot[s]].sign();
+  return Status{};
+}
+
+}  // namespace
 
 Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>* shellsOut, Defects* defectsOut) {
   if (shellsOut) *shellsOut = Array<Shell>{};
@@ -162,7 +211,8 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   // vertices that are manifold (a manifold vertex is in one shell), the degenerate triangles,
   // and the triangles of the wanted sides.
   Array<uint64_t> seen;  // per vertex: counted in its (only) shell; manifold vertices only
-  if (!seen.assign((size_t(nv) + 63) / 64, 0)) return detail::oom(kLists);
+  Array<double> perm;    // per shell: the scale of its volume's rounding error (signVolumes)
+  if (!seen.assign((size_t(nv) + 63) / 64, 0) || !perm.assign(nShells, 0)) return detail::oom(kLists);
   const float* P = mesh.positions.data();
   const std::vector<Solid>& solids = mesh.solids;
   size_t solid = 0;
@@ -224,6 +274,7 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
       detail::TriangleFigures fig = detail::triangleFigures(A, B, C);
       S.area += fig.area;
       S.volume += fig.volume;
+      perm[s] += volumePermanent(A, B, C);
       for (const float* Q : {A, B, C})
         for (int k = 0; k < 3; ++k) {
           S.bboxMin[k] = std::min(S.bboxMin[k], Q[k]);
@@ -249,6 +300,8 @@ Status findShellsAndDefects(const Mesh& mesh, const Topology& topo, Array<Shell>
   if (!failed.ok()) return failed;
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
   seen.release();
+  if (Status st = signVolumes(mesh, topo, perm, shells); !st.ok()) return st;
+  perm.release();
   probes.release();
   probeBit.release();
   for (uint32_t t : triangleOf)
@@ -346,7 +399,8 @@ Status geometry_detail::watertightShells(const Mesh& mesh, const Topology& topo,
     return bad("the topology has no triangleShell (TopologyOptions::triangleShell = false)");
   if (!topo.watertight() || !topo.manifold()) return bad("watertightShells: the mesh is not watertight and manifold");
   Array<Shell> shells;
-  if (!shells.assign(nShells, Shell{})) return detail::oom(kLists);
+  Array<double> perm;
+  if (!shells.assign(nShells, Shell{}) || !perm.assign(nShells, 0)) return detail::oom(kLists);
   const uint32_t* triangleShell = topo.triangleShell.data();
   const float* P = mesh.positions.data();
   uint32_t nextShell = 0;
@@ -366,9 +420,12 @@ Status geometry_detail::watertightShells(const Mesh& mesh, const Topology& topo,
     }
     ++S.triangles;
     const uint32_t* corner = mesh.triangles.data() + size_t(t) * 3;
-    S.volume += detail::triangleVolume(P + size_t(corner[0]) * 3, P + size_t(corner[1]) * 3, P + size_t(corner[2]) * 3);
+    const float *A = P + size_t(corner[0]) * 3, *B = P + size_t(corner[1]) * 3, *C = P + size_t(corner[2]) * 3;
+    S.volume += detail::triangleVolume(A, B, C);
+    perm[s] += volumePermanent(A, B, C);
   }
   if (nextShell != nShells) return bad("triangleShell: fewer shells than Topology::nShells");
+  if (Status st = signVolumes(mesh, topo, perm, shells); !st.ok()) return st;
   out = std::move(shells);
   return Status{};
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <numeric>
+#include <random>
 #include <set>
 
 #if !defined(STLTOPO_WASM_TESTS)
@@ -353,6 +354,79 @@ TEST(Shells, FlatPillowIsClosedAndFlat) {
   EXPECT_TRUE(a.shells[0].closed());
   EXPECT_EQ(a.shells[0].volume, 0);
   EXPECT_EQ(a.shells[0].orientation(), Orientation::Flat);
+}
+
+TEST(Shells, AFlatPillowOfTwoTriangulationsIsFlatThoughItsRoundedVolumeIsNot) {
+  // A rectangle in the plane z = c, its top split along one diagonal and its bottom along the
+  // other: the exact volume is 0, the sum of the rounded tetrahedra often is not.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1000, 1000);
+  int roundedNonZero = 0;
+  for (int i = 0; i < 40; ++i) {
+    const float z = u(rng), x0 = std::min(u(rng), 0.0f), x1 = std::max(u(rng), 1.0f), y0 = std::min(u(rng), 0.0f),
+                y1 = std::max(u(rng), 1.0f);
+    gen::Soup s;
+    s.v = {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}};
+    s.f = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+    Analyzed a;
+    analyze(s, a);
+    ASSERT_EQ(a.shells.size(), 1u);
+    ASSERT_TRUE(a.shells[0].closed());
+    EXPECT_EQ(a.shells[0].volumeSign, 0) << i;
+    EXPECT_EQ(a.shells[0].orientation(), Orientation::Flat) << i << " volume " << a.shells[0].volume;
+    roundedNonZero += a.shells[0].volume != 0;
+  }
+  EXPECT_GT(roundedNonZero, 0);  // the cases a rounded sign gets wrong
+}
+
+// Tetrahedra far from the origin (corners near 2^22, integers: exact floats) whose fourth
+// corner is on, or one unit off, the plane of the other three: the exact volume is 0 or
+// tiny, and the rounded sum of their origin tetrahedra is off by far more. The orientation
+// follows the exact sign, computed here in 128-bit integers.
+TEST(Shells, OrientationIsTheExactSignOfTheVolume) {
+  std::mt19937_64 rng(11);
+  auto near = [&](int64_t c) { return c + int64_t(rng() % 64) - 32; };
+  int wrongWhenRounded = 0, flat = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const int64_t o[3] = {(int64_t(1) << 22) + int64_t(rng() % 4096), (int64_t(1) << 22) - int64_t(rng() % 4096),
+                          int64_t(rng() % (int64_t(1) << 23)) - (int64_t(1) << 22)};
+    int64_t p[4][3];
+    for (int k = 0; k < 3; ++k) p[0][k] = o[k];
+    for (int v = 1; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) p[v][k] = near(o[k]);
+    // the fourth: an integer combination of the others' offsets, moved by -1, 0 or 1
+    const int64_t sa = int64_t(rng() % 5) - 2, sb = int64_t(rng() % 5) - 2;
+    for (int k = 0; k < 3; ++k) p[3][k] = o[k] + sa * (p[1][k] - o[k]) + sb * (p[2][k] - o[k]);
+    p[3][rng() % 3] += int64_t(rng() % 3) - 1;
+    gen::Soup s;
+    for (auto& q : p) s.v.push_back({float(q[0]), float(q[1]), float(q[2])});
+    s.f = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+    __int128 six = 0;  // the sum of det(a, b, c) over the faces
+    for (auto& f : s.f) {
+      const int64_t* a = p[f[0]];
+      const int64_t* b = p[f[1]];
+      const int64_t* c = p[f[2]];
+      six += __int128(a[0]) * (__int128(b[1]) * c[2] - __int128(b[2]) * c[1]) -
+             __int128(a[1]) * (__int128(b[0]) * c[2] - __int128(b[2]) * c[0]) +
+             __int128(a[2]) * (__int128(b[0]) * c[1] - __int128(b[1]) * c[0]);
+    }
+    const int want = six > 0 ? 1 : six < 0 ? -1 : 0;
+    Mesh m;
+    ASSERT_TRUE(gen::read(gen::binary(s), m).ok());
+    Topology t;
+    TopologyOptions opts;
+    opts.triangleShell = true;
+    ASSERT_TRUE(buildTopology(m, t, opts).ok());
+    Array<Shell> shells;
+    ASSERT_TRUE(findShellsAndDefects(m, t, &shells, nullptr).ok());
+    if (shells.size() != 1 || !shells[0].closed()) continue;  // corners that coincide
+    flat += want == 0;
+    wrongWhenRounded += (shells[0].volume > 0 ? 1 : shells[0].volume < 0 ? -1 : 0) != want;
+    ASSERT_EQ(shells[0].volumeSign, want) << i;
+    ASSERT_EQ(shells[0].orientation(), want > 0 ? Orientation::Outward : want < 0 ? Orientation::Inward : Orientation::Flat);
+  }
+  EXPECT_GT(flat, 0);
+  EXPECT_GT(wrongWhenRounded, 0);
 }
 
 TEST(Shells, DegenerateTrianglesSayWhichCornersCoincide) {

@@ -20,7 +20,8 @@ enum class Orientation : uint8_t {
   Inconsistent,  // "inconsistent": it has an inconsistent edge (a flipped face)
   Open,          // "open": else, it has a boundary edge
   Outward,       // "outward": else, its signed volume is > 0 (also when only non-manifold
-                 //            edges keep it from being closed)
+                 //            edges keep it from being closed); the exact sum's sign
+                 //            (Shell::volumeSign), not the rounded Shell::volume's
   Inward,        // "inward": else, its signed volume is < 0
   Flat,          // "flat": else, its signed volume is exactly 0
 };
@@ -49,6 +50,8 @@ struct Shell {
                               // triangles, kMixedSolid if several do, kInvalid if none
   double area = 0;            // sum of triangle areas
   double volume = 0;          // signed volume: sum of the signed tetrahedra (origin, a, b, c)
+  int volumeSign = 0;         // the exact sign of that sum (without rounding): 1, -1 or 0;
+                              // orientation() reads it (a flat closed shell is "flat")
   float bboxMin[3] = {0, 0, 0}, bboxMax[3] = {0, 0, 0};  // of its triangles' corners
 
   int64_t eulerCharacteristic() const { return int64_t(vertices) - int64_t(edges) + int64_t(triangles); }

@@ -457,7 +457,7 @@ Status runOrient(StepContext& ctx) {
     if (!sh.closed() || !sh.manifold()) continue;
     uint32_t depth = nested ? nesting.depth[k] : kInvalid;
     const bool inward = depth != kInvalid && (depth & 1u);
-    if (sh.volume == 0 || (sh.volume < 0) == inward) continue;
+    if (sh.volumeSign == 0 || (sh.volumeSign < 0) == inward) continue;
     std::vector<uint32_t> tris;
     STLTOPO_TRY {
       for (uint32_t t = 0; t < mesh.nTriangles(); ++t)
@@ -467,7 +467,7 @@ Status runOrient(StepContext& ctx) {
     std::string why = depth == kInvalid ? (nested ? "it overlaps another shell; by volume sign" : "by volume sign")
                                         : text("at nesting depth %u", depth);
     ctx.begin(text("reverse shell %u (%u triangles): it faces %s, should face %s (%s)", k, sh.triangles,
-                   sh.volume < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
+                   sh.volumeSign < 0 ? "inward" : "outward", inward ? "inward" : "outward", why.c_str()),
               std::move(tris));
     if (ctx.excluded()) continue;
     ctx.rebuilt = false;  // the mesh changes after the rebuild

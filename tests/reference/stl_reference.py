@@ -648,6 +648,19 @@ def build_topology(mesh, self_check=False):
 # Shells and defects (issue 16 "Per-shell report and a list of every defect with its
 # location"), from the issue's definitions.
 
+def exact_six_volume(triangles):
+    """Six times the signed volume of the tetrahedra (origin, a, b, c), exactly, in units of
+    2^-447: every float32 is an integer times 2^-149."""
+    def whole(x):
+        return int(Fraction(x) * (1 << 149))
+    total = 0
+    for a, b, c in triangles:
+        a, b, c = [whole(x) for x in a], [whole(x) for x in b], [whole(x) for x in c]
+        total += (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2])
+                  + a[2] * (b[0] * c[1] - b[1] * c[0]))
+    return total
+
+
 def tri_figures(corners):
     """(area, signed volume) of one triangle, with the formulas of the whole report."""
     a, b, c = corners
@@ -756,7 +769,9 @@ def shell_list(m, tp):
         elif c['bnd']:
             orient = 'open'
         else:
-            orient = 'outward' if vol > 0 else 'inward' if vol < 0 else 'flat'
+            # the sign of the volume itself, not of its rounded sum (a flat shell is flat)
+            six = exact_six_volume(m.corners[t] for t in tris[s])
+            orient = 'outward' if six > 0 else 'inward' if six < 0 else 'flat'
         solids = {solid_of[t] for t in tris[s]}
         out.append({
             'id': s, 'triangles': F, 'vertices': V, 'edges': E, 'boundaryEdges': c['bnd'],

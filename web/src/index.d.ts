@@ -75,7 +75,7 @@ export interface LoadOptions {
   threads?: number;
 }
 
-/** How a shell is wound: inconsistent edges, else boundary edges, else the sign of its volume. */
+/** How a shell is wound: inconsistent edges, else boundary edges, else the exact sign of its volume (`flat` at exactly 0). */
 export type Orientation = 'inconsistent' | 'open' | 'outward' | 'inward' | 'flat';
 
 /** One shell's report: the fields of `stltopo info --json --shells` ("shellList"). */
