@@ -21,17 +21,22 @@ then gets up to two kinds of damage, each of which a default step undoes without
   shells and leaves an open one as it runs);
 - walls: one or two triangles, sharing no corner, each with a reversed copy (a zero-thickness
   wall: the repair runs with --remove-walls, duplicates takes both, and the hole is filled as
-  above).
+  above);
+- a crack: a face of two coplanar triangles cut off and moved by 0.25 on each axis, its
+  triangles last in the file (the repair runs with --stitch-tolerance of half a grid unit;
+  stitch zips the crack, keeping the lower ids: the shape's own corners; not beside flipped
+  triangles, as stitch runs before orient and refuses to zip a crack into an inconsistent edge).
 
 The answer for the result, from docs/REPAIR.md: no zero-area or duplicate triangle and no
-intersecting pair (the judge), watertight, manifold unless two shapes share a corner, one shell per shape with the shape's
-volume exactly (its triangles' signed volumes added up in rationals, in the orientation
-expected); a shape that had holes keeps the way it was built (orient runs before fill-holes and
-turns only closed shells); any other shape faces outward at even depth and inward at odd depth,
-counting the shapes around it that were closed when orient ran; `solid` and the exit status
-follow. The change log's `afterReport` must be what `stltopo info --json` says of the file
-written, every step must have skipped nothing, and the run on 2 threads must print and write the
-same bytes as on one.
+intersecting pair (the judge), watertight, manifold unless two shapes share a corner, one shell
+per shape with the shape's volume exactly (its triangles' signed volumes added up in rationals,
+in the orientation expected); a shape that had holes keeps the way it was built (orient runs
+before fill-holes and turns only closed shells); any other shape faces outward at even depth
+and inward at odd depth, counting the shapes around it that were closed when orient ran;
+`solid` and the exit status follow. The change log's `afterReport` must be what `stltopo info
+--json` says of the file written, no step may skip an item (but stitch with a crack's
+tolerance, which also tries, and may refuse, a corner within it of a hole's own side), and the
+run on 2 threads must print and write the same bytes as on one.
 
   random_repair.py STLTOPO_CLI JUDGE [--cases N] [--seed S] [--keep DIR]
 """
@@ -111,15 +116,18 @@ def cut_points(r, a, b, count):
 
 def damage(r, tris):
     """Damages one shape (its triangles as the file has them). Returns the new list, whether it
-    has holes, and the kinds done."""
+    has holes, the kinds done, and the triangles of a face cut off and moved (a crack: they go
+    last in the file, so that their corners have the highest ids and stitch keeps the others)."""
     tris = list(tris)
     n = len(tris)
     used = set()  # triangles a damage has touched
     removed = set()
     added = []
+    detached = []
     kinds = []
     holed = False
-    for kind in r.sample(['copies', 'sliver', 'chain', 'tjunction', 'flips', 'holes', 'walls'], r.randint(1, 2)):
+    for kind in r.sample(['copies', 'sliver', 'chain', 'tjunction', 'flips', 'holes', 'walls', 'crack'],
+                         r.randint(1, 2)):
         free = [i for i in range(n) if i not in used]
         if kind == 'copies':
             for i in r.sample(free, min(len(free), r.randint(1, 2))):
@@ -146,20 +154,20 @@ def damage(r, tris):
             else:
                 continue
         elif kind == 'flips':
-            if holed:
+            if holed or 'crack' in kinds:
                 continue
             for i in r.sample(free, min(len(free), r.randint(1, max(1, (n - 1) // 2)))):
                 used.add(i)
                 tris[i] = (tris[i][0], tris[i][2], tris[i][1])
-        else:  # holes, or walls: a reversed copy of a triangle (--remove-walls takes both)
-            if any(k == 'flips' for k in kinds):
-                continue
+        else:  # holes, walls (a reversed copy: --remove-walls takes both), or a crack
+            if 'flips' in kinds:  # (a crack beside a flipped triangle would zip into an
+                continue          # inconsistent edge: stitch runs before orient, and refuses)
             corners = set()
             for t in (tris[i] for i in used):
                 corners.update(t)
             picks = []
             # a face of two coplanar triangles (a box's, or a voxel shape's), or single triangles
-            if kind == 'holes' and r.random() < 0.4:
+            if kind == 'crack' or (kind == 'holes' and r.random() < 0.4):
                 for i in range(0, n - 1, 2):
                     if i in free and i + 1 in free and len(set(tris[i]) | set(tris[i + 1])) == 4 \
                             and orient(*tris[i], [q for q in tris[i + 1] if q not in tris[i]][0]) == 0:
@@ -167,7 +175,7 @@ def damage(r, tris):
             else:
                 picks = [[i] for i in free]
             r.shuffle(picks)
-            took, target = 0, r.randint(1, 2)
+            took, target = 0, 1 if kind == 'crack' else r.randint(1, 2)
             for p in picks:
                 pts = {q for i in p for q in tris[i]}
                 if pts & corners:
@@ -175,6 +183,10 @@ def damage(r, tris):
                 corners |= pts
                 if kind == 'holes':
                     removed.update(p)
+                elif kind == 'crack':  # the face, moved 0.25 a coordinate: 0.433 from where it was
+                    d = tuple(r.choice([-0.25, 0.25]) for _ in range(3))
+                    removed.update(p)
+                    detached += [tuple(tuple(c + e for c, e in zip(q, d)) for q in tris[i]) for i in p]
                 else:
                     added += [(tris[i][0], tris[i][2], tris[i][1]) for i in p]
                 used.update(p)
@@ -183,10 +195,10 @@ def damage(r, tris):
                     break
             if not took:
                 continue
-            holed = True
+            holed |= kind != 'crack'
         kinds.append(kind)
     out = [t for i, t in enumerate(tris) if i not in removed] + added
-    return out, holed, kinds
+    return out, holed, kinds, detached
 
 
 def main():
@@ -209,11 +221,12 @@ def main():
             verts = [sorted({p for t in s[0] for p in t}) for s in shapes]
             inside = [[j != k and all(shapes[j][3](p) for p in verts[k]) for j in range(n)] for k in range(n)]
             shared = len({p for v in verts for p in v}) != sum(len(v) for v in verts)
-            damaged, holed, walls = [], [], False
+            damaged, holed, walls, detached = [], [], False, []
             for s in built:
-                d, h, kinds = damage(r, s)
+                d, h, kinds, cut = damage(r, s)
                 damaged.append(d)
                 holed.append(h)
+                detached += cut
                 walls |= 'walls' in kinds
                 for k in kinds:
                     done[k] = done.get(k, 0) + 1
@@ -227,12 +240,18 @@ def main():
             size = [abs(volume6(s)) for s in built]
 
             flat = [t for s in damaged for t in s]
+            rest = len(flat)
+            flat += detached
             tris = move(r, flat)
-            order = list(range(len(tris)))
+            order = list(range(rest))
             r.shuffle(order)
-            write_binary(f, [tris[k] for k in order])
+            write_binary(f, [tris[k] for k in order + list(range(rest, len(tris)))])
             out1, out2 = f + '.1.stl', f + '.2.stl'
             opts = ['--remove-walls'] if walls else []
+            if detached:  # a tolerance of half a grid unit, scaled as move() scaled the scene
+                g0, m0 = flat[0][0], tris[0][0]
+                g1, m1 = next((p, q) for t, u in zip(flat, tris) for p, q in zip(t, u) if p[0] != g0[0])
+                opts += ['--stitch-tolerance', repr(0.5 * (m1[0] - m0[0]) / (g1[0] - g0[0]))]
             run1 = subprocess.run([a.cli, 'repair', f, out1, '--threads', '1'] + opts, capture_output=True, text=True)
             run2 = subprocess.run([a.cli, 'repair', f, out2, '--threads', '2'] + opts, capture_output=True, text=True)
             compared += 1
@@ -246,7 +265,9 @@ def main():
                         or open(out1, 'rb').read() != open(out2, 'rb').read():
                     problems.append('--threads 2 differs from --threads 1')
                 for st in log['steps']:
-                    if st['status'] != 'ok' or st['skipped']:
+                    # with a tolerance, stitch also tries (and may refuse) a corner within it of
+                    # a hole's own side: the result's checks below still hold it to account
+                    if st['status'] != 'ok' or (st['skipped'] and not (detached and st['step'] == 'stitch')):
                         problems.append('step %s: status %s, %d skipped' % (st['step'], st['status'], st['skipped']))
                 info = json.loads(subprocess.run([a.cli, 'info', '--json', out1], capture_output=True,
                                                  text=True, check=True).stdout)
