@@ -256,6 +256,17 @@ def clean(cli, judge, f, shapes, extra=()):
     return got
 
 
+def report(f, problems, keep):
+    """Prints what differs in file f and copies it into KEEP (when given): 1 when anything does."""
+    if not problems:
+        return 0
+    print('%s: %s' % (f, '; '.join(problems)))
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        shutil.copy(f, keep)
+    return 1
+
+
 def arguments(doc):
     """The command line of the random scene scripts: CLI JUDGE [--cases N] [--seed S] [--keep DIR]."""
     ap = argparse.ArgumentParser(description=doc)
@@ -297,12 +308,7 @@ def main():
                     problems.append('shell %d: (parent, depth, orientation) %r, expected %r' % (k, have, want))
             if got['solid'] != solid:
                 problems.append('solid %r, expected %r' % (got['solid'], solid))
-            if problems:
-                bad += 1
-                print('%s: %s' % (f, '; '.join(problems)))
-                if a.keep:
-                    os.makedirs(a.keep, exist_ok=True)
-                    shutil.copy(f, a.keep)
+            bad += report(f, problems, a.keep)
     finally:
         shutil.rmtree(tmp)
     print('random_nesting: %d scenes (seed %d), %d compared, %d with nesting (%d in a non-convex shape), '

@@ -54,7 +54,7 @@ from fractions import Fraction
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from random_agree import write_binary  # noqa: E402
-from random_nesting import arguments, clean, move, orient, scene  # noqa: E402
+from random_nesting import arguments, clean, move, orient, report, scene  # noqa: E402
 
 
 def read_binary(path):
@@ -320,12 +320,7 @@ def main():
                                 holed[k], sum(inside[k])))
                     if len(hit) != n and not problems:
                         problems.append('shapes %r have no shell' % sorted(set(range(n)) - hit))
-            if problems:
-                bad += 1
-                print('%s: %s' % (f, '; '.join(problems)))
-                if a.keep:
-                    os.makedirs(a.keep, exist_ok=True)
-                    shutil.copy(f, a.keep)
+            bad += report(f, problems, a.keep)
     finally:
         shutil.rmtree(tmp)
     print('random_repair: %d scenes (seed %d), %d repaired (%d solid expected; damage: %s), %d differ' % (
