@@ -1,7 +1,7 @@
 // The repair step "stitch" (steps.h): closes cracks along boundary loops.
 //
-// Phase 1, with RepairOptions::stitchTolerance > 0: boundary vertices closer than the
-// tolerance (Euclidean) that are not joined by an edge are matched, closest pairs first
+// Phase 1, with RepairOptions::stitchTolerance > 0: boundary vertices at most the tolerance
+// apart (Euclidean, in double) that are not joined by an edge are matched, closest pairs first
 // (ties by vertex ids), each vertex at most once. Matched pairs that follow each other
 // along both boundaries (u1-u2 and v1-v2 are boundary edges) form one crack, and so do
 // pairs joined by a T-junction: an unmatched boundary vertex on a boundary edge (or within
