@@ -577,7 +577,7 @@ export interface RepairOptions {
   steps?: RepairStep[];
   /** duplicates: also remove groups whose members face both ways (zero-thickness walls). */
   removeWalls?: boolean;
-  /** stitch: merge boundary vertices closer than this (0: exact T-junctions only). */
+  /** stitch: merge boundary vertices at most this far apart (0: exact T-junctions only). */
   stitchTolerance?: number;
   /** fill-holes: skip holes with more edges (default 1000), more area or a longer perimeter (0: no limit). */
   maxHoleEdges?: number;
