@@ -411,14 +411,10 @@ TEST(Shells, OrientationIsTheExactSignOfTheVolume) {
              __int128(a[2]) * (__int128(b[0]) * c[1] - __int128(b[1]) * c[0]);
     }
     const int want = six > 0 ? 1 : six < 0 ? -1 : 0;
-    Mesh m;
-    ASSERT_TRUE(gen::read(gen::binary(s), m).ok());
-    Topology t;
-    TopologyOptions opts;
-    opts.triangleShell = true;
-    ASSERT_TRUE(buildTopology(m, t, opts).ok());
-    Array<Shell> shells;
-    ASSERT_TRUE(findShellsAndDefects(m, t, &shells, nullptr).ok());
+    Analyzed a;
+    analyze(s, a);
+    ASSERT_FALSE(HasFatalFailure()) << i;
+    const Array<Shell>& shells = a.shells;
     if (shells.size() != 1 || !shells[0].closed()) continue;  // corners that coincide
     flat += want == 0;
     wrongWhenRounded += (shells[0].volume > 0 ? 1 : shells[0].volume < 0 ? -1 : 0) != want;
