@@ -42,8 +42,7 @@ bool printedRoundTrips(double x, bool isFloat, int p, std::string& digits, int& 
   }
   canon += 'e';
   canon += std::to_string(exp10);
-  return isFloat ? strtof_l(canon.c_str(), nullptr, cLocale()) == float(x)
-                 : strtod_l(canon.c_str(), nullptr, cLocale()) == x;
+  return isFloat ? strtofC(canon.c_str(), nullptr) == float(x) : strtodC(canon.c_str(), nullptr) == x;
 }
 
 std::string rendered(bool neg, std::string& digits, int exp10) {

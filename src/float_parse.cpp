@@ -96,7 +96,7 @@ bool parseFloat(const char* s, size_t len, float& out) {
   std::memcpy(buf, s, len);
   buf[len] = 0;
   char* end = nullptr;
-  float f = strtof_l(buf, &end, cLocale());
+  float f = strtofC(buf, &end);
   if (end != buf + len || len == 0) return false;
   out = f;
   return true;

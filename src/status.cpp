@@ -16,10 +16,17 @@
 
 namespace stltopo {
 
-locale_t detail::cLocale() {
+#if defined(__EMSCRIPTEN__)
+float detail::strtofC(const char* s, char** end) { return std::strtof(s, end); }
+double detail::strtodC(const char* s, char** end) { return std::strtod(s, end); }
+#else
+static locale_t cLocale() {
   static locale_t loc = newlocale(LC_ALL_MASK, "C", locale_t(0));
   return loc;
 }
+float detail::strtofC(const char* s, char** end) { return strtof_l(s, end, cLocale()); }
+double detail::strtodC(const char* s, char** end) { return strtod_l(s, end, cLocale()); }
+#endif
 
 static void vappendf(std::string& out, const char* f, va_list ap) {
   char buf[512];

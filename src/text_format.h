@@ -9,8 +9,12 @@
 
 namespace stltopo::detail {
 
-// The "C" locale, for strtof_l/strtod_l: numbers never depend on the process locale.
-locale_t cLocale();
+// strtof and strtod in the "C" locale: numbers never depend on the process locale. (musl, the
+// wasm build's C library, reads numbers alike in every locale, and its strtof_l ignores the
+// locale: there these are the plain functions, and no locale object is made, which keeps
+// musl's locale loading out of the core module.)
+float strtofC(const char* s, char** end);
+double strtodC(const char* s, char** end);
 
 // printf appended to a std::string, of any length (the report's text; may throw natively).
 void appendf(std::string& out, const char* f, ...) __attribute__((format(printf, 2, 3)));
