@@ -74,12 +74,12 @@ Status extractShell(const Mesh& mesh, const Topology& topo, uint32_t shell, Mesh
     }
     lastSolid = solidOfT;
     ++nOut;
-    detail::TriangleFigures fig =
-        detail::triangleFigures(mesh.positions.data() + size_t(c[0]) * 3, mesh.positions.data() + size_t(c[1]) * 3,
-                                mesh.positions.data() + size_t(c[2]) * 3);
+    const float *a = mesh.positions.data() + size_t(c[0]) * 3, *b = mesh.positions.data() + size_t(c[1]) * 3,
+                *d = mesh.positions.data() + size_t(c[2]) * 3;
+    const detail::TriangleFigures fig = detail::triangleFigures(a, b, d);
     out.area += fig.area;
     out.volume += fig.volume;
-    if (normals && detail::normalMismatch(mesh.normals.data() + size_t(t) * 3, fig)) ++out.normalMismatches;
+    if (normals && detail::normalMismatch(mesh.normals.data() + size_t(t) * 3, fig, a, b, d)) ++out.normalMismatches;
   }
   const float* p = out.positions.data();
   for (uint32_t v = 0; v < out.nVertices(); ++v)

@@ -344,7 +344,7 @@ struct Builder {
     TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
     mesh.area += fig.area;
     mesh.volume += fig.volume;
-    if (normalMismatch(n, fig)) ++mesh.normalMismatches;
+    if (normalMismatch(n, fig, v, v + 3, v + 6)) ++mesh.normalMismatches;
     if (attr & 0x8000u) anyVisCamBit = true;
   }
 

@@ -87,7 +87,7 @@ bool Builder::weldRange(RangeWeld& w, const uint8_t* rec, uint32_t count, uint32
       const TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
       w.area[t] = fig.area;
       w.volume[t] = fig.volume;
-      mismatches += normalMismatch(f, fig);
+      mismatches += normalMismatch(f, fig, v, v + 3, v + 6);
       visCam |= (attr & 0x8000u) != 0;
     }
   }
@@ -399,7 +399,7 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
         const TriangleFigures fig = triangleFigures(v, v + 3, v + 6);
         area[t] = fig.area;
         volume[t] = fig.volume;
-        mm += normalMismatch(f, fig);
+        mm += normalMismatch(f, fig, v, v + 3, v + 6);
         vc |= (attr & 0x8000u) != 0;
       }
     }

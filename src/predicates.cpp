@@ -198,10 +198,17 @@ int orient2dExact(double ax, double ay, double bx, double by, double cx, double 
   return orient2dExpansion(ax, ay, bx, by, cx, cy);
 }
 
-int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy) {
+namespace {
+// (b - a) x (c - a) in the plane, exactly: at most 16 components (out needs 24).
+int cross2(double ax, double ay, double bx, double by, double cx, double cy, double* out) {
   const D ux(bx, ax), uy(by, ay), vx(cx, ax), vy(cy, ay);
+  return crossTerm(ux, vy, uy, vx, out);
+}
+}  // namespace
+
+int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy) {
   double det[24];
-  const int n = crossTerm(ux, vy, uy, vx, det);
+  const int n = cross2(ax, ay, bx, by, cx, cy, det);
   return sign(n, det);
 }
 
@@ -258,6 +265,20 @@ int normalsDotExpansion(const float* a, const float* b, const float* c, const fl
     }
   }
   return sign(n, acc);
+}
+
+int normalDotExact(const float* n, const float* a, const float* b, const float* c) {
+  // Normal coordinate k is the cross product of the projection onto the axes (k + 1, k + 2)
+  // (at most 16 components), times n_k at most 32.
+  double m[24], t[2 * 24], acc[3 * 2 * 24 + 1];
+  acc[0] = 0;
+  int len = 1;
+  for (int k = 0; k < 3; ++k) {
+    const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+    const int mn = cross2(a[i], a[j], b[i], b[j], c[i], c[j], m);
+    len = addTo(len, acc, scale(mn, m, n[k], t), t);
+  }
+  return sign(len, acc);
 }
 
 void VolumeSum::add(const float* a, const float* b, const float* c) {

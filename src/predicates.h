@@ -137,6 +137,12 @@ __attribute__((always_inline)) inline int normalSign(const float* a, const float
 int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
 int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f);
 
+// Sign of n . ((b - a) x (c - a)) for a float32 vector n (a facet's stored normal), exactly, in
+// expansion arithmetic: < 0 when n points against the triangle's winding, 0 when it is
+// perpendicular or the triangle has no normal. For finite n. The filter before it is
+// detail::normalMismatch (triangle_figures.h), on the cross product the readers compute anyway.
+int normalDotExact(const float* n, const float* a, const float* b, const float* c);
+
 // Whether a, b, c lie on one line (equal points included): (b - a) x (c - a) == 0.
 // (A loop, so that code compiled for size, where normalSign is inlined, holds one copy of it.)
 inline bool collinear(const float* a, const float* b, const float* c) {

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <random>
 
+#include "predicates.h"        // private (src/): the normal mismatch's exact sign, checked below
+#include "triangle_figures.h"  // private (src/): and its filter
 #include "stl_gen.h"
 
 using namespace stltopo;
@@ -282,6 +284,148 @@ TEST(ReadStl, MagicsColours) {
   EXPECT_EQ(m.colors[10], 132);
   EXPECT_EQ(m.colors[11], 0);
   for (int t = 0; t < 12; ++t) EXPECT_EQ(m.colorValid[t], 1);
+}
+
+// A stored normal points against the winding when n . ((b - a) x (c - a)) < 0, decided
+// exactly (detail::normalMismatch: a filter, then pred::normalDotExact). Integer corners within 2^21 and normals n = alpha u + beta w
+// (u = b - a, w = c - a, alpha and beta in {-1, 0, 1}), each nudged by 1 on one axis in half
+// the cases: n is perpendicular to the normal, or nearly, and each term n_k N_k has some 70
+// bits, so the dot product in double is often a rounding error of either sign. The reference
+// is the dot product in 128-bit integers. The reader counts the exact answer, in binary and in
+// ASCII, on one thread and on two, and so do an EditableMesh's toMesh() and extractShell().
+TEST(ReadStl, NormalMismatchIsDecidedExactly) {
+  std::mt19937_64 rng(3);
+  auto coord = [&]() { return float(int64_t(rng() % (uint64_t(1) << 22)) - (int64_t(1) << 21)); };
+  gen::Soup s;
+  std::vector<std::array<float, 3>> normals;
+  uint32_t exact = 0, inDouble = 0, ties = 0;
+  for (int i = 0; i < 60000; ++i) {
+    float p[3][3];
+    for (auto& q : p)
+      for (float& x : q) x = coord();
+    float u[3], w[3], n[3];
+    for (int k = 0; k < 3; ++k) u[k] = p[1][k] - p[0][k], w[k] = p[2][k] - p[0][k];
+    const int alpha = int(rng() % 3) - 1, beta = int(rng() % 3) - 1;
+    for (int k = 0; k < 3; ++k) n[k] = float(alpha * int64_t(u[k]) + beta * int64_t(w[k]));
+    if (rng() % 2) n[rng() % 3] += rng() % 2 ? 1.0f : -1.0f;
+    __int128 N[3], dot = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
+      N[k] = __int128(int64_t(u[i1])) * int64_t(w[i2]) - __int128(int64_t(u[i2])) * int64_t(w[i1]);
+      dot += N[k] * int64_t(n[k]);
+    }
+    const int want = dot > 0 ? 1 : dot < 0 ? -1 : 0;
+    ASSERT_EQ(detail::normalMismatch(n, detail::triangleFigures(p[0], p[1], p[2]), p[0], p[1], p[2]), want < 0) << i;
+    ASSERT_EQ(pred::normalDotExact(n, p[0], p[1], p[2]), want) << i;
+    // the formula before: the cross product and the dot product in double
+    const double ux = double(p[1][0]) - p[0][0], uy = double(p[1][1]) - p[0][1], uz = double(p[1][2]) - p[0][2];
+    const double wx = double(p[2][0]) - p[0][0], wy = double(p[2][1]) - p[0][1], wz = double(p[2][2]) - p[0][2];
+    const double d = n[0] * (uy * wz - uz * wy) + n[1] * (uz * wx - ux * wz) + n[2] * (ux * wy - uy * wx);
+    const bool stored = n[0] != 0 || n[1] != 0 || n[2] != 0;
+    exact += stored && want < 0;
+    inDouble += stored && d < 0;
+    ties += stored && want == 0;
+    const uint32_t base = uint32_t(s.v.size());
+    for (auto& q : p) s.v.push_back({q[0], q[1], q[2]});
+    s.f.push_back({base, base + 1, base + 2});
+    normals.push_back({n[0], n[1], n[2]});
+  }
+  EXPECT_GT(ties, 1000u);
+  EXPECT_NE(exact, inDouble) << exact;  // the double dot product gets some wrong
+  // Corners of any magnitude (their differences inexact in double): a normal n = d - a that is
+  // a float, d in or near the plane of (a, b, c), checked against pred::orient3d(a, b, c, d),
+  // the same determinant (independently tested against CGAL).
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int checked = 0, wrong = 0;
+  for (int i = 0; i < 100000; ++i) {
+    float p[4][3];
+    const int e = int(rng() % 60) - 30;
+    for (int q = 0; q < 3; ++q)
+      for (int k = 0; k < 3; ++k) p[q][k] = float(std::ldexp(unit(rng), e + int(rng() % 8)));
+    // d in the plane (b or c: an exact tie) or near it
+    const int kind = int(rng() % 3);
+    const double s = unit(rng), t = unit(rng);
+    for (int k = 0; k < 3; ++k)
+      p[3][k] = kind < 2 ? p[1 + kind][k] : float(p[0][k] + s * (double(p[1][k]) - p[0][k]) + t * (double(p[2][k]) - p[0][k]));
+    float n[3];
+    bool exactN = true;
+    for (int k = 0; k < 3; ++k) {
+      n[k] = p[3][k] - p[0][k];
+      exactN = exactN && double(n[k]) == double(p[3][k]) - double(p[0][k]);
+    }
+    if (!exactN || !std::isfinite(n[0] + n[1] + n[2])) continue;
+    ++checked;
+    const int want = pred::orient3d(p[0], p[1], p[2], p[3]);
+    const detail::TriangleFigures f = detail::triangleFigures(p[0], p[1], p[2]);
+    wrong += (n[0] * f.nx + n[1] * f.ny + n[2] * f.nz < 0) != (want < 0);  // the formula before
+    ASSERT_EQ(detail::normalMismatch(n, detail::triangleFigures(p[0], p[1], p[2]), p[0], p[1], p[2]), want < 0) << i;
+    if (n[0] != 0 || n[1] != 0 || n[2] != 0) ASSERT_EQ(pred::normalDotExact(n, p[0], p[1], p[2]), want) << i;
+  }
+  EXPECT_GT(checked, 5000);
+  EXPECT_GT(wrong, 0) << checked;
+  std::string bin = gen::binary(s);
+  std::string ascii = "solid exact\n";
+  char line[200];
+  for (size_t t = 0; t < s.f.size(); ++t) {
+    std::memcpy(&bin[84 + 50 * t], normals[t].data(), 12);
+    std::snprintf(line, sizeof line, "facet normal %.9g %.9g %.9g\nouter loop\n", normals[t][0], normals[t][1], normals[t][2]);
+    ascii += line;
+    for (int c = 0; c < 3; ++c) {
+      const auto& q = s.v[3 * t + size_t(c)];
+      std::snprintf(line, sizeof line, "vertex %.9g %.9g %.9g\n", q[0], q[1], q[2]);
+      ascii += line;
+    }
+    ascii += "endloop\nendfacet\n";
+  }
+  ascii += "endsolid exact\n";
+  for (unsigned threads : {1u, 2u}) {
+    setParallelGrainForTesting(threads == 2 ? 1 : 0);
+    for (const std::string* bytes : {&bin, &ascii}) {
+      ReadOptions o;
+      o.threads = threads;
+      o.keepNormals = true;
+      Mesh m;
+      const uint64_t splits = parallelSplitsForTesting();
+      ASSERT_TRUE(gen::read(*bytes, m, o).ok());
+      EXPECT_EQ(m.normalMismatches, exact) << threads << (bytes == &bin ? " binary" : " ascii");
+#if !defined(STLTOPO_WASM_TESTS)
+      if (threads == 2 && bytes == &bin) EXPECT_GT(parallelSplitsForTesting(), splits) << "the threaded read";
+#endif
+      if (threads == 2 || bytes != &bin) continue;
+      EditableMesh em;
+      ASSERT_TRUE(em.init(m).ok());
+      Mesh back;
+      ASSERT_TRUE(em.toMesh(back).ok());
+      EXPECT_EQ(back.normalMismatches, exact);
+      // One shell of the soup's first triangles is each a shell of its own: extract one whose
+      // normal is a tie that the double formula counted.
+      Topology topo;
+      TopologyOptions to;
+      to.triangleShell = true;
+      ASSERT_TRUE(buildTopology(m, topo, to).ok());
+      bool extracted = false;
+      for (uint32_t t = 0; t < m.nTriangles(); ++t) {
+        const float* P = m.positions.data();
+        const uint32_t* c = m.triangles.data() + 3 * size_t(t);
+        const float* n = m.normals.data() + 3 * size_t(t);
+        if (pred::normalDotExact(n, P + 3 * size_t(c[0]), P + 3 * size_t(c[1]), P + 3 * size_t(c[2])) != 0 ||
+            topo.triangleShell[t] == kInvalid)
+          continue;
+        const double ux = double(P[3 * c[1]]) - P[3 * c[0]], uy = double(P[3 * c[1] + 1]) - P[3 * c[0] + 1],
+                     uz = double(P[3 * c[1] + 2]) - P[3 * c[0] + 2];
+        const double wx = double(P[3 * c[2]]) - P[3 * c[0]], wy = double(P[3 * c[2] + 1]) - P[3 * c[0] + 1],
+                     wz = double(P[3 * c[2] + 2]) - P[3 * c[0] + 2];
+        if (!(n[0] * (uy * wz - uz * wy) + n[1] * (uz * wx - ux * wz) + n[2] * (ux * wy - uy * wx) < 0)) continue;
+        Mesh one;
+        ASSERT_TRUE(extractShell(m, topo, topo.triangleShell[t], one).ok());
+        EXPECT_EQ(one.normalMismatches, 0u) << t;
+        extracted = true;
+        break;
+      }
+      EXPECT_TRUE(extracted);
+    }
+  }
+  setParallelGrainForTesting(0);
 }
 
 TEST(ReadStl, NormalsAreKeptOnRequestAndMismatchesCounted) {

@@ -38,7 +38,7 @@ struct Mesh {
   std::vector<Status> warnings;  // same shape as errors; code is a warning code
 
   // Figures gathered while reading (over all triangles, degenerate ones too).
-  uint32_t normalMismatches = 0;                         // stored non-zero normal points against the winding
+  uint32_t normalMismatches = 0;                         // stored non-zero normal points against the winding (exactly)
   double area = 0;                                       // sum of triangle areas
   double volume = 0;                                     // signed volume (divergence theorem)
   float bboxMin[3] = {0, 0, 0}, bboxMax[3] = {0, 0, 0};  // valid when nVertices() > 0

@@ -146,18 +146,10 @@ Status EditableMesh::Impl::toMesh(Mesh& out, Topology* topo, CompactMaps* maps, 
     if (n) std::memcpy(out.normals.data() + 3 * size_t(w), n, 3 * sizeof(float));
     if (!figures) continue;
     // Figures, as the reader computes them.
-    double ax = P[0][0], ay = P[0][1], az = P[0][2], bx = P[1][0], by = P[1][1], bz = P[1][2];
-    double cx = P[2][0], cy = P[2][1], cz = P[2][2];
-    double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
-    double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-    out.area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
-    out.volume += (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0;
-    if (n) {
-      if (n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f) {
-        double d = double(n[0]) * nx + double(n[1]) * ny + double(n[2]) * nz;
-        if (d < 0) ++out.normalMismatches;
-      }
-    }
+    const detail::TriangleFigures fig = detail::triangleFigures(P[0], P[1], P[2]);
+    out.area += fig.area;
+    out.volume += fig.volume;
+    if (n && detail::normalMismatch(n, fig, P[0], P[1], P[2])) ++out.normalMismatches;
   }
   uint32_t first = 0;
   for (Solid& s : out.solids) {

@@ -205,6 +205,15 @@ def cases():
     add('viscam', binary(cb, attrs=[0x8000 | (31 << 10)] * 12), colors='viscam')
     add('attribute_without_bit15', binary(cb, attrs=[0x2020] * 12), colors='none')
     add('normal_mismatch', binary(cb[:2], normals=[(1, 0, 0), (-1, 0, 0)]), normalMismatches=1)
+    # Stored normals exactly perpendicular to the winding's normal (n = b - a), which the dot
+    # product in double puts below 0 (-416, -256, -128): not mismatches, as the exact sign is 0.
+    # The last triangle's normal does point against its winding.
+    ties = [((-130702, -1375272, 2076856), (-353024, -904813, -1557148), (-1782875, 2002082, -470987)),
+            ((-853895, 1730260, 1636927), (299080, 895037, 1477401), (-964894, -769238, -1278286)),
+            ((-252036, 790227, -51286), (-1997192, 383415, 782080), (-253409, 141283, -1814846)),
+            ((0, 0, 0), (1, 0, 0), (0, 1, 0))]
+    add('normal_perpendicular', binary(ties, normals=[tuple(b[k] - a[k] for k in range(3)) for a, b, c in ties[:3]]
+                                       + [(0, 0, -1)]), normalMismatches=1)
     add('nan', binary([((0, 0, 0), (float('nan'), 0, 0), (0, 1, 0))]), error='non-finite')
     add('ascii_missing_endsolid', ascii_stl([('x', cb)], endsolid=False), warnings=['missing-endsolid'],
         triangles=12)

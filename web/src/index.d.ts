@@ -205,6 +205,7 @@ export interface MeshStats {
   /** Triangles that are not the lowest id of their duplicate group. */
   duplicateTriangles: number;
   colors: 'none' | 'viscam' | 'magics';
+  /** Facets whose stored non-zero normal n points against their winding: n . ((b - a) x (c - a)) < 0, decided exactly. */
   normalMismatches: number;
   bbox: { min: [number, number, number]; max: [number, number, number] } | null;
   area: number;
