@@ -292,6 +292,45 @@ TEST(Repair, ZeroAreaSliverIsFlippedAway) {
   EXPECT_EQ(r.log.steps[0].maxMoved, 0);
 }
 
+// Degenerate triangles (a repeated corner) go in the zero-area step: a needle whose short edge
+// has collapsed already. They are in no edge, so nothing else changes: a cube with three of
+// them (one repeats all its corners; one sits between two cube corners) stays watertight and
+// solid, loses them and nothing else, and the user can leave one out.
+TEST(Repair, ZeroAreaRemovesDegenerateTriangles) {
+  gen::Soup s = gen::cube();
+  s.f.insert(s.f.begin() + 2, {1, 1, 5});
+  s.f.push_back({7, 7, 7});
+  s.f.push_back({2, 6, 2});
+  Mesh m = meshOf(s);
+  Outcome r = checkRepair(m, only({RepairStepKind::ZeroArea}), "cube with degenerate triangles");
+  EXPECT_EQ(r.plan.before.stats.degenerate, 3u);
+  EXPECT_TRUE(r.plan.before.stats.watertight);
+  ASSERT_EQ(r.plan.steps[0].items.size(), 3u);
+  const RepairItem& first = r.plan.steps[0].items[0];
+  EXPECT_EQ(first.action, "remove degenerate triangle 2 (corners 0 and 1 are vertex " +
+                              std::to_string(m.triangles[3 * 2]) + ")");
+  EXPECT_EQ(first.triangles, (std::vector<uint32_t>{2}));
+  EXPECT_EQ(r.plan.steps[0].items[1].triangles, (std::vector<uint32_t>{13}));
+  EXPECT_NE(r.plan.steps[0].items[2].action.find("corners 0 and 2"), std::string::npos)
+      << r.plan.steps[0].items[2].action;
+  EXPECT_EQ(r.log.after.stats.degenerate, 0u);
+  EXPECT_EQ(r.log.after.stats.triangles, 12u);
+  EXPECT_TRUE(r.log.after.stats.watertight);
+  EXPECT_TRUE(r.log.after.solid);
+  EXPECT_EQ(r.log.steps[0].maxMoved, 0);
+  EXPECT_EQ(r.log.steps[0].areaRemoved, 0);
+  EXPECT_EQ(std::vector<uint32_t>(r.log.steps[0].removedTriangles.begin(), r.log.steps[0].removedTriangles.end()),
+            (std::vector<uint32_t>{2, 13, 14}));
+  EXPECT_EQ(r.log.after.stats.edges, r.plan.before.stats.edges);
+  EXPECT_EQ(r.log.after.stats.eulerCharacteristic, r.plan.before.stats.eulerCharacteristic);
+  RepairOptions o = only({RepairStepKind::ZeroArea});
+  o.exclude.push_back({RepairStepKind::ZeroArea, 1});
+  Outcome left = checkRepair(m, o, "cube with degenerate triangles, one left out");
+  EXPECT_TRUE(left.plan.steps[0].items[1].skipped);
+  EXPECT_EQ(left.log.after.stats.degenerate, 1u);
+  EXPECT_EQ(left.log.after.stats.triangles, 13u);
+}
+
 TEST(Repair, ZeroAreaOnABoundaryCollapses) {
   // An open square (0,0)-(2,1) whose bottom side is cut at m = (0.125, 0) into three
   // triangles, plus a sliver (0, 1, m) below: its longest edge 0-1 is on the boundary, and

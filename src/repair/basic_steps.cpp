@@ -138,6 +138,24 @@ Status runZeroArea(StepContext& ctx) {
       "neighbours that are zero-area too get flipped first; else, for a needle (the middle corner within a tenth of "
       "the triangle's length of an end), collapses its shortest edge (that corner moves onto the end); other caps "
       "are skipped";
+  // Degenerate triangles first: a repeated corner is a needle whose short edge has collapsed
+  // already. They are in no edge of the topology (and cover no area), so removing one changes
+  // no other figure and moves nothing.
+  for (uint32_t t = 0; t < em.nTriangles(); ++t) {
+    if (!em.triangleAlive(t)) continue;
+    const uint32_t* c = em.triangles().data() + 3 * size_t(t);
+    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) continue;
+    if (ctx.plan.items.empty()) ctx.plan.note = "removes degenerate triangles (a repeated corner: nothing moves); " + ctx.plan.note;
+    const int j = c[0] == c[1] ? 0 : c[0] == c[2] ? 0 : 1, k = c[0] == c[1] ? 1 : 2;  // corners j < k: one vertex
+    std::vector<uint32_t> verts = {c[0]};
+    for (int j = 1; j < 3; ++j)
+      if (std::find(verts.begin(), verts.end(), c[j]) == verts.end()) verts.push_back(c[j]);
+    ctx.begin(text("remove degenerate triangle %u (corners %d and %d are vertex %u)", t, j, k, c[k]), {t},
+              std::move(verts));
+    if (ctx.excluded()) continue;
+    s = em.removeTriangle(t);
+    if (!s.ok()) return s;
+  }
   std::vector<uint32_t> pending(checks.zeroArea.begin(), checks.zeroArea.end());
   // Rounds of flips; a triangle whose neighbour across the longest edge is zero-area too
   // waits for the next round (that neighbour may be flipped away first). When a round

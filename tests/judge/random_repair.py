@@ -9,6 +9,8 @@ duplicate triangle (by the judge), one closed manifold shell per shape (by stlto
 then gets up to two kinds of damage, each of which a default step undoes without moving anything:
 
 - copies of a triangle, same way round (duplicates removes them);
+- degenerate triangles: one or two with a repeated corner, on a side of the shape or one corner
+  three times (zero-area removes them);
 - a flat sliver: a triangle (a, b, c) cut at a grid point m inside its side ab into (a, m, c)
   and (m, b, c), and the zero-area triangle (a, b, m) closing the gap (zero-area flips ab);
 - a chain of two slivers: (a, b, c) cut at m1 and m2 inside ab, closed by (a, b, m2) and
@@ -27,8 +29,8 @@ then gets up to two kinds of damage, each of which a default step undoes without
   stitch zips the crack, keeping the lower ids: the shape's own corners; not beside flipped
   triangles, as stitch runs before orient and refuses to zip a crack into an inconsistent edge).
 
-The answer for the result, from docs/REPAIR.md: no zero-area or duplicate triangle and no
-intersecting pair (the judge), watertight, manifold unless two shapes share a corner, one shell
+The answer for the result, from docs/REPAIR.md: no degenerate triangle, no zero-area or duplicate
+triangle and no intersecting pair (the judge), watertight, manifold unless two shapes share a corner, one shell
 per shape with the shape's volume exactly (its triangles' signed volumes added up in rationals,
 in the orientation expected); a shape that had holes keeps the way it was built (orient runs
 before fill-holes and turns only closed shells); any other shape faces outward at even depth
@@ -126,13 +128,17 @@ def damage(r, tris):
     detached = []
     kinds = []
     holed = False
-    for kind in r.sample(['copies', 'sliver', 'chain', 'tjunction', 'flips', 'holes', 'walls', 'crack'],
-                         r.randint(1, 2)):
+    for kind in r.sample(['copies', 'sliver', 'chain', 'tjunction', 'flips', 'holes', 'walls', 'crack',
+                          'degenerate'], r.randint(1, 2)):
         free = [i for i in range(n) if i not in used]
         if kind == 'copies':
             for i in r.sample(free, min(len(free), r.randint(1, 2))):
                 used.add(i)
                 added += [tris[i]] * r.randint(1, 2)
+        elif kind == 'degenerate':  # on a side of the shape, or one corner three times
+            for _ in range(r.randint(1, 2)):
+                p, q = r.sample(tris[r.randrange(n)], 2)
+                added.append(r.choice([(p, p, q), (p, q, q), (q, p, q), (p, p, p)]))
         elif kind in ('sliver', 'tjunction', 'chain'):
             r.shuffle(free)
             for i in free:
@@ -281,6 +287,8 @@ def main():
                     problems.append('the judge finds %d pairs, zero-area %r, duplicates %r in the result' %
                                     (head['pairs'], head['zeroArea'], head['duplicateGroups']))
                 fig = log['after']
+                if fig['degenerateTriangles']:
+                    problems.append('%d degenerate triangles in the result' % fig['degenerateTriangles'])
                 if not fig['watertight'] or fig['manifold'] == shared:  # shapes sharing a corner pinch it
                     problems.append('watertight %r, manifold %r (shapes share a corner: %r)' % (
                         fig['watertight'], fig['manifold'], shared))

@@ -29,7 +29,7 @@ const kMaxPreviewTriangles = 200000; // triangles drawn per step
 
 const stepLabels = {
   duplicates: 'Remove duplicate triangles',
-  'zero-area': 'Remove zero-area triangles',
+  'zero-area': 'Remove degenerate and zero-area triangles',
   stitch: 'Stitch cracks',
   'split-nonmanifold': 'Split non-manifold vertices and edges',
   'fill-holes': 'Fill holes',
@@ -226,7 +226,7 @@ function figureText(v) {
 function figureSummary(f) {
   const parts = [plural(f.triangles, 'triangle')];
   for (const [key, word] of [['holes', 'hole'], ['boundaryEdges', 'boundary edge'], ['nonManifoldEdges', 'non-manifold edge'],
-    ['inconsistentEdges', 'inconsistent edge'], ['duplicateTriangles', 'duplicate'], ['zeroAreaTriangles', 'zero-area']]) {
+    ['inconsistentEdges', 'inconsistent edge'], ['duplicateTriangles', 'duplicate'], ['degenerateTriangles', 'degenerate'], ['zeroAreaTriangles', 'zero-area']]) {
     if (f[key]) parts.push(plural(f[key], word));
   }
   if (f.watertight && f.manifold) parts.push('watertight, manifold');
