@@ -281,6 +281,44 @@ int normalDotExact(const float* n, const float* a, const float* b, const float* 
   return sign(len, acc);
 }
 
+int dotSignExact(const float* v, const float* a, const float* b) {
+  // Each product of two exact differences has at most 8 components.
+  double acc[3 * 8], t[8];
+  int len = 0;
+  for (int k = 0; k < 3; ++k) {
+    const D p(v[k], a[k]), q(b[k], a[k]);
+    const int n = mul(p.n, p.c, q.n, q.c, t);
+    len = len == 0 ? (std::memcpy(acc, t, sizeof(double) * size_t(n)), n) : addTo(len, acc, n, t);
+  }
+  return sign(len, acc);
+}
+
+bool withinLineDistanceExact(const float* v, const float* a, const float* b, double tol) {
+  // |(v - a) x (b - a)|^2: each coordinate a cross term of the projection (at most 16
+  // components), its square at most 2 * 16 * 16 + 1. Then minus tol^2 (2) times |b - a|^2
+  // (three squares of exact differences: at most 24).
+  constexpr int kSquare = 2 * 16 * 16 + 1;
+  double m[24], sq[kSquare], acc[3 * kSquare + 2 * 2 * 24 + 1], len2[3 * 8 + 1], t[8], tt[2], rhs[2 * 2 * 24 + 1];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+    const int mn = cross2(a[i], a[j], v[i], v[j], b[i], b[j], m);
+    const int sn = mul(mn, m, mn, m, sq);
+    n = n == 0 ? (std::memcpy(acc, sq, sizeof(double) * size_t(sn)), sn) : addTo(n, acc, sn, sq);
+  }
+  int ln = 0;
+  for (int k = 0; k < 3; ++k) {
+    const D w(b[k], a[k]);
+    const int wn = mul(w.n, w.c, w.n, w.c, t);
+    ln = ln == 0 ? (std::memcpy(len2, t, sizeof(double) * size_t(wn)), wn) : addTo(ln, len2, wn, t);
+  }
+  twoProduct(tol, tol, tt[1], tt[0]);
+  tt[0] = -tt[0], tt[1] = -tt[1];
+  const int rn = mul(2, tt, ln, len2, rhs);
+  n = addTo(n, acc, rn, rhs);
+  return sign(n, acc) <= 0;
+}
+
 void VolumeSum::add(const float* a, const float* b, const float* c) {
   // det(a, b, c) = ax by cz - ax bz cy - ay bx cz + ay bz cx + az bx cy - az by cx
   static constexpr int kTerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};

@@ -74,6 +74,52 @@ inline bool withinDistance(const float* p, const float* q, double tol, double to
   return distance2Exact(p, q, tol) <= 0;
 }
 
+// Sign of (v - a) . (b - a): > 0 when v projects onto the ray from a through b beyond a. The
+// differences are within u of the true ones, the products within 3u, the sum within 5u of the
+// sum of the products' magnitudes: the filter allows 8u.
+int dotSignExact(const float* v, const float* a, const float* b);
+inline int dotSign(const float* v, const float* a, const float* b) {
+  double t = 0, mag = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double p = (double(v[k]) - a[k]) * (double(b[k]) - a[k]);
+    t += p;
+    mag += std::fabs(p);
+  }
+  const double bound = 8.8817841970012523e-16 * mag;  // 8u
+  if (t > bound) return 1;
+  if (-t > bound) return -1;
+  if (bound == 0) return 0;  // zeroTerms: every product exactly 0
+  return dotSignExact(v, a, b);
+}
+
+// Whether v lies within distance tol of the line through a and b (a != b): |(v - a) x (b - a)|^2
+// <= tol^2 |b - a|^2 (Lagrange's identity: the squared distance times |b - a|^2), exactly. tol2
+// is fl(tol * tol). For v farther than tol from a (the stitch step's case), so that tol^2
+// |b - a|^2 stays below 2^518 and nothing overflows. The filter: a cross product coordinate
+// l - r is within 4u (|l| + |r|) =: 4u P_k, its square within 9u P_k^2, their sum within 11u of
+// the sum of the P_k^2; |b - a|^2 within 5u, tol2 within u, their product within 7u: the
+// filter allows 16u of both sums.
+bool withinLineDistanceExact(const float* v, const float* a, const float* b, double tol);
+inline bool withinLineDistance(const float* v, const float* a, const float* b, double tol, double tol2) {
+  double u[3], w[3], len2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    u[k] = double(v[k]) - a[k];
+    w[k] = double(b[k]) - a[k];
+    len2 += w[k] * w[k];
+  }
+  double cross2 = 0, perm2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+    const double l = u[i] * w[j], r = u[j] * w[i];
+    cross2 += (l - r) * (l - r);
+    perm2 += (std::fabs(l) + std::fabs(r)) * (std::fabs(l) + std::fabs(r));
+  }
+  const double rhs = tol2 * len2, d = cross2 - rhs, bound = 1.7763568394002505e-15 * (perm2 + rhs);  // 16u
+  if (d > bound) return false;
+  if (-d > bound) return true;
+  return withinLineDistanceExact(v, a, b, tol);
+}
+
 // The sum of det(a, b, c) = a . (b x c) over triangles (six times the signed volume of the
 // tetrahedra (origin, a, b, c)), exactly: a fixed-point integer of kWords 64-bit words in two's
 // complement, whose bit 0 weighs 2^kLowExponent. Each of a determinant's six products of three

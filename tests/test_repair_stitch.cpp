@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 
 #include "edit_check.h"
+#include "predicates.h"  // private (src/): the tolerance tests, checked below
 #include "repair/steps.h"
 #include "stl_gen.h"
 #include "stltopo/edit.h"
@@ -619,6 +621,73 @@ TEST(StitchStep, ATJunctionWithinTheTolerance) {
   EXPECT_FALSE(plan.items[0].skipped) << plan.items[0].reason;
   EXPECT_EQ(em.stats().boundaryEdges, 5u);
   EXPECT_EQ(editcheck::differenceFromRebuild(em), "");
+}
+
+// Stitch's tolerance tests are exact (predicates.h): the pair's distance (withinDistance, as
+// the tolerance weld), a T-junction's projection strictly inside the edge (dotSign) and its
+// distance to the edge's line (withinLineDistance), against 128-bit integers on integer
+// corners, a third of them at exactly the tolerance from the line (a Pythagorean offset
+// across the edge, a third of the way along), with tolerances k / 1024 beside the distance:
+// the ties go to the exact stage. (The projection in double, the rule before, happens to get
+// all of these right; the pair's distance does not: the next test.)
+TEST(StitchStep, ItsToleranceTestsAreExact) {
+  std::mt19937_64 rng(5);
+  auto coord = [&](int bits) { return float(int64_t(rng() % (uint64_t(1) << bits)) - (int64_t(1) << (bits - 1))); };
+  int ties = 0, n = 0;
+  for (int i = 0; i < 200000; ++i) {
+    float a[3], b[3], v[3];
+    for (int k = 0; k < 3; ++k) a[k] = coord(20);
+    if (i % 3 == 0) {  // b - a = 3 (3m, 4m, z), v = a third of it plus (4j, -3j, 0): 5j from the line
+      const float m = coord(8), z = coord(8), j = coord(6);
+      const float w[3] = {9 * m, 12 * m, 3 * z}, off[3] = {4 * j, -3 * j, 0};
+      for (int k = 0; k < 3; ++k) b[k] = a[k] + w[k], v[k] = a[k] + w[k] / 3 + off[k];
+    } else {
+      for (int k = 0; k < 3; ++k) b[k] = a[k] + coord(10), v[k] = a[k] + coord(11);
+    }
+    int64_t u[3], w[3];
+    for (int k = 0; k < 3; ++k) u[k] = int64_t(v[k]) - int64_t(a[k]), w[k] = int64_t(b[k]) - int64_t(a[k]);
+    __int128 cross2 = 0, len2 = 0, dot = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int p = (k + 1) % 3, q = (k + 2) % 3;
+      const __int128 c = __int128(u[p]) * w[q] - __int128(u[q]) * w[p];
+      cross2 += c * c;
+      len2 += __int128(w[k]) * w[k];
+      dot += __int128(u[k]) * w[k];
+    }
+    if (len2 == 0) continue;
+    const int wantDot = dot > 0 ? 1 : dot < 0 ? -1 : 0;
+    ASSERT_EQ(pred::dotSign(v, a, b), wantDot) << i;
+    ASSERT_EQ(pred::dotSignExact(v, a, b), wantDot) << i;
+    const int64_t k = std::llround(1024 * std::sqrt(double(cross2) / double(len2))) + int64_t(rng() % 3) - 1;
+    if (k <= 0) continue;
+    const double tol = double(k) / 1024;
+    const __int128 lhs = cross2 << 20, rhs = __int128(k) * k * len2;  // both below 2^90
+    const bool want = lhs <= rhs;
+    ties += lhs == rhs;
+    ++n;
+    ASSERT_EQ(pred::withinLineDistance(v, a, b, tol, tol * tol), want) << i;
+    ASSERT_EQ(pred::withinLineDistanceExact(v, a, b, tol), want) << i;
+  }
+  EXPECT_GT(n, 100000);
+  EXPECT_GT(ties, 1000);
+}
+
+// A pair just beyond the tolerance is not merged, though its distance in double is within it:
+// (1, 2^-30, 0) is sqrt(1 + 2^-60) from the origin, and 1 + 2^-60 rounds to 1. At (1, 0, 0)
+// the two corners are one item (a single pair: skipped, as it would pinch two fans).
+TEST(StitchStep, APairJustBeyondTheToleranceIsNoItem) {
+  for (float y : {std::ldexp(1.0f, -30), 0.0f}) {
+    gen::Soup s;
+    s.v = {{0, 0, 0}, {-3, 0, 0}, {-3, -3, 0}, {1, y, 0}, {4, 0, 0}, {4, 4, 0}};
+    s.f = {{0, 1, 2}, {3, 4, 5}};
+    EditableMesh em;
+    makeEditable(s, em);
+    RepairOptions o;
+    o.stitchTolerance = 1;
+    RepairStepPlan plan;
+    ASSERT_TRUE(runStep(RepairStepKind::Stitch, em, o, plan).ok());
+    EXPECT_EQ(plan.items.size(), y == 0 ? 1u : 0u) << y;
+  }
 }
 
 TEST(StitchStep, APinchingPairIsSkippedWithTheReason) {

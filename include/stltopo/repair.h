@@ -69,8 +69,8 @@ struct RepairOptions {
   // duplicates: also remove every member of a group whose members face both ways (a
   // zero-thickness wall); otherwise such groups are skipped.
   bool removeOppositeDuplicates = false;
-  // stitch: boundary vertices at most this far apart (Euclidean, in file units; measured in
-  // double) are merged; 0 merges nothing by distance and closes only exact T-junctions.
+  // stitch: boundary vertices at most this far apart (Euclidean, in file units; decided
+  // exactly) are merged; 0 merges nothing by distance and closes only exact T-junctions.
   double stitchTolerance = 0;
   // fill-holes: holes over any of these limits are skipped (0 = no limit for area and
   // perimeter).

@@ -1,8 +1,9 @@
 // The repair step "stitch" (steps.h): closes cracks along boundary loops.
 //
 // Phase 1, with RepairOptions::stitchTolerance > 0: boundary vertices at most the tolerance
-// apart (Euclidean, in double) that are not joined by an edge are matched, closest pairs first
-// (ties by vertex ids), each vertex at most once. Matched pairs that follow each other
+// apart (Euclidean, decided exactly: pred::withinDistance) that are not joined by an edge are
+// matched, closest pairs first (the distance in double orders them; ties by vertex ids), each
+// vertex at most once. Matched pairs that follow each other
 // along both boundaries (u1-u2 and v1-v2 are boundary edges) form one crack, and so do
 // pairs joined by a T-junction: an unmatched boundary vertex on a boundary edge (or within
 // the tolerance of it) whose ends are matched (a crack between different tessellations).
@@ -15,7 +16,8 @@
 // Phase 2: T-junctions. A boundary vertex v that lies on a boundary edge a-b it is not an
 // end of: exactly (v collinear with a and b by the exact predicates and strictly between
 // them), or, with a tolerance, within that distance of the segment (its projection strictly
-// inside, and farther than the tolerance from both ends, which phase 1 handles). Each is
+// inside, and farther than the tolerance from both ends, which phase 1 handles), each decided
+// exactly (pred::withinDistance, dotSign, withinLineDistance). Each is
 // one item: EditableMesh::splitEdgeAt(a-b, v), the same as splitEdge at v's projection and
 // merging the new vertex into v (v stays). Rounds repeat while they close something (an
 // edge split at one vertex may carry the next T-junction on one of its parts).
@@ -128,7 +130,11 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
   if (bh.empty()) return Status{};
   std::sort(bverts.begin(), bverts.end());
   bverts.shrink(size_t(std::unique(bverts.begin(), bverts.end()) - bverts.begin()));
-  double cell = std::max(total / double(bh.size()), tol);
+  // Boxes grow by 2 tol: a vertex within tol of an edge lies in its box grown by tol, and the
+  // margin covers the rounding of the box's sides (rounding is monotone, and a float within
+  // tol of a side is farther than its rounding error from it).
+  const double margin = 2 * tol, tol2 = tol * tol;
+  double cell = std::max(total / double(bh.size()), margin);
   if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
   Array<Entry> grid;
   Array<uint32_t> big;
@@ -137,8 +143,8 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
     const float* b = P.data() + 3 * size_t(vert[bh[i] ^ 1u]);
     int64_t lo[3], hi[3], n = 1;
     for (int k = 0; k < 3; ++k) {
-      lo[k] = cellOf(std::min(a[k], b[k]) - tol, cell);
-      hi[k] = cellOf(std::max(a[k], b[k]) + tol, cell);
+      lo[k] = cellOf(std::min(a[k], b[k]) - margin, cell);
+      hi[k] = cellOf(std::max(a[k], b[k]) + margin, cell);
       n *= (hi[k] - lo[k] + 1);
       if (n > 64) break;
     }
@@ -168,6 +174,12 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
       d = 0;
     } else {
       if (!(tol > 0)) return true;
+      // Exactly (predicates.h): farther than tol from both ends, its projection strictly
+      // inside the edge, within tol of the edge's line.
+      if (pred::withinDistance(pv, pa, tol, tol2) || pred::withinDistance(pv, pb, tol, tol2)) return true;
+      if (pred::dotSign(pv, pa, pb) <= 0 || pred::dotSign(pv, pb, pa) <= 0) return true;
+      if (!pred::withinLineDistance(pv, pa, pb, tol, tol2)) return true;
+      // The distance, in double, only orders the candidates.
       double ab[3], av[3], ab2 = 0, t = 0;
       for (int k = 0; k < 3; ++k) {
         ab[k] = double(pb[k]) - pa[k];
@@ -175,13 +187,10 @@ Status tCandidates(EditableMesh& em, const Array<uint32_t>& bh, double tol, Arra
         ab2 += ab[k] * ab[k];
         t += av[k] * ab[k];
       }
-      if (!(ab2 > 0)) return true;
       t /= ab2;
-      if (!(t > 0 && t < 1)) return true;
       double q[3] = {pa[0] + t * ab[0], pa[1] + t * ab[1], pa[2] + t * ab[2]};
       d = std::sqrt((pv[0] - q[0]) * (pv[0] - q[0]) + (pv[1] - q[1]) * (pv[1] - q[1]) +
                     (pv[2] - q[2]) * (pv[2] - q[2]));
-      if (d > tol || distance(pv, pa) <= tol || distance(pv, pb) <= tol) return true;
     }
     return cands.push_back(TCand{d, v, x, a, b});
   };
@@ -229,11 +238,15 @@ Status mergePairs(StepContext& ctx) {
   std::sort(bnbr.begin(), bnbr.end());
   std::sort(bedges.begin(), bedges.end());
   std::sort(edges.begin(), edges.end());
-  // Candidate pairs within the tolerance, found through a grid of cell size tol.
+  // Candidate pairs within the tolerance (exactly: pred::withinDistance), found through a grid
+  // of cells 2 tol wide and their neighbours: two points within tol are within half a cell on
+  // each axis, and the quotients' rounding (below a quarter cell up to the clamp at 1e15 cells)
+  // cannot put them two cells apart, as it could with cells tol wide.
+  const double cellSize = 2 * tol, tol2 = tol * tol;
   Array<Entry> grid;
   for (uint32_t v : bverts) {
     const float* p = P.data() + 3 * size_t(v);
-    if (!grid.push_back(Entry{{{cellOf(p[0], tol), cellOf(p[1], tol), cellOf(p[2], tol)}}, v}))
+    if (!grid.push_back(Entry{{{cellOf(p[0], cellSize), cellOf(p[1], cellSize), cellOf(p[2], cellSize)}}, v}))
       return detail::oom(kStitchArrays);
   }
   std::sort(grid.begin(), grid.end(),
@@ -253,8 +266,9 @@ Status mergePairs(StepContext& ctx) {
               std::lower_bound(grid.begin(), grid.end(), k, [](const Entry& a, const CellKey& b) { return a.key < b; });
           for (; it != grid.end() && it->key == k; ++it) {
             if (it->id <= e.id) continue;
-            double d = distance(p, P.data() + 3 * size_t(it->id));
-            if (d > tol || sortedHas(edges, keyOf(e.id, it->id))) continue;
+            const float* q = P.data() + 3 * size_t(it->id);
+            if (!pred::withinDistance(p, q, tol, tol2) || sortedHas(edges, keyOf(e.id, it->id))) continue;
+            const double d = distance(p, q);  // the order only
             if (!cands.push_back(Cand{d, e.id, it->id})) return detail::oom(kStitchArrays);
           }
         }
