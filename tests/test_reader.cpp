@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <random>
 
-#include "predicates.h"        // private (src/): the normal mismatch's exact sign, checked below
-#include "triangle_figures.h"  // private (src/): and its filter
+#include "predicates.h"  // private (src/): the normal mismatch's exact sign, checked below
 #include "stl_gen.h"
+#include "triangle_figures.h"  // private (src/): and its filter
 
 using namespace stltopo;
 
@@ -287,12 +287,13 @@ TEST(ReadStl, MagicsColours) {
 }
 
 // A stored normal points against the winding when n . ((b - a) x (c - a)) < 0, decided
-// exactly (detail::normalMismatch: a filter, then pred::normalDotExact). Integer corners within 2^21 and normals n = alpha u + beta w
-// (u = b - a, w = c - a, alpha and beta in {-1, 0, 1}), each nudged by 1 on one axis in half
-// the cases: n is perpendicular to the normal, or nearly, and each term n_k N_k has some 70
-// bits, so the dot product in double is often a rounding error of either sign. The reference
-// is the dot product in 128-bit integers. The reader counts the exact answer, in binary and in
-// ASCII, on one thread and on two, and so do an EditableMesh's toMesh() and extractShell().
+// exactly (detail::normalMismatch: a filter, then pred::normalDotExact). Integer corners
+// within 2^21 and normals n = alpha u + beta w (u = b - a, w = c - a, alpha and beta in
+// {-1, 0, 1}), each nudged by 1 on one axis in half the cases: n is perpendicular to the
+// normal, or nearly, and each term n_k N_k has some 70 bits, so the dot product in double is
+// often a rounding error of either sign. The reference is the dot product in 128-bit
+// integers. The reader counts the exact answer, in binary and in ASCII, on one thread and on
+// two, and so do an EditableMesh's toMesh() and extractShell().
 TEST(ReadStl, NormalMismatchIsDecidedExactly) {
   std::mt19937_64 rng(3);
   auto coord = [&]() { return float(int64_t(rng() % (uint64_t(1) << 22)) - (int64_t(1) << 21)); };
@@ -346,7 +347,8 @@ TEST(ReadStl, NormalMismatchIsDecidedExactly) {
     const int kind = int(rng() % 3);
     const double s = unit(rng), t = unit(rng);
     for (int k = 0; k < 3; ++k)
-      p[3][k] = kind < 2 ? p[1 + kind][k] : float(p[0][k] + s * (double(p[1][k]) - p[0][k]) + t * (double(p[2][k]) - p[0][k]));
+      p[3][k] = kind < 2 ? p[1 + kind][k]
+                         : float(p[0][k] + s * (double(p[1][k]) - p[0][k]) + t * (double(p[2][k]) - p[0][k]));
     float n[3];
     bool exactN = true;
     for (int k = 0; k < 3; ++k) {
@@ -368,7 +370,8 @@ TEST(ReadStl, NormalMismatchIsDecidedExactly) {
   char line[200];
   for (size_t t = 0; t < s.f.size(); ++t) {
     std::memcpy(&bin[84 + 50 * t], normals[t].data(), 12);
-    std::snprintf(line, sizeof line, "facet normal %.9g %.9g %.9g\nouter loop\n", normals[t][0], normals[t][1], normals[t][2]);
+    std::snprintf(line, sizeof line, "facet normal %.9g %.9g %.9g\nouter loop\n", normals[t][0], normals[t][1],
+                  normals[t][2]);
     ascii += line;
     for (int c = 0; c < 3; ++c) {
       const auto& q = s.v[3 * t + size_t(c)];

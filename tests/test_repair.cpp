@@ -307,8 +307,8 @@ TEST(Repair, ZeroAreaRemovesDegenerateTriangles) {
   EXPECT_TRUE(r.plan.before.stats.watertight);
   ASSERT_EQ(r.plan.steps[0].items.size(), 3u);
   const RepairItem& first = r.plan.steps[0].items[0];
-  EXPECT_EQ(first.action, "remove degenerate triangle 2 (corners 0 and 1 are vertex " +
-                              std::to_string(m.triangles[3 * 2]) + ")");
+  EXPECT_EQ(first.action,
+            "remove degenerate triangle 2 (corners 0 and 1 are vertex " + std::to_string(m.triangles[3 * 2]) + ")");
   EXPECT_EQ(first.triangles, (std::vector<uint32_t>{2}));
   EXPECT_EQ(r.plan.steps[0].items[1].triangles, (std::vector<uint32_t>{13}));
   EXPECT_NE(r.plan.steps[0].items[2].action.find("corners 0 and 2"), std::string::npos)
@@ -421,7 +421,8 @@ TEST(Repair, OrientsLogIsTheSameWhetherAStepFollowsOrNot) {
     same(a.removedVertices, b.removedVertices, "removedVertices");
     ASSERT_EQ(a.attributeNames, b.attributeNames) << what;
     ASSERT_EQ(a.attributeBefore.size(), b.attributeBefore.size()) << what;
-    for (size_t k = 0; k < a.attributeBefore.size(); ++k) same(a.attributeBefore[k], b.attributeBefore[k], "attributeBefore");
+    for (size_t k = 0; k < a.attributeBefore.size(); ++k)
+      same(a.attributeBefore[k], b.attributeBefore[k], "attributeBefore");
     EXPECT_EQ(a.areaRemoved, b.areaRemoved) << what;
     EXPECT_EQ(a.areaAdded, b.areaAdded) << what;
     EXPECT_EQ(a.maxMoved, b.maxMoved) << what;

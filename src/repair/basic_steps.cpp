@@ -145,11 +145,12 @@ Status runZeroArea(StepContext& ctx) {
     if (!em.triangleAlive(t)) continue;
     const uint32_t* c = em.triangles().data() + 3 * size_t(t);
     if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) continue;
-    if (ctx.plan.items.empty()) ctx.plan.note = "removes degenerate triangles (a repeated corner: nothing moves); " + ctx.plan.note;
+    if (ctx.plan.items.empty())  // the first one: the note says so
+      ctx.plan.note = "removes degenerate triangles (a repeated corner: nothing moves); " + ctx.plan.note;
     const int j = c[0] == c[1] ? 0 : c[0] == c[2] ? 0 : 1, k = c[0] == c[1] ? 1 : 2;  // corners j < k: one vertex
     std::vector<uint32_t> verts = {c[0]};
-    for (int j = 1; j < 3; ++j)
-      if (std::find(verts.begin(), verts.end(), c[j]) == verts.end()) verts.push_back(c[j]);
+    for (int i = 1; i < 3; ++i)
+      if (std::find(verts.begin(), verts.end(), c[i]) == verts.end()) verts.push_back(c[i]);
     ctx.begin(text("remove degenerate triangle %u (corners %d and %d are vertex %u)", t, j, k, c[k]), {t},
               std::move(verts));
     if (ctx.excluded()) continue;
