@@ -204,6 +204,24 @@ int cross2(double ax, double ay, double bx, double by, double cx, double cy, dou
   const D ux(bx, ax), uy(by, ay), vx(cx, ax), vy(cy, ay);
   return crossTerm(ux, vy, uy, vx, out);
 }
+
+// |p - q|^2, exactly: each difference in at most 2 components, its square in at most 8, the
+// sum in at most 24 (out needs 24).
+int distance2(const float* p, const float* q, double* out) {
+  double sq[2 * 2 * 2 + 1];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const D e(p[k], q[k]);
+    n = addTo(n, out, mul(e.n, e.c, e.n, e.c, sq), sq);
+  }
+  return n;
+}
+
+// -tol^2, exactly: 2 components.
+void minusSquare(double tol, double (&out)[2]) {
+  twoProduct(tol, tol, out[1], out[0]);
+  out[0] = -out[0], out[1] = -out[1];
+}
 }  // namespace
 
 int orient2dExpansion(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -243,26 +261,15 @@ int orient3dExpansion(const float* a, const float* b, const float* c, const floa
 
 int normalsDotExpansion(const float* a, const float* b, const float* c, const float* d, const float* e,
                         const float* f) {
-  const D ux(b[0], a[0]), uy(b[1], a[1]), uz(b[2], a[2]);
-  const D vx(c[0], a[0]), vy(c[1], a[1]), vz(c[2], a[2]);
-  const D px(e[0], d[0]), py(e[1], d[1]), pz(e[2], d[2]);
-  const D qx(f[0], d[0]), qy(f[1], d[1]), qz(f[2], d[2]);
-  // Each normal coordinate is a cross term (at most 16 components); each product of two
-  // at most 2 * 16 * 16 + 1.
+  // Normal coordinate k of each triangle is the cross product of its projection onto the axes
+  // (k + 1, k + 2) (at most 16 components); each product of two at most 2 * 16 * 16 + 1.
   double n1[24], n2[24], t[2 * 16 * 16 + 1], acc[3 * (2 * 16 * 16 + 1)];
-  const D* U[3][4] = {{&uy, &vz, &uz, &vy}, {&uz, &vx, &ux, &vz}, {&ux, &vy, &uy, &vx}};
-  const D* P[3][4] = {{&py, &qz, &pz, &qy}, {&pz, &qx, &px, &qz}, {&px, &qy, &py, &qx}};
   int n = 0;
   for (int k = 0; k < 3; ++k) {
-    const int l1 = crossTerm(*U[k][0], *U[k][1], *U[k][2], *U[k][3], n1);
-    const int l2 = crossTerm(*P[k][0], *P[k][1], *P[k][2], *P[k][3], n2);
-    const int tn = mul(l1, n1, l2, n2, t);
-    if (n == 0) {
-      for (int i = 0; i < tn; ++i) acc[i] = t[i];
-      n = tn;
-    } else {
-      n = addTo(n, acc, tn, t);
-    }
+    const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+    const int l1 = cross2(a[i], a[j], b[i], b[j], c[i], c[j], n1);
+    const int l2 = cross2(d[i], d[j], e[i], e[j], f[i], f[j], n2);
+    n = addTo(n, acc, mul(l1, n1, l2, n2, t), t);
   }
   return sign(n, acc);
 }
@@ -270,9 +277,8 @@ int normalsDotExpansion(const float* a, const float* b, const float* c, const fl
 int normalDotExact(const float* n, const float* a, const float* b, const float* c) {
   // Normal coordinate k is the cross product of the projection onto the axes (k + 1, k + 2)
   // (at most 16 components), times n_k at most 32.
-  double m[24], t[2 * 24], acc[3 * 2 * 24 + 1];
-  acc[0] = 0;
-  int len = 1;
+  double m[24], t[2 * 24], acc[3 * 2 * 24];
+  int len = 0;
   for (int k = 0; k < 3; ++k) {
     const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
     const int mn = cross2(a[i], a[j], b[i], b[j], c[i], c[j], m);
@@ -287,8 +293,7 @@ int dotSignExact(const float* v, const float* a, const float* b) {
   int len = 0;
   for (int k = 0; k < 3; ++k) {
     const D p(v[k], a[k]), q(b[k], a[k]);
-    const int n = mul(p.n, p.c, q.n, q.c, t);
-    len = len == 0 ? (std::memcpy(acc, t, sizeof(double) * size_t(n)), n) : addTo(len, acc, n, t);
+    len = addTo(len, acc, mul(p.n, p.c, q.n, q.c, t), t);
   }
   return sign(len, acc);
 }
@@ -298,22 +303,15 @@ bool withinLineDistanceExact(const float* v, const float* a, const float* b, dou
   // components), its square at most 2 * 16 * 16 + 1. Then minus tol^2 (2) times |b - a|^2
   // (three squares of exact differences: at most 24).
   constexpr int kSquare = 2 * 16 * 16 + 1;
-  double m[24], sq[kSquare], acc[3 * kSquare + 2 * 2 * 24 + 1], len2[3 * 8 + 1], t[8], tt[2], rhs[2 * 2 * 24 + 1];
+  double m[24], sq[kSquare], acc[3 * kSquare + 2 * 2 * 24 + 1], len2[3 * 8], tt[2], rhs[2 * 2 * 24 + 1];
   int n = 0;
   for (int k = 0; k < 3; ++k) {
     const int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
     const int mn = cross2(a[i], a[j], v[i], v[j], b[i], b[j], m);
-    const int sn = mul(mn, m, mn, m, sq);
-    n = n == 0 ? (std::memcpy(acc, sq, sizeof(double) * size_t(sn)), sn) : addTo(n, acc, sn, sq);
+    n = addTo(n, acc, mul(mn, m, mn, m, sq), sq);
   }
-  int ln = 0;
-  for (int k = 0; k < 3; ++k) {
-    const D w(b[k], a[k]);
-    const int wn = mul(w.n, w.c, w.n, w.c, t);
-    ln = ln == 0 ? (std::memcpy(len2, t, sizeof(double) * size_t(wn)), wn) : addTo(ln, len2, wn, t);
-  }
-  twoProduct(tol, tol, tt[1], tt[0]);
-  tt[0] = -tt[0], tt[1] = -tt[1];
+  const int ln = distance2(b, a, len2);
+  minusSquare(tol, tt);
   const int rn = mul(2, tt, ln, len2, rhs);
   n = addTo(n, acc, rn, rhs);
   return sign(n, acc) <= 0;
@@ -363,19 +361,10 @@ int VolumeSum::sign() const {
 }
 
 int distance2Exact(const float* p, const float* q, double tol) {
-  // Each difference is exact in at most 2 components, its square in at most 8; tol^2 in 2.
-  double acc[3 * 8 + 2], sq[2 * 2 * 2 + 1];
-  int n = 0;
-  for (int k = 0; k < 3; ++k) {
-    const D e(p[k], q[k]);
-    const int m = mul(e.n, e.c, e.n, e.c, sq);
-    n = n == 0 ? (std::memcpy(acc, sq, sizeof(double) * size_t(m)), m) : addTo(n, acc, m, sq);
-  }
-  double t[2];
-  twoProduct(tol, tol, t[1], t[0]);
-  t[0] = -t[0], t[1] = -t[1];
-  n = addTo(n, acc, 2, t);
-  return sign(n, acc);
+  double acc[3 * 8 + 2], t[2];  // |p - q|^2 (24 components) minus tol^2 (2)
+  const int n = distance2(p, q, acc);
+  minusSquare(tol, t);
+  return sign(addTo(n, acc, 2, t), acc);
 }
 
 int normalsDot(const float* a, const float* b, const float* c, const float* d, const float* e, const float* f) {

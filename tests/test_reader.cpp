@@ -42,6 +42,13 @@ Status readErr(const std::string& bytes, const ReadOptions& o = {}) {
   return gen::read(bytes, m, o);
 }
 
+// The normal test before it was exact: the dot product in double with the figures' cross
+// product, for the tests to show what it got wrong.
+bool mismatchInDouble(const float* n, const float* a, const float* b, const float* c) {
+  const detail::TriangleFigures f = detail::triangleFigures(a, b, c);
+  return n[0] * f.nx + n[1] * f.ny + n[2] * f.nz < 0;
+}
+
 std::string facet(const char* v1, const char* v2, const char* v3) {
   return std::string("facet normal 0 0 1\n outer loop\n  vertex ") + v1 + "\n  vertex " + v2 + "\n  vertex " + v3 +
          "\n endloop\nendfacet\n";
@@ -318,13 +325,9 @@ TEST(ReadStl, NormalMismatchIsDecidedExactly) {
     const int want = dot > 0 ? 1 : dot < 0 ? -1 : 0;
     ASSERT_EQ(detail::normalMismatch(n, detail::triangleFigures(p[0], p[1], p[2]), p[0], p[1], p[2]), want < 0) << i;
     ASSERT_EQ(pred::normalDotExact(n, p[0], p[1], p[2]), want) << i;
-    // the formula before: the cross product and the dot product in double
-    const double ux = double(p[1][0]) - p[0][0], uy = double(p[1][1]) - p[0][1], uz = double(p[1][2]) - p[0][2];
-    const double wx = double(p[2][0]) - p[0][0], wy = double(p[2][1]) - p[0][1], wz = double(p[2][2]) - p[0][2];
-    const double d = n[0] * (uy * wz - uz * wy) + n[1] * (uz * wx - ux * wz) + n[2] * (ux * wy - uy * wx);
     const bool stored = n[0] != 0 || n[1] != 0 || n[2] != 0;
     exact += stored && want < 0;
-    inDouble += stored && d < 0;
+    inDouble += stored && mismatchInDouble(n, p[0], p[1], p[2]);
     ties += stored && want == 0;
     const uint32_t base = uint32_t(s.v.size());
     for (auto& q : p) s.v.push_back({q[0], q[1], q[2]});
@@ -358,8 +361,7 @@ TEST(ReadStl, NormalMismatchIsDecidedExactly) {
     if (!exactN || !std::isfinite(n[0] + n[1] + n[2])) continue;
     ++checked;
     const int want = pred::orient3d(p[0], p[1], p[2], p[3]);
-    const detail::TriangleFigures f = detail::triangleFigures(p[0], p[1], p[2]);
-    wrong += (n[0] * f.nx + n[1] * f.ny + n[2] * f.nz < 0) != (want < 0);  // the formula before
+    wrong += mismatchInDouble(n, p[0], p[1], p[2]) != (want < 0);
     ASSERT_EQ(detail::normalMismatch(n, detail::triangleFigures(p[0], p[1], p[2]), p[0], p[1], p[2]), want < 0) << i;
     if (n[0] != 0 || n[1] != 0 || n[2] != 0) ASSERT_EQ(pred::normalDotExact(n, p[0], p[1], p[2]), want) << i;
   }
@@ -410,15 +412,10 @@ TEST(ReadStl, NormalMismatchIsDecidedExactly) {
       for (uint32_t t = 0; t < m.nTriangles(); ++t) {
         const float* P = m.positions.data();
         const uint32_t* c = m.triangles.data() + 3 * size_t(t);
-        const float* n = m.normals.data() + 3 * size_t(t);
-        if (pred::normalDotExact(n, P + 3 * size_t(c[0]), P + 3 * size_t(c[1]), P + 3 * size_t(c[2])) != 0 ||
-            topo.triangleShell[t] == kInvalid)
+        const float *n = m.normals.data() + 3 * size_t(t), *a = P + 3 * size_t(c[0]), *b = P + 3 * size_t(c[1]),
+                    *d = P + 3 * size_t(c[2]);
+        if (pred::normalDotExact(n, a, b, d) != 0 || topo.triangleShell[t] == kInvalid || !mismatchInDouble(n, a, b, d))
           continue;
-        const double ux = double(P[3 * c[1]]) - P[3 * c[0]], uy = double(P[3 * c[1] + 1]) - P[3 * c[0] + 1],
-                     uz = double(P[3 * c[1] + 2]) - P[3 * c[0] + 2];
-        const double wx = double(P[3 * c[2]]) - P[3 * c[0]], wy = double(P[3 * c[2] + 1]) - P[3 * c[0] + 1],
-                     wz = double(P[3 * c[2] + 2]) - P[3 * c[0] + 2];
-        if (!(n[0] * (uy * wz - uz * wy) + n[1] * (uz * wx - ux * wz) + n[2] * (ux * wy - uy * wx) < 0)) continue;
         Mesh one;
         ASSERT_TRUE(extractShell(m, topo, topo.triangleShell[t], one).ok());
         EXPECT_EQ(one.normalMismatches, 0u) << t;

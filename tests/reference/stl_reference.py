@@ -651,13 +651,9 @@ def normal_against(n, a, b, c):
     """Whether the stored normal n points against the winding of (a, b, c):
     n . ((b - a) x (c - a)) < 0, exactly (the issue's predicates have no epsilon). A
     non-finite n has no exact sign: the product in double decides, as in stltopo."""
-    if not all(math.isfinite(x) for x in n):
-        e1 = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
-        e2 = (c[0] - a[0], c[1] - a[1], c[2] - a[2])
-        return (n[0] * (e1[1] * e2[2] - e1[2] * e2[1]) + n[1] * (e1[2] * e2[0] - e1[0] * e2[2])
-                + n[2] * (e1[0] * e2[1] - e1[1] * e2[0])) < 0
-    # float32 values times 2^149 are integers (and exact doubles: no product overflows)
-    n, a, b, c = ([int(x * 2.0 ** 149) for x in p] for p in (n, a, b, c))
+    if all(math.isfinite(x) for x in n):
+        # float32 values times 2^149 are integers (and exact doubles: no product overflows)
+        n, a, b, c = ([int(x * 2.0 ** 149) for x in p] for p in (n, a, b, c))
     e1 = [b[k] - a[k] for k in range(3)]
     e2 = [c[k] - a[k] for k in range(3)]
     return (n[0] * (e1[1] * e2[2] - e1[2] * e2[1]) + n[1] * (e1[2] * e2[0] - e1[0] * e2[2])
