@@ -70,12 +70,6 @@ std::string idText(const std::vector<uint32_t>& ids, size_t from, size_t maxShow
 
 const float* pos(const EditableMesh& em, uint32_t v) { return em.positions().data() + 3 * size_t(v); }
 
-double dist(const float* a, const float* b) {
-  double d = 0;
-  for (int k = 0; k < 3; ++k) d += (double(a[k]) - b[k]) * (double(a[k]) - b[k]);
-  return std::sqrt(d);
-}
-
 // The half-edge of triangle t from vertex u to vertex w, or kInvalid.
 uint32_t sideOf(const EditableMesh& em, uint32_t t, uint32_t u, uint32_t w) {
   uint32_t e = em.triangleHalfedge()[t];
@@ -220,12 +214,12 @@ Status runZeroArea(StepContext& ctx) {
       }
       // 2. A needle: collapse the middle corner onto its nearer end (else the farther one,
       //    when that is as near), when it moves by at most a tenth of the triangle's length.
-      const double length = dist(pos(em, p), pos(em, q));
+      const double length = distance(pos(em, p), pos(em, q));
       bool done = false;
       uint32_t ends[2] = {p, q};
-      if (dist(pos(em, m), pos(em, q)) < dist(pos(em, m), pos(em, p))) std::swap(ends[0], ends[1]);
+      if (distance(pos(em, m), pos(em, q)) < distance(pos(em, m), pos(em, p))) std::swap(ends[0], ends[1]);
       for (uint32_t end : ends) {
-        double moved = dist(pos(em, m), pos(em, end));
+        double moved = distance(pos(em, m), pos(em, end));
         if (moved > 0.1 * length) {
           why += text(
               "; not a needle: collapsing %u onto %u would move it by %g, more than a tenth of the "

@@ -532,9 +532,7 @@ Status diffStepIn(const Mesh& before, const EditableMesh& em, const CompactMaps&
     const float* p = P.data() + 3 * size_t(v);
     if (!sameBytes(p, b, 12)) {
       if (!L.changedVertices.push_back(v) || !append(L.changedPositions, b, 3)) return oom();
-      double d2 = 0;
-      for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - b[k]) * (double(p[k]) - b[k]);
-      L.maxMoved = std::max(L.maxMoved, std::sqrt(d2));
+      L.maxMoved = std::max(L.maxMoved, repair_detail::distance(p, b));
     }
   }
   for (uint32_t v = nVb; v < em.nVertices(); ++v)

@@ -12,6 +12,7 @@
 // Steps never print and never allocate without checking (detail::oom for failures).
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,15 @@ Status runFillHoles(StepContext& ctx);
 void setFillCellGridForTesting(bool on);
 Status runOrient(StepContext& ctx);
 Status runSmallShells(StepContext& ctx);
+
+// |p - q| of two stored positions, in double (a float's difference and square are exact
+// there; the sum and the root round). For what the steps measure and order, not for the
+// decisions the contract calls exact (those are src/predicates.h's).
+inline double distance(const float* p, const float* q) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - q[k]) * (double(p[k]) - q[k]);
+  return std::sqrt(d2);
+}
 
 // printf into a std::string for the plan's texts (actions, reasons, notes). Unlike
 // detail::format (for error messages, which it cuts rather than fail), it never cuts: when

@@ -52,11 +52,6 @@ std::string reasonOf(const Status& s) {
   return s.message.compare(0, prefix.size(), prefix) == 0 ? s.message.substr(prefix.size()) : s.message;
 }
 
-double distance(const float* p, const float* q) {
-  double dx = double(p[0]) - q[0], dy = double(p[1]) - q[1], dz = double(p[2]) - q[2];
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
-}
-
 // A uniform grid over points: cell coordinates floor(x / cell), clamped so that huge
 // ratios stay finite (clamping is monotone: points within one cell of each other stay
 // within one cell).
