@@ -4,6 +4,7 @@
 // report per file (reportOne), and every report printed in input order with --jobs N worker
 // threads (reportAll). This module is also the workers' entry point.
 import { readdirSync, readFileSync, statSync } from 'node:fs';
+import { totalmem } from 'node:os';
 import { Worker, isMainThread, parentPort, workerData } from 'node:worker_threads';
 import { api, fileSource } from '../dist/instance.node.js';
 import { cliCalls } from './cli-wasm.mjs';
@@ -192,12 +193,42 @@ function startWorker(a) {
   };
 }
 
+const U64_MAX = (1n << 64n) - 1n;
+
+/**
+ * What reading an input may take at its peak, for the memory gate (tools/cli.cpp
+ * peakEstimate): 2.5 times a regular file's size; standard input, a pipe or a device counts
+ * as the whole budget (read alone); an input that cannot be looked at, as nothing (it fails
+ * when opened). BigInts, as the native CLI's uint64_t.
+ */
+function peakEstimate(input, budget) {
+  if (input.err) return 0n;
+  if (input.path === '-') return budget;
+  let st;
+  try {
+    st = statSync(input.path, { bigint: true });
+  } catch {
+    return 0n;
+  }
+  if (!st.isFile()) return budget;
+  return st.size > U64_MAX / 5n ? U64_MAX : (st.size * 5n) / 2n;
+}
+
+// A worker that read a file past this estimate is replaced by a fresh one: a wasm heap
+// never shrinks, so the worker would otherwise hold that file's memory for every later one,
+// out of the gate's sight. (STLTOPO_TEST_RECYCLE_BYTES: the tests' own threshold.)
+const RECYCLE_ESTIMATE = BigInt(process.env.STLTOPO_TEST_RECYCLE_BYTES || 256 << 20);
+
 /**
  * Reports every input in order (tools/cli.cpp reportAll): with jobs > 1, worker threads
  * take the next input while this thread prints the reports in input order (standard input
  * is read here); an input starts only when it is fewer than 4 * jobs inputs after the first
- * one not yet printed, so a slow file holds a bounded number of reports. emit(result)
- * prints one. 0 when every file was read, else 1.
+ * one not yet printed, so a slow file holds a bounded number of reports, and only when the
+ * memory gate lets it: in input order, each while the estimates of the inputs being read,
+ * its own included, fit in a.maxMemory bytes (0n: half the machine's memory), or when no
+ * other input is being read. a.jobsLog (the hidden --test-jobs-log) prints each start and
+ * end to standard error after the reports, as the native CLI does. emit(result) prints one.
+ * 0 when every file was read, else 1.
  */
 export async function reportAll(inputs, a, jobs, emit) {
   const n = inputs.length;
@@ -213,8 +244,13 @@ export async function reportAll(inputs, a, jobs, emit) {
   }
   const window = jobs * 4;
   const slots = new Array(window).fill(null);
+  const budget = a.maxMemory ? BigInt(a.maxMemory) : BigInt(Math.floor(totalmem() / 2));
   let next = 0;
   let head = 0;
+  let admitted = 0;
+  let reading = 0;
+  let inFlight = 0n;
+  let events = '';
   let failure = null;
   let waiters = [];
   const wake = () => {
@@ -224,22 +260,38 @@ export async function reportAll(inputs, a, jobs, emit) {
   };
   const changed = () => new Promise((resolve) => waiters.push(resolve));
   const workers = [];
-  const lane = async (worker) => {
+  const lane = async (k) => {
     for (;;) {
       const i = next++;
       if (i >= n) return;
-      while (i >= head + window && !failure) await changed();
-      if (failure) return;
       const input = inputs[i];
-      slots[i % window] = input.path === '-' && !input.err ? await reportOne(input, a) : await worker.run(input);
+      const estimate = peakEstimate(input, budget);
+      while (!failure && !(i < head + window && admitted === i &&
+        (reading === 0 || (inFlight <= budget && estimate <= budget - inFlight)))) await changed();
+      if (failure) return;
+      if (a.jobsLog) events += `jobs-log: start ${i} ${estimate} ${reading} ${inFlight}\n`;
+      ++admitted;
+      ++reading;
+      inFlight = estimate > U64_MAX - inFlight ? U64_MAX : inFlight + estimate;
+      wake(); // input i + 1 may start now
+      const onMain = input.path === '-' && !input.err;
+      const r = onMain ? await reportOne(input, a) : await workers[k].run(input);
+      if (!onMain && estimate > RECYCLE_ESTIMATE) {
+        const old = workers[k];
+        workers[k] = startWorker(a);
+        await old.terminate();
+      }
+      slots[i % window] = r;
+      --reading;
+      inFlight = reading === 0 ? 0n : inFlight - (estimate < inFlight ? estimate : inFlight);
+      if (a.jobsLog) events += `jobs-log: end ${i}\n`;
       wake();
     }
   };
   try {
     for (let k = 0; k < jobs; ++k) {
-      const w = startWorker(a);
-      workers.push(w);
-      lane(w).catch((e) => {
+      workers.push(startWorker(a));
+      lane(k).catch((e) => {
         failure = failure || e;
         wake();
       });
@@ -259,6 +311,7 @@ export async function reportAll(inputs, a, jobs, emit) {
     wake();
     await Promise.all(workers.map((w) => w.terminate()));
   }
+  if (a.jobsLog) process.stderr.write(events);
   return rc;
 }
 

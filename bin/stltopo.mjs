@@ -16,7 +16,7 @@ const wasm = cliCalls(_internal);
 const USAGE =
   "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n" +
   "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N]\n" +
-  "                    [--jobs N] [--list LIST]... FILE|DIR...\n" +
+  "                    [--jobs N] [--max-memory N] [--list LIST]... FILE|DIR...\n" +
   "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n" +
   "  their mesh and topology. --json prints one JSON object per file, one per line.\n" +
   "  A DIR is searched recursively for *.stl files (any case), sorted bytewise by path\n" +
@@ -24,6 +24,9 @@ const USAGE =
   "  from LIST, one per line ('-': standard input). Files are reported in the order\n" +
   "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n" +
   "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n" +
+  "  Files start in order, each only while the files being read fit in --max-memory N\n" +
+  "  bytes (default: half the machine's memory), a file counted at 2.5 times its size;\n" +
+  "  a larger one, or one of unknown size ('-', a pipe), is read alone.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +
@@ -74,7 +77,7 @@ async function main(argv) {
   const a = {
     json: false, topology: DEFAULTS.topology, tolerance: DEFAULTS.tolerance, maxTriangles: DEFAULTS.maxTriangles,
     maxBytes: DEFAULTS.maxBytes, shells: false, defects: false, maxDefects: -1, intersections: false,
-    maxPairs: DEFAULTS.maxPairs, jobs: 1, threads: 1, inputs: [],
+    maxPairs: DEFAULTS.maxPairs, jobs: 1, maxMemory: 0n, jobsLog: false, threads: 1, inputs: [],
   };
   let endOfOptions = false;
   for (let i = 1; i < argv.length; ++i) {
@@ -130,6 +133,14 @@ async function main(argv) {
       const n = parseCUnsigned(v);
       if (v === '' || v[0] === '-' || n === null || n === 0n || n > 256n) return usageError(`stltopo: bad --jobs '${v}' (1 to 256)\n`);
       a.jobs = Number(n);
+    } else if (!endOfOptions && s === '--max-memory') {
+      const v = value('--max-memory');
+      if (v === null) return;
+      const n = parseCUnsigned(v);
+      if (v === '' || v[0] === '-' || n === null || n === 0n) return usageError(`stltopo: bad --max-memory '${v}'\n`);
+      a.maxMemory = n;
+    } else if (!endOfOptions && s === '--test-jobs-log') { // not in the usage: the tests' view of the gate
+      a.jobsLog = true;
     } else if (!endOfOptions && s === '--list') {
       const v = value('--list');
       if (v === null) return;

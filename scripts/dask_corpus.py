@@ -10,7 +10,8 @@ usage: /usr/bin/python3 scripts/dask_corpus.py (SCHEDULER | --local N) STLTOPO [
   STLTOPO     the native CLI (build/stltopo).
   --batch K   files per task (default 1): one stltopo process reports K files.
   INFO FLAGS  passed to every `stltopo info` (--json, --shells, --defects, --intersections,
-              --tolerance D, --max-defects N, ...); --jobs is not (the workers are the jobs).
+              --tolerance D, --max-defects N, ...); --jobs and --max-memory are not (the workers
+              are the jobs).
 
 The inputs are expanded as `stltopo info` expands them (a DIR is walked for *.stl files,
 any case, sorted bytewise by path, links to directories not followed; --list reads FILE and
@@ -162,6 +163,8 @@ def main(argv):
             flags.append(s)
         elif s == b"--jobs":
             usage_error("--jobs is the cluster's: one task per worker thread (--local N, dask-worker --nworkers)")
+        elif s == b"--max-memory":
+            usage_error("--max-memory is the cluster's: a worker's memory (dask-worker --memory-limit)")
         else:
             usage_error("unknown option '%s'" % os.fsdecode(s))
     if not inputs:

@@ -32,7 +32,7 @@ namespace {
 const char* kUsage =
     "usage: stltopo info [--json] [--shells] [--defects] [--max-defects N] [--intersections] [--max-pairs N]\n"
     "                    [--no-topology] [--tolerance D] [--max-triangles N] [--max-bytes N] [--threads N]\n"
-    "                    [--jobs N] [--list LIST]... FILE|DIR...\n"
+    "                    [--jobs N] [--max-memory N] [--list LIST]... FILE|DIR...\n"
     "  Reads STL files (binary or ASCII; '-' reads standard input in chunks) and reports\n"
     "  their mesh and topology. --json prints one JSON object per file, one per line.\n"
     "  A DIR is searched recursively for *.stl files (any case), sorted bytewise by path\n"
@@ -40,6 +40,9 @@ const char* kUsage =
     "  from LIST, one per line ('-': standard input). Files are reported in the order\n"
     "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n"
     "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n"
+    "  Files start in order, each only while the files being read fit in --max-memory N\n"
+    "  bytes (default: half the machine's memory), a file counted at 2.5 times its size;\n"
+    "  a larger one, or one of unknown size ('-', a pipe), is read alone.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
@@ -73,7 +76,9 @@ struct Args {
   uint32_t maxTriangles = 1u << 28;
   uint64_t maxBytes = 0;
   unsigned jobs = 1;
-  unsigned threads = 0;  // per file; 0 (the default): the machine's cores
+  uint64_t maxMemory = 0;  // --max-memory; 0: half the machine's memory
+  bool jobsLog = false;    // the hidden --test-jobs-log
+  unsigned threads = 0;    // per file; 0 (the default): the machine's cores
   // The inputs in the order given: a FILE or DIR argument, or (list true) a --list LIST.
   struct Arg {
     std::string path;
@@ -93,7 +98,7 @@ struct Args {
 // Nothing is touched: a block the heap cannot give, or that glibc maps apart, changes nothing.
 // The block stays below half the trim threshold, so that freeing it never trims the heap.
 constexpr int kHeapTrimThreshold = 1 << 30;  // main()'s M_TRIM_THRESHOLD
-void* volatile heapPad = nullptr;  // adviseHeap's pad, kept (volatile: an unused malloc is elided)
+void* volatile heapPad = nullptr;            // adviseHeap's pad, kept (volatile: an unused malloc is elided)
 void adviseHeap(uint64_t bytes) {
 #if defined(__GLIBC__)
   static std::mutex m;
@@ -348,11 +353,42 @@ bool print(const Result& r) {
   return r.ok;
 }
 
+// What reading an input may take at its peak, for the memory gate of `info --jobs N`: 2.5
+// times a regular file's size. A binary file's arrays take up to about 1.9 times its size
+// (95 B a triangle with the whole topology; `info` keeps about 72), 2.4 with --intersections
+// (121 B a triangle on 16 threads, bench/PROFILE.md *Stop 58*), an ASCII file's far less.
+// Standard input, a pipe or a device has no size to go by: it counts as the whole budget,
+// so it is read alone. An input that cannot be looked at counts as nothing: it fails when
+// it is opened.
+uint64_t peakEstimate(const Input& in, uint64_t budget) {
+  if (in.err) return 0;
+  if (in.path == "-") return budget;
+  struct stat st;
+  if (stat(in.path.c_str(), &st) != 0) return 0;
+  if (!S_ISREG(st.st_mode)) return budget;
+  const uint64_t size = uint64_t(st.st_size);
+  return size > UINT64_MAX / 5 ? UINT64_MAX : size * 5 / 2;
+}
+
+// Half the machine's memory: the default of --max-memory (no limit when it is unknown).
+uint64_t defaultMemoryBudget() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return UINT64_MAX;
+  return uint64_t(pages) / 2 * uint64_t(page);
+}
+
 // Reports every input in order with `jobs` threads: each takes the next index, and the
 // main thread prints the reports in input order. A thread starts input i only when it is
 // fewer than `window` inputs after the first one not yet printed, so a slow file holds at
-// most `window` finished reports in memory. 0 when every file was read, else 1.
-int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jobs) {
+// most `window` finished reports in memory, and only when the memory gate lets it:
+// inputs are let in in input order, each while the peak estimates of the inputs being
+// read, its own included, stay within `budget`, or when no other input is being read (so
+// a larger one is read alone, and never waits for ever). Without the gate, eight 40M-triangle
+// files on `--jobs 8` would ask for some 23 GB at once, and the kernel's OOM killer would
+// stop every report, not one. `log` (the hidden --test-jobs-log) prints, after the reports,
+// each start and end in the order they happened, for the tests. 0 when every file was read,
+// else 1.
+int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jobs, uint64_t budget, bool log) {
   const size_t n = inputs.size();
   int rc = 0;
   if (jobs > n) jobs = unsigned(n);
@@ -365,24 +401,43 @@ int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jo
   std::vector<Result> slots(window);
   std::vector<char> ready(window, 0);
   std::atomic<size_t> next{0};
-  size_t head = 0;  // the first input not yet printed (under mu)
+  // Under mu: the first input not yet printed; the gate's count of inputs let in, of inputs
+  // being read and the sum of their estimates; the log.
+  size_t head = 0, admitted = 0;
+  unsigned reading = 0;
+  uint64_t inFlight = 0;
+  std::string events;
   std::mutex mu;
-  std::condition_variable space, done;
+  std::condition_variable space, done;  // space: head, admitted or reading changed
   auto work = [&] {
     for (;;) {
       const size_t i = next.fetch_add(1);
       if (i >= n) return;
+      const uint64_t estimate = peakEstimate(inputs[i], budget);
       {
         std::unique_lock<std::mutex> lock(mu);
-        space.wait(lock, [&] { return i < head + window; });
+        space.wait(lock, [&] {
+          return i < head + window && admitted == i &&
+                 (reading == 0 || (inFlight <= budget && estimate <= budget - inFlight));
+        });
+        if (log)
+          events += "jobs-log: start " + std::to_string(i) + " " + std::to_string(estimate) + " " +
+                    std::to_string(reading) + " " + std::to_string(inFlight) + "\n";
+        ++admitted, ++reading;
+        inFlight = estimate > UINT64_MAX - inFlight ? UINT64_MAX : inFlight + estimate;
       }
+      space.notify_all();  // input i + 1 may start now
       Result r = reportOne(inputs[i], c);
       {
         std::lock_guard<std::mutex> lock(mu);
         slots[i % window] = std::move(r);
         ready[i % window] = 1;
+        --reading;
+        inFlight = reading == 0 ? 0 : inFlight - std::min(inFlight, estimate);
+        if (log) events += "jobs-log: end " + std::to_string(i) + "\n";
       }
       done.notify_one();
+      space.notify_all();
     }
   };
   std::vector<std::thread> threads;
@@ -411,6 +466,7 @@ int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jo
     if (!print(r)) rc = 1;
   }
   for (std::thread& t : threads) t.join();
+  if (log) std::fputs(events.c_str(), stderr);
   return rc;
 }
 
@@ -884,6 +940,17 @@ int main(int argc, char** argv) {
         return 2;
       }
       a.jobs = unsigned(n);
+    } else if (!endOfOptions && s == "--max-memory") {
+      const char* v = value("--max-memory");
+      char* end;
+      unsigned long long n = std::strtoull(v, &end, 10);  // past 2^64 - 1: that (no limit)
+      if (*end || !*v || *v == '-' || n == 0) {
+        std::fprintf(stderr, "stltopo: bad --max-memory '%s'\n", v);
+        return 2;
+      }
+      a.maxMemory = n;
+    } else if (!endOfOptions && s == "--test-jobs-log") {  // not in the usage: the tests' view of the gate
+      a.jobsLog = true;
     } else if (!endOfOptions && s == "--list") {
       a.inputs.push_back({value("--list"), true});
     } else if (!endOfOptions && s == "--threads") {
@@ -959,5 +1026,5 @@ int main(int argc, char** argv) {
   c.io.maxPairs = a.maxPairs;
   c.maxDefects = a.maxDefects >= 0 ? uint32_t(a.maxDefects) : a.json ? 1000 : 5;
   if (jobs <= 1 || inputs.size() <= 1) oneMallocArena();
-  return reportAll(inputs, c, jobs);
+  return reportAll(inputs, c, jobs, a.maxMemory ? a.maxMemory : defaultMemoryBudget(), a.jobsLog);
 }

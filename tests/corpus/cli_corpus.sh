@@ -6,7 +6,10 @@
 #    lines) print the same bytes;
 #  - a missing file and a broken file in the middle print their error lines in place,
 #    every other file is still reported, and the exit status is 1;
-#  - a link loop in a DIR ends; --jobs 0 / 257 / x are usage errors (exit 2).
+#  - a link loop in a DIR ends; --jobs 0 / 257 / x are usage errors (exit 2);
+#  - the memory gate: --max-memory changes no byte; the files start in order, each while the
+#    estimates of the files being read fit in the budget or alone (the hidden --test-jobs-log);
+#    an input of unknown size (a FIFO) is read alone: the next one is not even opened.
 set -uo pipefail
 cli=$1
 cd "$2" || exit 1
@@ -74,6 +77,54 @@ ln -s nothing.stl "$tmp/d/gone.stl"
 timeout 20 "$cli" info --json --jobs 2 "$tmp/d" >"$tmp/loop.out"
 [ $? = 1 ] || fail "the link loop: exit status 1 expected (the broken link)"
 [ "$(wc -l <"$tmp/loop.out")" -eq 2 ] || fail "the link loop: two files expected"
+
+# The memory gate. The log's lines: "start I ESTIMATE READING INFLIGHT" (the files being read
+# and the sum of their estimates when I started) and "end I".
+gate() { # gate NAME BUDGET JOBS: the log keeps the gate's rules
+  awk -v budget="$2" -v jobs="$3" -v name="$1" '
+    $2 == "start" {
+      if ($3 != next_i) { print name ": file " $3 " started out of order"; bad = 1 }
+      next_i = $3 + 1
+      if ($5 > 0 && $6 + $4 > budget) { print name ": file " $3 " started beside " $5 " over the budget"; bad = 1 }
+      if ($5 >= jobs) { print name ": more than " jobs " files at once"; bad = 1 }
+      starts++
+    }
+    END { if (starts == 0) { print name ": no log"; bad = 1 } exit bad }' next_i=0 "$tmp/$1.err" || fail "the memory gate ($1)"
+}
+run m1 --json --jobs 3 --max-memory 1 tests/fixtures
+same j1 m1
+"$cli" info --json --jobs 3 --max-memory 1 --test-jobs-log tests/fixtures >"$tmp/m1log.out" 2>"$tmp/m1log.err"
+cmp -s "$tmp/j1.out" "$tmp/m1log.out" || fail "--test-jobs-log changed the output"
+gate m1log 1 1
+[ "$(grep -c ' start ' "$tmp/m1log.err")" -eq "$n" ] || fail "the log has not every file"
+for budget in 3000000 30000000; do
+  "$cli" info --json --jobs 4 --max-memory $budget --test-jobs-log tests/fixtures >"$tmp/m$budget.out" 2>"$tmp/m$budget.err"
+  cmp -s "$tmp/j1.out" "$tmp/m$budget.out" || fail "--max-memory $budget changed the output"
+  gate "m$budget" $budget 4
+done
+grep -q ' start [0-9]* [0-9]* [1-9]' "$tmp/m30000000.err" || fail "a budget of 30 MB never read two files at once"
+# Two FIFOs on --jobs 2: the second is not opened while the first waits for its writer (a
+# non-blocking open for writing fails with ENXIO while no reader has the FIFO open).
+mkfifo "$tmp/fa.stl" "$tmp/fb.stl"
+"$cli" info --json --jobs 2 "$tmp/fa.stl" "$tmp/fb.stl" >"$tmp/fifo.out" 2>"$tmp/fifo.err" &
+pid=$!
+sleep 1
+python3 - "$tmp/fb.stl" <<'PY' || fail "the second FIFO was opened while the first was read"
+import errno, os, sys
+try:
+    os.close(os.open(sys.argv[1], os.O_WRONLY | os.O_NONBLOCK))
+    sys.exit(1)
+except OSError as e:
+    sys.exit(0 if e.errno == errno.ENXIO else 1)
+PY
+cat "$good" >"$tmp/fa.stl"
+cat "$good" >"$tmp/fb.stl"
+wait $pid || fail "the FIFOs' run failed"
+[ "$(wc -l <"$tmp/fifo.out")" -eq 2 ] && ! grep -q error "$tmp/fifo.out" || fail "the FIFOs' reports"
+for bad in 0 x -1 '' 1.5; do
+  "$cli" info --jobs 2 --max-memory "$bad" tests/fixtures >/dev/null 2>&1
+  [ $? = 2 ] || fail "--max-memory '$bad' is a usage error"
+done
 
 for bad in 0 257 x -1 ''; do
   "$cli" info --jobs "$bad" tests/fixtures >/dev/null 2>&1

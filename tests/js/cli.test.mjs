@@ -4,7 +4,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync, symlinkSync, writeFileSync } from 'node:fs';
+import { closeSync, constants, mkdirSync, mkdtempSync, openSync, readFileSync, readdirSync, rmSync, symlinkSync, writeFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { damagedTorus, fixtures, fixture, indexedStl, nativeCli, haveNativeCli, pool, root, runAsync, shuffleTriangles } from './helpers.mjs';
@@ -150,6 +150,58 @@ test('usage errors and help: exit code 2 / 0, same messages', { skip }, () => {
   }
   assert.equal(wasm([]).status, 2);
   assert.equal(wasm(['--help']).status, 0);
+});
+
+// The log of the hidden --test-jobs-log keeps the memory gate's rules: files start in order,
+// each beside others only while the estimates fit the budget, at most `jobs` at once.
+function assertGate(log, budget, jobs, n) {
+  const starts = log.toString().split('\n').filter((l) => l.startsWith('jobs-log: start '))
+    .map((l) => l.split(' ').slice(2).map(BigInt));
+  assert.equal(starts.length, n, 'a start for every file');
+  starts.forEach(([i, estimate, reading, inFlight], k) => {
+    assert.equal(i, BigInt(k), 'in input order');
+    assert.ok(reading === 0n || inFlight + estimate <= BigInt(budget), `file ${i} over the budget ${budget}`);
+    assert.ok(reading < BigInt(jobs), `file ${i}: more than ${jobs} at once`);
+  });
+  return starts;
+}
+
+test('corpus: the memory gate of --jobs N (--max-memory), and FIFOs read alone, in both CLIs', { skip }, async (t) => {
+  const tmp = mkdtempSync(path.join(os.tmpdir(), 'stltopo-gate-'));
+  t.after(() => rmSync(tmp, { recursive: true, force: true }));
+  const serial = native(['info', '--json', 'tests/fixtures']);
+  const n = serial.stdout.toString().trimEnd().split('\n').length;
+  for (const [cli, budget] of [[native, '30000000'], [wasm, '30000000'], [wasm, '1']]) {
+    const r = cli(['info', '--json', '--jobs', '3', '--max-memory', budget, '--test-jobs-log', 'tests/fixtures']);
+    assert.ok(r.stdout.equals(serial.stdout), `--max-memory ${budget}`);
+    const starts = assertGate(r.stderr, budget, 3, n);
+    if (budget === '1') assert.ok(starts.every(([, , reading]) => reading === 0n), 'a budget of 1 byte: one at a time');
+  }
+  // Every worker replaced after each file (the threshold above which a worker's wasm heap
+  // goes with it): the same bytes.
+  const recycled = spawnSync(process.execPath, [npmCli, 'info', '--json', '--jobs', '2', 'tests/judge/cases'],
+    { cwd: root, env: { ...process.env, STLTOPO_TEST_RECYCLE_BYTES: '1' } });
+  assert.ok(recycled.stdout.equals(native(['info', '--json', 'tests/judge/cases']).stdout), 'workers replaced');
+  // Two FIFOs on --jobs 2: a pipe has no size, so each is read alone; the second is not
+  // opened while the first waits for its writer (then a non-blocking open for writing fails).
+  const good = readFileSync(fixture('bunny.stl'));
+  for (const [name, cmd, pre] of [['native', nativeCli, []], ['npm', process.execPath, [npmCli]]]) {
+    const [fa, fb] = ['a', 'b'].map((x) => path.join(tmp, `${name}-${x}.stl`));
+    assert.equal(spawnSync('mkfifo', [fa, fb]).status, 0);
+    const done = runAsync(cmd, [...pre, 'info', '--json', '--jobs', '2', fa, fb], '', { cwd: root });
+    await new Promise((resolve) => setTimeout(resolve, 1500));
+    assert.throws(() => closeSync(openSync(fb, constants.O_WRONLY | constants.O_NONBLOCK)), { code: 'ENXIO' },
+      `${name}: the second FIFO was opened while the first was read`);
+    writeFileSync(fa, good);
+    writeFileSync(fb, good);
+    const r = await done;
+    assert.equal(r.status, 0, `${name}: ${r.stderr}`);
+    assert.equal(r.stdout.toString().trimEnd().split('\n').length, 2);
+  }
+  for (const bad of [['--max-memory', '0'], ['--max-memory', 'x'], ['--max-memory', '-1'], ['--max-memory', ''],
+    ['--max-memory', '1.5'], ['--max-memory']]) {
+    assert.equal(assertSameRun(['info', '--json', '--jobs', '2', ...bad, 'tests/judge/cases']).status, 2, bad.join(' '));
+  }
 });
 
 test('corpus: DIRs, --list and --jobs N print the same bytes in both CLIs, failures in place', { skip }, (t) => {
