@@ -197,11 +197,12 @@ const U64_MAX = (1n << 64n) - 1n;
 
 /**
  * What reading an input may take at its peak, for the memory gate (tools/cli.cpp
- * peakEstimate): 2.5 times a regular file's size; standard input, a pipe or a device counts
- * as the whole budget (read alone); an input that cannot be looked at, as nothing (it fails
- * when opened). BigInts, as the native CLI's uint64_t.
+ * peakEstimate, which gives the measured worst cases): `factor` times a regular file's size;
+ * standard input, a pipe or a device counts as the whole budget (read alone); an input that
+ * cannot be looked at, as nothing (it fails when opened). BigInts, as the native CLI's
+ * uint64_t.
  */
-function peakEstimate(input, budget) {
+function peakEstimate(input, budget, factor) {
   if (input.err) return 0n;
   if (input.path === '-') return budget;
   let st;
@@ -211,7 +212,7 @@ function peakEstimate(input, budget) {
     return 0n;
   }
   if (!st.isFile()) return budget;
-  return st.size > U64_MAX / 5n ? U64_MAX : (st.size * 5n) / 2n;
+  return st.size > U64_MAX / factor ? U64_MAX : st.size * factor;
 }
 
 // A worker that read a file past this estimate is replaced by a fresh one: a wasm heap
@@ -265,7 +266,7 @@ export async function reportAll(inputs, a, jobs, emit) {
       const i = next++;
       if (i >= n) return;
       const input = inputs[i];
-      const estimate = peakEstimate(input, budget);
+      const estimate = peakEstimate(input, budget, a.shells ? 48n : 8n);
       while (!failure && !(i < head + window && admitted === i &&
         (reading === 0 || (inFlight <= budget && estimate <= budget - inFlight)))) await changed();
       if (failure) return;

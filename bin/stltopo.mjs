@@ -25,8 +25,8 @@ const USAGE =
   "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n" +
   "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n" +
   "  Files start in order, each only while the files being read fit in --max-memory N\n" +
-  "  bytes (default: half the machine's memory), a file counted at 2.5 times its size;\n" +
-  "  a larger one, or one of unknown size ('-', a pipe), is read alone.\n" +
+  "  bytes (default: half the machine's memory), a file counted at 8 times its size (48\n" +
+  "  with --shells); a larger one, or one of unknown size ('-', a pipe), is read alone.\n" +
   "  --shells adds a report per shell, --defects every defect with its location (the\n" +
   "  first N of each kind, default 1000; the text report always lists the first 5).\n" +
   "  --intersections finds every self-intersecting pair (exact), how shells nest and\n" +

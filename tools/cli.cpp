@@ -41,8 +41,8 @@ const char* kUsage =
     "  given, DIRs and LISTs expanded in place; a failed file never stops the others.\n"
     "  --jobs N reads N files at a time (1 to 256, default 1); the output is the same.\n"
     "  Files start in order, each only while the files being read fit in --max-memory N\n"
-    "  bytes (default: half the machine's memory), a file counted at 2.5 times its size;\n"
-    "  a larger one, or one of unknown size ('-', a pipe), is read alone.\n"
+    "  bytes (default: half the machine's memory), a file counted at 8 times its size (48\n"
+    "  with --shells); a larger one, or one of unknown size ('-', a pipe), is read alone.\n"
     "  --shells adds a report per shell, --defects every defect with its location (the\n"
     "  first N of each kind, default 1000; the text report always lists the first 5).\n"
     "  --intersections finds every self-intersecting pair (exact), how shells nest and\n"
@@ -353,21 +353,23 @@ bool print(const Result& r) {
   return r.ok;
 }
 
-// What reading an input may take at its peak, for the memory gate of `info --jobs N`: 2.5
-// times a regular file's size. A binary file's arrays take up to about 1.9 times its size
-// (95 B a triangle with the whole topology; `info` keeps about 72), 2.4 with --intersections
-// (121 B a triangle on 16 threads, bench/PROFILE.md *Stop 58*), an ASCII file's far less.
-// Standard input, a pipe or a device has no size to go by: it counts as the whole budget,
-// so it is read alone. An input that cannot be looked at counts as nothing: it fails when
-// it is opened.
-uint64_t peakEstimate(const Input& in, uint64_t budget) {
+// What reading an input may take at its peak, for the memory gate of `info --jobs N`: a
+// multiple of a regular file's size, from the worst cases measured (peak RSS of `info --json`
+// over the file's size; the npm CLI's in brackets, Node included): a welded mesh 1.6-2.4
+// (2.6), the 1M torus with every flag; a triangle soup, no corner shared, 6.5-7.5 (7.5), its 3
+// vertices a triangle in every array and in the weld's table; and with --shells a soup's
+// report is a shell a triangle, 400 bytes of JSON each: 30-35 (47). So 8 times the size, 48
+// with --shells. Standard input, a pipe or a device has no size to go by: it counts as the
+// whole budget, so it is read alone. An input that cannot be looked at counts as nothing: it
+// fails when it is opened.
+uint64_t peakEstimate(const Input& in, uint64_t budget, uint64_t factor) {
   if (in.err) return 0;
   if (in.path == "-") return budget;
   struct stat st;
   if (stat(in.path.c_str(), &st) != 0) return 0;
   if (!S_ISREG(st.st_mode)) return budget;
   const uint64_t size = uint64_t(st.st_size);
-  return size > UINT64_MAX / 5 ? UINT64_MAX : size * 5 / 2;
+  return size > UINT64_MAX / factor ? UINT64_MAX : size * factor;
 }
 
 // Half the machine's memory: the default of --max-memory (no limit when it is unknown).
@@ -413,7 +415,7 @@ int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jo
     for (;;) {
       const size_t i = next.fetch_add(1);
       if (i >= n) return;
-      const uint64_t estimate = peakEstimate(inputs[i], budget);
+      const uint64_t estimate = peakEstimate(inputs[i], budget, c.shells ? 48 : 8);
       {
         std::unique_lock<std::mutex> lock(mu);
         space.wait(lock, [&] {
