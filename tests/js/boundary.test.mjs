@@ -146,3 +146,38 @@ test('the entry points export the public API only (no _internal, no fileSource),
     ['fromBufferGeometry', 'holesToLineSegments', 'problemEdgesToLineSegments', 'srgbByteTable', 'toBufferGeometry']);
   await assert.rejects(import('stltopo/dist/instance.node.js'), { code: 'ERR_PACKAGE_PATH_NOT_EXPORTED' });
 });
+
+test('holes and seams are built on first read: a soup loads without a loop object, then gives them all', async () => {
+  // A soup (no corner shared): a hole a triangle. Its loop objects, some 340 bytes of JS heap
+  // each, were built by every load, and ended Node with a fatal out-of-memory at 11M.
+  const n = 5000;
+  const bytes = new Uint8Array(84 + 50 * n);
+  const dv = new DataView(bytes.buffer);
+  dv.setUint32(80, n, true);
+  for (let t = 0; t < n; ++t) {
+    const corners = [[t, 0, 0], [t + 0.5, 1, 0], [t, 0, 1]];
+    corners.forEach((c, k) => c.forEach((x, j) => dv.setFloat32(84 + 50 * t + 12 + 12 * k + 4 * j, x, true)));
+  }
+  for (const m of [await loadStl(bytes), await loadStl(bytes, { view: true }), await worker.loadStl(bytes)]) {
+    for (const key of ['holes', 'seams']) {
+      assert.equal(typeof Object.getOwnPropertyDescriptor(m, key).get, 'function', `${key} not built by the load`);
+    }
+    assert.equal(m.stats.holes, n);
+    const holes = m.holes;
+    assert.equal(Object.getOwnPropertyDescriptor(m, 'holes').value, holes, 'built once, then a plain property');
+    assert.equal(Object.getOwnPropertyDescriptor(m, 'seams').value.length, 0, 'seams built with them');
+    assert.equal(holes.length, n);
+    const { offsets, halfedges } = m.loops;
+    holes.forEach((h, i) => {
+      assert.equal(h.id, i);
+      assert.equal(h.face, n + i);
+      assert.deepEqual([...h.halfedges], [...halfedges.subarray(offsets[i], offsets[i + 1])]);
+      assert.deepEqual([...h.vertices], [...h.halfedges].map((e) => m.halfedges.vert[e]));
+      assert.equal(h.edgeCount, 3);
+    });
+    assert.deepEqual(Object.keys(m).filter((k) => k === 'holes' || k === 'seams'), ['holes', 'seams'], 'still own, enumerable');
+    m.holes = [];
+    assert.deepEqual(m.holes, [], 'and writable');
+    m.dispose?.();
+  }
+});

@@ -314,7 +314,10 @@ export declare class Mesh<T extends boolean = boolean> {
   warnings: Warning[];
   /** The threads the load ran on (1 in the single-threaded module; see LoadOptions.threads). */
   threads: number;
-  /** Boundary loops made only of boundary-edge sides. */
+  /**
+   * Boundary loops made only of boundary-edge sides. Built, with `seams`, on first read: a
+   * triangle soup has a loop per triangle (some 300 bytes of JS heap each); `loops` holds them flat.
+   */
   holes: BoundaryLoop[];
   /** Boundary loops that contain cut (inconsistent or non-manifold) sides. */
   seams: BoundaryLoop[];

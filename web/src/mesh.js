@@ -74,7 +74,10 @@ export function untrackSession(owner) {
  * The boundary loops as { holes, seams }, for Mesh and EditableMesh alike: loop h is
  * { id: h, face: nTriangles + h, halfedges, vertices, edgeCount, perimeter }. arrays holds
  * loopOffsets, loopHalfedges, loopIsSeam, loopPerimeter and either loopVertices (the origin
- * of every loop half-edge) or vert.
+ * of every loop half-edge, an array of the loops' own: each loop's vertices are a view of
+ * it) or vert. Both meshes build the lists on first read of `holes` or `seams`: a triangle
+ * soup has a loop per triangle, and its millions of objects (some 340 bytes of JS heap
+ * each) once made a load of an 11M-triangle soup end Node with a fatal out-of-memory.
  */
 export function buildLoops(arrays, nTriangles) {
   const holes = [];
@@ -86,7 +89,7 @@ export function buildLoops(arrays, nTriangles) {
   const vert = arrays.vert;
   for (let h = 0; h + 1 < off.length; ++h) {
     const halfedges = list.subarray(off[h], off[h + 1]);
-    const vertices = lv ? lv.slice(off[h], off[h + 1]) : halfedges.map((e) => vert[e]);
+    const vertices = lv ? lv.subarray(off[h], off[h + 1]) : halfedges.map((e) => vert[e]);
     const loop = { id: h, face: nTriangles + h, halfedges, vertices, edgeCount: halfedges.length, perimeter: arrays.loopPerimeter[h] };
     (arrays.loopIsSeam[h] ? seams : holes).push(loop);
   }
@@ -233,9 +236,22 @@ export class Mesh {
     }
     // A table without the geometry rows (the core module's) still gives the property.
     if (this.intersections === undefined) this.intersections = null;
-    const { holes, seams } = buildLoops(arrays, raw.nTriangles);
-    this.holes = holes;
-    this.seams = seams;
+    // holes and seams: built on first read (buildLoops), then plain properties.
+    let loops = null;
+    for (const key of ['holes', 'seams']) {
+      Object.defineProperty(this, key, {
+        enumerable: true,
+        configurable: true,
+        get: () => { // (the loop arrays are copies, also in a view: readable after dispose())
+          loops ??= buildLoops(arrays, raw.nTriangles);
+          for (const k of ['holes', 'seams']) {
+            Object.defineProperty(this, k, { value: loops[k], enumerable: true, writable: true, configurable: true });
+          }
+          return loops[key];
+        },
+        set: (v) => Object.defineProperty(this, key, { value: v, enumerable: true, writable: true, configurable: true }),
+      });
+    }
     /** The report of each shell (the fields of `info --json --shells`), with { shells: true }. */
     this.shells = raw.hasShells ? JSON.parse(raw.shellsJson) : null;
     // The bbox as the float32 values themselves (the JSON has their shortest digits).
