@@ -301,6 +301,27 @@ test('an inward shell gets its own colour and count', async () => {
   await page.close();
 });
 
+test('a soup of 2,500 triangles: the hole list shows 2,000 and says how many more', async () => {
+  const page = await newPage();
+  await openDemo(page, '?sample=unit-sphere');
+  const nTris = 2500;
+  const buf = Buffer.alloc(84 + 50 * nTris);
+  buf.writeUInt32LE(nTris, 80);
+  for (let t = 0; t < nTris; t++) {
+    [[t, 0, 0], [t + 0.5, 1, 0], [t, 0, 1]].flat().forEach((x, k) => buf.writeFloatLE(x, 84 + 50 * t + 12 + 4 * k));
+  }
+  const n = await loadCount(page);
+  await page.setInputFiles('#file-input', { name: 'soup.stl', mimeType: 'model/stl', buffer: buf });
+  assert.equal(await settle(page, n), 'ready');
+  const list = await page.evaluate(() => ({
+    holes: document.querySelectorAll('#hole-list [data-hole]').length,
+    more: document.querySelector('#hole-list li.more')?.textContent,
+    count: document.querySelector('[data-count="holes"]').textContent,
+  }));
+  assert.deepEqual(list, { holes: 2000, more: '… and 500 more', count: '2500' });
+  await closePage(page);
+});
+
 test('drag and drop of a file onto the page', async () => {
   const page = await newPage();
   await openDemo(page, '?sample=unit-sphere');

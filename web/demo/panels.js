@@ -276,11 +276,14 @@ function renderDefects(mesh) {
   $('#defects-panel').hidden = !any;
 }
 
+// Loops listed at most (a triangle soup has a hole a triangle; the counts say how many).
+const kMaxLoopItems = 2000;
+
 function renderLoops(list, loops, kind, colorOf) {
   const ol = $(list);
   ol.textContent = '';
   const fragment = document.createDocumentFragment();
-  for (const loop of loops) {
+  for (const loop of loops.slice(0, kMaxLoopItems)) {
     const li = document.createElement('li');
     li.dataset[kind] = String(loop.id);
     li.title = `Frame ${kind} ${loop.id}`;
@@ -299,6 +302,12 @@ function renderLoops(list, loops, kind, colorOf) {
       viewer.focusLoop(loop, colorOf(loop));
     });
     fragment.append(li);
+  }
+  if (loops.length > kMaxLoopItems) {
+    const more = document.createElement('li');
+    more.className = 'more';
+    more.textContent = `… and ${loops.length - kMaxLoopItems} more`;
+    fragment.append(more);
   }
   ol.append(fragment);
 }
