@@ -76,7 +76,7 @@ export function untrackSession(owner) {
  * loopOffsets, loopHalfedges, loopIsSeam, loopPerimeter and either loopVertices (the origin
  * of every loop half-edge, an array of the loops' own: each loop's vertices are a view of
  * it) or vert. Both meshes build the lists on first read of `holes` or `seams`: a triangle
- * soup has a loop per triangle, and its millions of objects (some 340 bytes of JS heap
+ * soup has a loop per triangle, and its millions of objects (some 300 bytes of JS heap
  * each) once made a load of an 11M-triangle soup end Node with a fatal out-of-memory.
  */
 export function buildLoops(arrays, nTriangles) {
