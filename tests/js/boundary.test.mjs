@@ -180,4 +180,11 @@ test('holes and seams are built on first read: a soup loads without a loop objec
     assert.deepEqual(m.holes, [], 'and writable');
     m.dispose?.();
   }
+  // Set before the first read: the value set stays when the other list is built.
+  const set = await loadStl(bytes);
+  set.holes = [];
+  assert.deepEqual(set.seams, []);
+  assert.deepEqual(set.holes, [], 'the holes set before seams were read');
+  set.seams = ['x'];
+  assert.deepEqual(set.seams, ['x']);
 });

@@ -40,6 +40,10 @@ export const liveSession = new WeakMap();
 export const workerHome = new WeakMap();
 const layouts = new WeakMap(); // mesh -> the array table it was made with
 
+// Makes obj[key] a plain property holding value (where a first-read getter was).
+const settle = (obj, key, value) =>
+  Object.defineProperty(obj, key, { value, enumerable: true, writable: true, configurable: true });
+
 // findIntersections() of the instance that made the API (wasm.js): the full module.
 let intersectionFinder = null;
 export function setIntersectionFinder(f) {
@@ -218,7 +222,7 @@ export class Mesh {
             if (this.#disposed) throw disposedError();
             derived ??= deriveHalfedges(live ? liveArrays() : arrays, raw.nTriangles);
             const a = derived[d.name];
-            if (!live) Object.defineProperty(obj, d.key, { value: a, enumerable: true, writable: true, configurable: true });
+            if (!live) settle(obj, d.key, a);
             return a;
           },
         });
@@ -236,20 +240,18 @@ export class Mesh {
     }
     // A table without the geometry rows (the core module's) still gives the property.
     if (this.intersections === undefined) this.intersections = null;
-    // holes and seams: built on first read (buildLoops), then plain properties.
-    let loops = null;
+    // holes and seams: built together on the first read of either (buildLoops), then plain
+    // properties; one the caller set first keeps its value.
     for (const key of ['holes', 'seams']) {
       Object.defineProperty(this, key, {
         enumerable: true,
         configurable: true,
         get: () => { // (the loop arrays are copies, also in a view: readable after dispose())
-          loops ??= buildLoops(arrays, raw.nTriangles);
-          for (const k of ['holes', 'seams']) {
-            Object.defineProperty(this, k, { value: loops[k], enumerable: true, writable: true, configurable: true });
-          }
+          const loops = buildLoops(arrays, raw.nTriangles);
+          for (const k of ['holes', 'seams']) if (Object.getOwnPropertyDescriptor(this, k).get) settle(this, k, loops[k]);
           return loops[key];
         },
-        set: (v) => Object.defineProperty(this, key, { value: v, enumerable: true, writable: true, configurable: true }),
+        set: (v) => settle(this, key, v),
       });
     }
     /** The report of each shell (the fields of `info --json --shells`), with { shells: true }. */
