@@ -93,8 +93,9 @@ std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* 
 // The report, and the extras' keys (shells_report.cpp) last when `extras` is given: a
 // program that never asks for them links none of their code (the wasm core module).
 std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo,
-                                 const ExtrasWriter* extras) {
+                                 const ExtrasWriter* extras, const ReportSink* sink) {
   Json j;
+  j.sink = sink;
   j.open('{');
   j.key("file");
   j.str(file);

@@ -14,10 +14,18 @@
 namespace stltopo::detail {
 
 // A JSON writer for the reports: s holds the text, `first` whether the next key or
-// element is the first of its object or array.
+// element is the first of its object or array. With a sink (the reports in pieces), spill()
+// hands s to it once it holds a piece, and empties it: the lists call it after each item.
 struct Json {
   std::string s;
   bool first = true;
+  const ReportSink* sink = nullptr;
+  void spill() {
+    if (sink && s.size() >= kReportPiece) {
+      (*sink)(s.data(), s.size());
+      s.clear();
+    }
+  }
   void open(char c) {
     s += c;
     first = true;
@@ -83,7 +91,9 @@ struct ExtrasWriter {
   void (*geometryJson)(Json& j, const ReportExtras& extras);
   void (*geometryText)(std::string& out, const ReportExtras& extras);
 };
-std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
+// The report; with a sink, what is left of it (the pieces spill() handed on come before).
+std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras,
+                         const ReportSink* sink = nullptr);
 std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
 
 }  // namespace stltopo::detail

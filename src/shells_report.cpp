@@ -75,6 +75,7 @@ void loops(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, bool 
       j.close(']');
     }
     j.close('}');
+    j.spill();
   }
   j.close(']');
   j.close('}');
@@ -177,11 +178,14 @@ void detail::writeShellList(Json& j, const Array<Shell>& shells, const ShellNest
   // to are never touched), instead of the string's doublings, each a copy into fresh memory (a
   // fifth of `info --json --shells` of 20,000 shells; bench/PROFILE.md, *Stop 50*). Without
   // the room, the list grows as before.
-  (void)detail::tryReserve(j.s, j.s.size() + shells.size() * (nesting ? 576 : 512));
+  // In pieces (a sink), room for a piece and a shell.
+  const size_t room = shells.size() * (nesting ? 576 : 512);
+  (void)detail::tryReserve(j.s, j.s.size() + (j.sink ? std::min(room, kReportPiece + 4096) : room));
   j.open('[');
   for (size_t i = 0; i < shells.size(); ++i) {
     j.sep();
     writeShell(j, shells[i], uint32_t(i), nesting);
+    j.spill();
   }
   j.close(']');
 }
@@ -206,6 +210,20 @@ std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t 
 std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nesting) {
   Json j;
   detail::writeShellList(j, shells, nesting);
+  return j.s;
+}
+
+std::string shellRangeJson(const Array<Shell>& shells, const ShellNesting* nesting, size_t first, size_t count) {
+  if (nesting && nesting->depth.size() != shells.size()) nesting = nullptr;
+  const size_t end = first >= shells.size() ? first : first + std::min(count, shells.size() - first);
+  Json j;
+  (void)detail::tryReserve(j.s, (end - first) * (nesting ? 576 : 512) + 2);
+  j.open('[');
+  for (size_t i = first; i < end; ++i) {
+    j.sep();
+    writeShell(j, shells[i], uint32_t(i), nesting);
+  }
+  j.close(']');
   return j.s;
 }
 
@@ -245,6 +263,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
         uintList(j, d.inconsistentEdgeTriangles.data() + 2 * i, 2);
       }
       j.close('}');
+      j.spill();
     }
     j.close(']');
     j.close('}');
@@ -265,6 +284,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
     j.key("cycles");
     j.u(d.nonManifoldVertexCycles[i]);
     j.close('}');
+    j.spill();
   }
   j.close(']');
   j.close('}');
@@ -282,6 +302,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
     j.key("corners");
     j.s += '[' + cornerList(d.degenerateCorners[i], ",") + ']';
     j.close('}');
+    j.spill();
   }
   j.close(']');
   j.close('}');
@@ -300,6 +321,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
       j.key("triangle");
       j.u(checks->zeroArea[i]);
       j.close('}');
+      j.spill();
     }
     j.close(']');
     j.close('}');
@@ -323,6 +345,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
       j.key("orientation");
       j.str(duplicateOrientationName(DuplicateOrientation(checks->duplicateOrientation[g])));
       j.close('}');
+      j.spill();
     }
     j.close(']');
     j.close('}');
@@ -351,6 +374,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
       }
       j.close(']');
       j.close('}');
+      j.spill();
     }
     j.close(']');
     j.close('}');
@@ -502,6 +526,13 @@ void geometryText(std::string& o, const ReportExtras& e) {
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
   const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
   return detail::infoJsonWith(file, mesh, topo, &w);
+}
+
+void infoJson(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
+              const ReportExtras& extras) {
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
+  const std::string rest = detail::infoJsonWith(file, mesh, topo, &w, &sink);
+  if (!rest.empty()) sink(rest.data(), rest.size());
 }
 
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {

@@ -16,6 +16,8 @@
 #endif
 
 #include "stl_gen.h"
+#include "stltopo/geometry.h"
+#include "stltopo/report.h"
 #include "stltopo/shells.h"
 
 using namespace stltopo;
@@ -482,6 +484,76 @@ TEST(Shells, ToleranceWeldCountsTheWeldedVertices) {
   EXPECT_TRUE(welded.shells[0].closed());
   EXPECT_EQ(welded.shells[0].vertices, 8u);
   EXPECT_FALSE(exact.shells[0].closed());
+}
+
+// The report in pieces (what `info --json` prints of a triangle soup, a shell a triangle):
+// the pieces joined are the report, each but the last holds at least kReportPiece bytes and
+// at most one list item more, and the shell list in ranges is the shell list.
+TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
+  gen::Soup s;
+  // 3000 pairs of triangles: the second of each crosses the first (an intersection each),
+  // and no two pairs share a corner: 6000 shells, 6000 holes, 3000 crossing pairs.
+  for (int i = 0; i < 3000; ++i) {
+    const float x = float(3 * (i % 60)), y = float(3 * (i / 60));
+    const uint32_t b = uint32_t(s.v.size());
+    s.v.push_back({x, y, 0});
+    s.v.push_back({x + 2, y, 0});
+    s.v.push_back({x, y + 2, 0});
+    s.v.push_back({x + 0.5f, y + 0.5f, -1});
+    s.v.push_back({x + 0.5f, y + 0.5f, 1});
+    s.v.push_back({x + 0.6f, y + 1.5f, 0.5f});
+    s.f.push_back({b, b + 1, b + 2});
+    s.f.push_back({b + 3, b + 4, b + 5});
+  }
+  Analyzed a;
+  analyze(s, a);
+  ASSERT_EQ(a.shells.size(), 6000u);
+  GeometryReport geo;
+  ASSERT_TRUE(analyzeGeometry(a.mesh, a.topo, geo, IntersectionOptions{}, true).ok());
+  ASSERT_EQ(geo.intersections.nPairs(), 3000u);
+  for (int withGeometry = 0; withGeometry < 2; ++withGeometry) {
+    ReportExtras x;
+    x.shells = withGeometry ? &geo.shells : &a.shells;
+    x.defects = &a.defects;
+    x.maxDefects = 100000;
+    if (withGeometry) {
+      x.checks = &geo.checks;
+      x.intersections = &geo.intersections;
+      x.nesting = &geo.nesting;
+      x.solid = geo.solid;
+    }
+    const std::string whole = infoJson("soup.stl", a.mesh, &a.topo, x);
+    std::vector<std::string> pieces;
+    infoJson([&](const char* d, size_t n) { pieces.emplace_back(d, n); }, "soup.stl", a.mesh, &a.topo, x);
+    ASSERT_GE(pieces.size(), 3u) << whole.size();
+    std::string joined;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      joined += pieces[i];
+      if (i + 1 == pieces.size()) break;
+      EXPECT_GE(pieces[i].size(), kReportPiece) << "piece " << i;
+      EXPECT_LT(pieces[i].size(), kReportPiece + 4096) << "piece " << i;
+    }
+    EXPECT_TRUE(joined == whole) << joined.size() << " bytes joined, " << whole.size() << " whole";
+    if (withGeometry) EXPECT_NE(whole.find("\"selfIntersections\":{\"count\":3000,"), std::string::npos);
+  }
+  for (const Array<Shell>* list : {&a.shells, &geo.shells}) {
+    const ShellNesting* nest = list == &geo.shells ? &geo.nesting : nullptr;
+    const std::string whole = shellListJson(*list, nest);
+    std::string joined = "\"shellList\":[";
+    for (size_t first = 0; first < list->size(); first += 1000) {
+      const std::string r = shellRangeJson(*list, nest, first, 1000);
+      ASSERT_GE(r.size(), 2u);
+      EXPECT_EQ(r.front(), '[');
+      EXPECT_EQ(r.back(), ']');
+      if (first) joined += ',';
+      joined += r.substr(1, r.size() - 2);
+    }
+    EXPECT_TRUE(joined + "]" == whole) << joined.size() << " bytes joined, " << whole.size() << " whole";
+    EXPECT_EQ(shellRangeJson(*list, nest, 5999, 1000), "[" + whole.substr(whole.rfind(",{\"id\":5999,") + 1));
+    EXPECT_EQ(shellRangeJson(*list, nest, 6000, 10), "[]");
+    EXPECT_EQ(shellRangeJson(*list, nest, 7000, 10), "[]");
+  }
+  EXPECT_NE(shellListJson(geo.shells, &geo.nesting).find("\"intersectsShells\":[1]"), std::string::npos);
 }
 
 TEST(Shells, RejectsATriangleShellThatDoesNotFit) {

@@ -289,7 +289,9 @@ struct Result {
   std::string out, err;
 };
 
-Result reportOne(const Input& in, const InfoConfig& c) {
+// `direct`: a JSON report goes there in pieces as it is written (stltopo::infoJson with a
+// sink), not into the result: a report of millions of shells is never held whole.
+Result reportOne(const Input& in, const InfoConfig& c, FILE* direct = nullptr) {
   Result r;
   const std::string& file = in.path;
   stltopo::Mesh mesh;
@@ -339,7 +341,12 @@ Result reportOne(const Input& in, const InfoConfig& c) {
   extras.intersections = c.intersections && t ? &geo.intersections : nullptr;
   extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
   extras.solid = geo.solid;
-  r.out = c.json ? stltopo::infoJson(file, mesh, t, extras) + "\n" : stltopo::infoText(file, mesh, t, extras);
+  if (c.json && direct) {
+    stltopo::infoJson([direct](const char* d, size_t n) { std::fwrite(d, 1, n, direct); }, file, mesh, t, extras);
+    std::fputc('\n', direct);
+  } else {
+    r.out = c.json ? stltopo::infoJson(file, mesh, t, extras) + "\n" : stltopo::infoText(file, mesh, t, extras);
+  }
   return r;
 }
 
@@ -396,7 +403,7 @@ int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jo
   if (jobs > n) jobs = unsigned(n);
   if (jobs <= 1) {
     for (const Input& in : inputs)
-      if (!print(reportOne(in, c))) rc = 1;
+      if (!print(reportOne(in, c, stdout))) rc = 1;
     return rc;
   }
   const size_t window = size_t(jobs) * 4;
@@ -452,7 +459,7 @@ int reportAll(const std::vector<Input>& inputs, const InfoConfig& c, unsigned jo
   }
   if (threads.empty()) {  // no thread could start: this one does everything, in order
     for (const Input& in : inputs)
-      if (!print(reportOne(in, c))) rc = 1;
+      if (!print(reportOne(in, c, stdout))) rc = 1;
     return rc;
   }
   for (size_t k = 0; k < n; ++k) {

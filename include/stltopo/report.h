@@ -1,6 +1,8 @@
 // stltopo/report.h: the report `stltopo info` prints (JSON and text).
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 #include "stltopo/geometry.h"
@@ -46,6 +48,16 @@ struct ReportExtras {
 // infoJson with "shellList" and then "defects" as the last keys (`topo` must not be null
 // when `extras` has a member). Keeps the guarantees of infoJson.
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras);
+// Where infoJson(sink, ...) hands its text: `size` bytes at `data`, valid during the call.
+using ReportSink = std::function<void(const char* data, size_t size)>;
+// The size of its pieces: each but the last holds at least this much, and at most this
+// plus one list item (a shell, a defect: a few kB, or a loop's vertex list).
+constexpr size_t kReportPiece = size_t(1) << 20;
+// infoJson with extras, handed to `sink` in pieces as it is written: the pieces, in the order
+// given, are infoJson's string. Never holds the whole report: `info --json --shells` of a
+// triangle soup lists a shell per triangle, some 390 bytes each (770 MB for 2M triangles).
+void infoJson(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
+              const ReportExtras& extras);
 // infoText with the shell lines and then the defect lines after the topology's.
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras);
 // JSON object for a failed file: {"file":..,"error":{code,message,location}}.
