@@ -160,7 +160,8 @@ export async function reportOne(input, a) {
   try {
     return await wasm.report(source, opts);
   } catch (e) {
-    if (!e || !e.code || !String(e.code).startsWith('E')) throw e;
+    // A system error of the read (ENOENT, EIO, ...); anything else is not the file's.
+    if (!e || !/^E[A-Z0-9]+$/.test(String(e.code))) throw e;
     return failed(file, a.json, `invalid-argument: read error on ${file}: ${strerror(e)}`);
   }
 }
@@ -321,7 +322,9 @@ if (!isMainThread && workerData && workerData.stltopoCorpus) {
   parentPort.on('message', async (input) => {
     try {
       const r = await reportOne(input, a);
-      parentPort.postMessage({ ok: r.ok, text: r.text });
+      // A report in pieces (Uint8Arrays) moves without a copy.
+      const pieces = Array.isArray(r.text) ? r.text.map((p) => p.buffer) : [];
+      parentPort.postMessage({ ok: r.ok, text: r.text }, pieces);
     } catch (e) {
       parentPort.postMessage({ error: String((e && e.stack) || e) });
     }

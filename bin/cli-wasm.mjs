@@ -38,7 +38,7 @@ export function cliCalls(internal) {
     yield* sessionCall(entry, readerOf(source, o), async function* shells(session) {
       await readInto(session, entry, source, o);
       inputFormat(w, writeOptions, session);
-      const n = JSON.parse(session.shellListJson()).length;
+      const n = session.shellCount();
       yield { shells: n };
       for (let k = 0; k < n; ++k) {
         yield { k, line: (file) => session.splitLine(file, k) };
@@ -63,7 +63,11 @@ export function cliCalls(internal) {
       await readInto(session, entry, source, o);
       return {
         ok: true,
-        text: json ? `${session.infoJson(file, shells, withDefects, max)}\n` : session.infoText(file, shells, withDefects, max),
+        // The full module's JSON comes in pieces (Uint8Arrays): as one string, a report of
+        // some 1.4M shells would pass V8's string limit.
+        text: !json ? session.infoText(file, shells, withDefects, max)
+          : session.infoJsonPieces ? [...session.infoJsonPieces(file, shells, withDefects, max), new Uint8Array([10])]
+            : `${session.infoJson(file, shells, withDefects, max)}\n`,
       };
     }, {
       async fail(err) {

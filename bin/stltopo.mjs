@@ -52,11 +52,14 @@ const USAGE =
   "  complete. Exit status: 0 when the result is watertight, manifold and solid, 3 when it\n" +
   "  is not (the JSON says which), 1 on failure (error JSON on stderr), 2 on usage errors.\n";
 
-function write(stream, text) {
-  return new Promise((resolve) => {
-    if (stream.write(text)) resolve();
-    else stream.once('drain', resolve);
-  });
+// Writes text (a string, bytes, or an array of them, in order: a report in pieces).
+async function write(stream, text) {
+  for (const piece of Array.isArray(text) ? text : [text]) {
+    await new Promise((resolve) => {
+      if (stream.write(piece)) resolve();
+      else stream.once('drain', resolve);
+    });
+  }
 }
 
 function usageError(message) {

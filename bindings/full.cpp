@@ -57,12 +57,33 @@ class FullSession : public Session {
     return Session::upload(n, size);
   }
 
-  // The shell list as JSON ("[{...},...]"), for mesh.shells; "null" without shells.
-  std::string shellListJson() const {
-    if (!hasShells_) return "null";
-    std::string j = stltopo::shellListJson(shells_, hasIntersections_ ? &nesting_ : nullptr);
-    return j.substr(j.find('['));
+  // infoJson in pieces (stltopo::infoJson with a sink): an array of Uint8Array copies, each
+  // of about a MiB, whose bytes joined are infoJson's: the npm CLI's report, which as one JS
+  // string would stop at V8's string limit (512 MiB: a triangle soup of 1.4M triangles with
+  // --shells), and which the heap then never holds whole.
+  val infoJsonPieces(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    val pieces = val::array();
+    const ReportSink sink = [&pieces](const char* d, size_t n) {
+      pieces.call<void>("push", val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(d))).call<val>("slice"));
+    };
+    stltopo::infoJson(sink, file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
+    return pieces;
   }
+
+  // The shell list, for mesh.shells: an array of Uint8Arrays, each the JSON array of the
+  // next kShellsPerPiece shells (stltopo::shellRangeJson); null without shells. In pieces
+  // for the same reason as infoJsonPieces; JS parses them when mesh.shells is first read.
+  static constexpr size_t kShellsPerPiece = 16384;
+  val shellList() const {
+    if (!hasShells_) return val::null();
+    val pieces = val::array();
+    for (size_t first = 0; first < shells_.size(); first += kShellsPerPiece)
+      pieces.call<void>("push", bytesToJs(shellRangeJson(shells_, hasIntersections_ ? &nesting_ : nullptr, first,
+                                                         kShellsPerPiece)));
+    return pieces;
+  }
+  // The number of shells; -1 without shells.
+  double shellCount() const { return hasShells_ ? double(shells_.size()) : -1; }
 
   // fromIndexed(): builds the mesh from the upload()ed positions, triangles and optional
   // attributes, colors and colorValid (an empty array = not given) and the solids of
@@ -229,7 +250,9 @@ Session* newSession(double maxTriangles, double maxBytes, double sizeHint, bool 
 }
 
 void registerModuleSession(const emscripten::class_<Session>& session) {
-  session.function("shellListJson", &Full<&FullSession::shellListJson>::call)
+  session.function("infoJsonPieces", &Full<&FullSession::infoJsonPieces>::call)
+      .function("shellList", &Full<&FullSession::shellList>::call)
+      .function("shellCount", &Full<&FullSession::shellCount>::call)
       .function("selectShell", &Full<&FullSession::selectShell>::call)
       .function("splitLine", &Full<&FullSession::splitLine>::call)
       .function("intersect", &Full<&FullSession::intersect>::call)

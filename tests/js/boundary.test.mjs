@@ -11,7 +11,7 @@ import path from 'node:path';
 import { loadStl, loadStlFile, StlError, fromIndexed } from 'stltopo';
 import * as worker from 'stltopo/worker';
 import { api } from '../../dist/instance.node.js';
-import { fixture, gridStl, root, nativeCli, haveNativeCli } from './helpers.mjs';
+import { fixture, gridStl, root, nativeCli, haveNativeCli, soupStl } from './helpers.mjs';
 
 const { layout, module: M } = await api.internal.getModule();
 const counts = (m) => ({
@@ -151,13 +151,7 @@ test('holes and seams are built on first read: a soup loads without a loop objec
   // A soup (no corner shared): a hole a triangle. Its loop objects, some 340 bytes of JS heap
   // each, were built by every load, and ended Node with a fatal out-of-memory at 11M.
   const n = 5000;
-  const bytes = new Uint8Array(84 + 50 * n);
-  const dv = new DataView(bytes.buffer);
-  dv.setUint32(80, n, true);
-  for (let t = 0; t < n; ++t) {
-    const corners = [[t, 0, 0], [t + 0.5, 1, 0], [t, 0, 1]];
-    corners.forEach((c, k) => c.forEach((x, j) => dv.setFloat32(84 + 50 * t + 12 + 12 * k + 4 * j, x, true)));
-  }
+  const bytes = soupStl(n);
   for (const m of [await loadStl(bytes), await loadStl(bytes, { view: true }), await worker.loadStl(bytes)]) {
     for (const key of ['holes', 'seams']) {
       assert.equal(typeof Object.getOwnPropertyDescriptor(m, key).get, 'function', `${key} not built by the load`);

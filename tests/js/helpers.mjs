@@ -113,6 +113,21 @@ export function damagedTorus(n, m, seed) {
  * The triangles in an order drawn from `seed` (a Fisher-Yates shuffle), each with its corners
  * rotated once (b, c, a): a file whose triangles are not in spatial order.
  */
+/**
+ * A binary STL of n triangles that share no corner (a soup: a shell and a hole a triangle),
+ * triangle t at x = t.
+ */
+export function soupStl(n) {
+  const bytes = new Uint8Array(84 + 50 * n);
+  const dv = new DataView(bytes.buffer);
+  dv.setUint32(80, n, true);
+  for (let t = 0; t < n; ++t) {
+    const corners = [[t, 0, 0], [t + 0.5, 1, 0], [t, 0, 1]];
+    corners.forEach((c, k) => c.forEach((x, j) => dv.setFloat32(84 + 50 * t + 12 + 12 * k + 4 * j, x, true)));
+  }
+  return bytes;
+}
+
 export function shuffleTriangles(triangles, seed) {
   const nt = triangles.length / 3;
   let s = seed;

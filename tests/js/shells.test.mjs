@@ -8,7 +8,8 @@ import { readFileSync } from 'node:fs';
 import { loadStl, extractShell, DEFECT_KINDS, StlError, kInvalid } from 'stltopo';
 import { api, fileSource } from '../../dist/instance.node.js';
 import { cliCalls } from '../../bin/cli-wasm.mjs';
-import { fixtures, fixture, nativeCli, haveNativeCli, runAsync, pool } from './helpers.mjs';
+import { fixtures, fixture, nativeCli, haveNativeCli, runAsync, pool, soupStl } from './helpers.mjs';
+import * as worker from 'stltopo/worker';
 
 const skip = !haveNativeCli && `no native CLI at ${nativeCli}`;
 
@@ -125,6 +126,38 @@ test('extractShell: each shell of every fixture, positions compacted, attributes
     }
   }
   assert.ok(checked >= 250, `${checked} shells`);
+});
+
+test('mesh.shells of a soup: handed over in pieces, parsed on first read, the native list', { skip }, async () => {
+  // 40,000 shells: three pieces of the bindings' shell list (16,384 shells each). As one
+  // string, the list of a 1.4M-triangle soup passed V8's string limit (ERR_STRING_TOO_LONG
+  // out of loadStl), and its objects took 900 bytes of JS heap a shell on every load.
+  const n = 40000;
+  const bytes = soupStl(n);
+  const dir = mkdtempSync(path.join(tmpdir(), 'stltopo-soup-'));
+  try {
+    const file = path.join(dir, 'soup.stl');
+    writeFileSync(file, bytes);
+    const want = nativeReport(file).shellList.map(fround);
+    assert.equal(want.length, n);
+    for (const m of [await loadStl(bytes, { shells: true }), await loadStl(bytes, { shells: true, view: true }),
+      await worker.loadStl(bytes, { shells: true })]) {
+      assert.equal(typeof Object.getOwnPropertyDescriptor(m, 'shells').get, 'function', 'not parsed by the load');
+      const shells = m.shells;
+      assert.equal(Object.getOwnPropertyDescriptor(m, 'shells').value, shells, 'parsed once, then a plain property');
+      assert.deepEqual(shells, want);
+      assert.ok(Object.keys(m).includes('shells'), 'own and enumerable');
+      m.shells = null;
+      assert.equal(m.shells, null, 'and writable');
+      m.dispose?.();
+    }
+    const set = await loadStl(bytes, { shells: true });
+    set.shells = [];
+    assert.deepEqual(set.shells, [], 'a list set before the first read stays');
+    assert.equal((await loadStl(bytes)).shells, null, 'no shells without { shells: true }');
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
 });
 
 // `stltopo split`: the npm CLI writes the same files (byte for byte) and prints the same

@@ -75,6 +75,24 @@ export function untrackSession(owner) {
 }
 
 /**
+ * The shell objects of a load's shell list: pieces of JSON (Uint8Arrays, each the array of
+ * the next shells; as one string the list of a soup of 1.4M triangles would pass V8's
+ * string limit), with each bbox as the float32 values themselves (the JSON has their
+ * shortest digits).
+ */
+function parseShells(pieces) {
+  const decoder = new TextDecoder();
+  const shells = [];
+  for (const piece of pieces) {
+    for (const s of JSON.parse(decoder.decode(piece))) {
+      s.bbox = { min: s.bbox.min.map(Math.fround), max: s.bbox.max.map(Math.fround) };
+      shells.push(s);
+    }
+  }
+  return shells;
+}
+
+/**
  * The boundary loops as { holes, seams }, for Mesh and EditableMesh alike: loop h is
  * { id: h, face: nTriangles + h, halfedges, vertices, edgeCount, perimeter }. arrays holds
  * loopOffsets, loopHalfedges, loopIsSeam, loopPerimeter and either loopVertices (the origin
@@ -255,9 +273,22 @@ export class Mesh {
       });
     }
     /** The report of each shell (the fields of `info --json --shells`), with { shells: true }. */
-    this.shells = raw.hasShells ? JSON.parse(raw.shellsJson) : null;
-    // The bbox as the float32 values themselves (the JSON has their shortest digits).
-    for (const s of this.shells || []) s.bbox = { min: s.bbox.min.map(Math.fround), max: s.bbox.max.map(Math.fround) };
+    if (!raw.hasShells) {
+      this.shells = null;
+    } else {
+      // Parsed on first read, then a plain property (one the caller set first stays): a soup
+      // has a shell a triangle, and 1M shell objects take some 900 MB of JS heap.
+      Object.defineProperty(this, 'shells', {
+        enumerable: true,
+        configurable: true,
+        get: () => {
+          const shells = parseShells(raw.shellPieces);
+          settle(this, 'shells', shells);
+          return shells;
+        },
+        set: (v) => settle(this, 'shells', v),
+      });
+    }
     const stats = JSON.parse(raw.statsJson);
     delete stats.file;
     this.stats = stats;

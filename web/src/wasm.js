@@ -239,7 +239,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
       hasNormals: meta.hasNormals,
       hasShells: meta.hasShells,
       hasIntersections: !!meta.hasIntersections,
-      shellsJson: meta.hasShells ? session.shellListJson() : 'null',
+      shellPieces: meta.hasShells ? session.shellList() : null, // mesh.shells, parsed on first read
       indexed: meta.indexed,
       solids: meta.solids,
       warnings: meta.warnings,
