@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
@@ -291,7 +292,29 @@ struct Result {
 
 // `direct`: a JSON report goes there in pieces as it is written (stltopo::infoJson with a
 // sink), not into the result: a report of millions of shells is never held whole.
+Result reportOneOrThrow(const Input& in, const InfoConfig& c, FILE* direct, bool& wrote);
+
+// reportOne, with an exhausted heap (the core's arrays say so by a status; the report's
+// strings and the repair's plan are std::string and std::vector) as that file's
+// out-of-memory error: the other files are still reported.
 Result reportOne(const Input& in, const InfoConfig& c, FILE* direct = nullptr) {
+  bool wrote = false;  // a part of the report went to `direct`
+  try {
+    return reportOneOrThrow(in, c, direct, wrote);
+  } catch (const std::bad_alloc&) {
+    Result r;
+    r.ok = false;
+    const stltopo::Status s =
+        stltopo::Status::error(stltopo::Code::OutOfMemory, "out of memory while writing the report of " + in.path);
+    if (c.json)
+      r.out = (wrote ? "\n" : "") + stltopo::errorJson(in.path, s) + "\n";
+    else
+      r.err = in.path + ": " + s.message + "\n";
+    return r;
+  }
+}
+
+Result reportOneOrThrow(const Input& in, const InfoConfig& c, FILE* direct, bool& wrote) {
   Result r;
   const std::string& file = in.path;
   stltopo::Mesh mesh;
@@ -342,7 +365,12 @@ Result reportOne(const Input& in, const InfoConfig& c, FILE* direct = nullptr) {
   extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
   extras.solid = geo.solid;
   if (c.json && direct) {
-    stltopo::infoJson([direct](const char* d, size_t n) { std::fwrite(d, 1, n, direct); }, file, mesh, t, extras);
+    stltopo::infoJson(
+        [direct, &wrote](const char* d, size_t n) {
+          std::fwrite(d, 1, n, direct);
+          wrote = true;
+        },
+        file, mesh, t, extras);
     std::fputc('\n', direct);
   } else {
     r.out = c.json ? stltopo::infoJson(file, mesh, t, extras) + "\n" : stltopo::infoText(file, mesh, t, extras);
@@ -612,6 +640,12 @@ std::string splitPath(const std::string& in, std::string dir, uint32_t k) {
   return (dir == "/" ? dir : dir + "/") + base + "-shell-" + std::to_string(k) + ".stl";
 }
 
+// Prints the error JSON of split or repair to standard error: exit status 1.
+int fail(const std::string& file, const stltopo::Status& s) {
+  std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
+  return 1;
+}
+
 int split(int argc, char** argv) {
   std::vector<std::string> files;
   stltopo::WriteOptions wo;
@@ -623,10 +657,6 @@ int split(int argc, char** argv) {
   }
   const std::string& in = files[0];
   const std::string& dir = files[1];
-  auto fail = [](const std::string& file, const stltopo::Status& s) {
-    std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
-    return 1;
-  };
   stltopo::Mesh mesh;
   stltopo::Status s = readFile(in, stltopo::ReadOptions{}, mesh);
   stltopo::Topology topo;
@@ -689,6 +719,45 @@ std::vector<std::string> splitList(const std::string& v) {
     if (j == std::string::npos) return out;
     i = j + 1;
   }
+}
+
+// repair of `in` into `outFile` ("" with --plan: the plan only), past the command line.
+int repairFile(const std::string& in, const std::string& outFile, const stltopo::RepairOptions& ro,
+               stltopo::WriteOptions wo, bool formatGiven) {
+  stltopo::Mesh mesh;
+  stltopo::ReadOptions rdo;
+  rdo.threads = ro.threads;
+  stltopo::Status s = readFile(in, rdo, mesh);
+  if (!s.ok()) return fail(in, s);
+  stltopo::RepairPlan plan;
+  s = stltopo::planRepair(mesh, ro, plan);
+  if (!s.ok()) return fail(in, s);
+  auto verdict = [](const stltopo::RepairFigures& f) {
+    return f.stats.watertight && f.stats.manifold && f.selfIntersections != stltopo::kInvalid && f.solid ? 0 : 3;
+  };
+  auto withFile = [&](const std::string& json, const std::string& out) {
+    std::string head = "{\"file\":" + stltopo::jsonString(in);
+    if (!out.empty()) head += ",\"out\":" + stltopo::jsonString(out);
+    return head + (json.size() > 2 ? "," + json.substr(1) : "}");
+  };
+  if (outFile.empty()) {
+    std::printf("%s\n", withFile(stltopo::repairPlanJson(plan), "").c_str());
+    return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
+  }
+  stltopo::TopologyOptions to;
+  to.threads = ro.threads;
+  stltopo::RepairLog log;
+  stltopo::Mesh result;
+  s = stltopo::applyRepair(mesh, plan, result, log, to);  // takes the plan's result (no second build)
+  if (!s.ok()) return fail(in, s);
+  if (!formatGiven) wo.format = mesh.format;
+  std::signal(SIGXFSZ, SIG_IGN);
+  Output out;
+  s = out.open(outFile);
+  if (s.ok()) s = out.close(stltopo::writeStl(result, Output::sink, &out, wo));
+  if (!s.ok()) return fail(outFile, s);
+  std::printf("%s\n", withFile(stltopo::repairLogJson(log), outFile).c_str());
+  return verdict(log.after);
 }
 
 int repair(int argc, char** argv) {
@@ -789,45 +858,14 @@ int repair(int argc, char** argv) {
   }
   if (files.size() != (planOnly ? 1u : 2u) && files.size() != 2)
     return usage(planOnly ? "repair --plan needs IN" : "repair needs IN and OUT");
-  auto fail = [](const std::string& file, const stltopo::Status& s) {
-    std::fprintf(stderr, "%s\n", stltopo::errorJson(file, s).c_str());
-    return 1;
-  };
   const std::string& in = files[0];
-  stltopo::Mesh mesh;
-  stltopo::ReadOptions rdo;
-  rdo.threads = ro.threads;
-  stltopo::Status s = readFile(in, rdo, mesh);
-  if (!s.ok()) return fail(in, s);
-  stltopo::RepairPlan plan;
-  s = stltopo::planRepair(mesh, ro, plan);
-  if (!s.ok()) return fail(in, s);
-  auto verdict = [](const stltopo::RepairFigures& f) {
-    return f.stats.watertight && f.stats.manifold && f.selfIntersections != stltopo::kInvalid && f.solid ? 0 : 3;
-  };
-  auto withFile = [&](const std::string& json, const std::string& out) {
-    std::string head = "{\"file\":" + stltopo::jsonString(in);
-    if (!out.empty()) head += ",\"out\":" + stltopo::jsonString(out);
-    return head + (json.size() > 2 ? "," + json.substr(1) : "}");
-  };
-  if (planOnly) {
-    std::printf("%s\n", withFile(stltopo::repairPlanJson(plan), "").c_str());
-    return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
+  try {
+    return repairFile(in, planOnly ? "" : files[1], ro, wo, formatGiven);
+  } catch (const std::bad_alloc&) {
+    // The plan's items and JSON are std::vector and std::string: a plan of millions of items
+    // (a soup's holes) can exhaust the heap there.
+    return fail(in, stltopo::Status::error(stltopo::Code::OutOfMemory, "out of memory while repairing " + in));
   }
-  stltopo::TopologyOptions to;
-  to.threads = ro.threads;
-  stltopo::RepairLog log;
-  stltopo::Mesh result;
-  s = stltopo::applyRepair(mesh, plan, result, log, to);  // takes the plan's result (no second build)
-  if (!s.ok()) return fail(in, s);
-  if (!formatGiven) wo.format = mesh.format;
-  std::signal(SIGXFSZ, SIG_IGN);
-  Output out;
-  s = out.open(files[1]);
-  if (s.ok()) s = out.close(stltopo::writeStl(result, Output::sink, &out, wo));
-  if (!s.ok()) return fail(files[1], s);
-  std::printf("%s\n", withFile(stltopo::repairLogJson(log), files[1]).c_str());
-  return verdict(log.after);
 }
 
 // One malloc arena for the process. A stage's threads allocate little and seldom, but with an
