@@ -2,11 +2,13 @@
 // classes: the heap figures the JS layer and the heap-baseline tests read, and the test
 // hooks that make allocation fail or the instance abort.
 #include <emscripten/bind.h>
+#include <emscripten/em_asm.h>
 #include <emscripten/heap.h>
 #include <malloc.h>
 
 #include <cstddef>
 #include <cstdlib>
+#include <new>
 
 namespace {
 
@@ -52,6 +54,28 @@ double testFill(double leave) {
 // the JS layer drops the dead instance and the next load gets a fresh one.
 void testAbort() { std::abort(); }
 
+// operator new's failure (the core checks its own arrays; a repair plan's std::vector and
+// std::string are not): the instance aborts, as it would, but says why, so that the JS layer
+// (wasm.js wasmFailure, which reads the abort's reason) gives an out-of-memory error whatever
+// the size that did not fit. Without it the abort had no reason, and one that failed far below
+// the top of the heap (a 700 MB string) came out of the API as a raw RuntimeError.
+void outOfMemory() {
+  EM_ASM({ abort('out of memory: operator new failed'); });
+  std::abort();
+}
+[[maybe_unused]] const bool kNewHandler = (std::set_new_handler(outOfMemory), true);
+
+// Test hook: an operator new that fails (4 GB less 64 kB: more than a 4 GB heap that holds
+// the module can give).
+void* volatile gNewKept = nullptr;
+double testNewFails() {
+  volatile size_t n = ~size_t(0) - 65535;
+  gNewKept = ::operator new(n);  // kept in a volatile: the call is not elided
+  ::operator delete(gNewKept);
+  gNewKept = nullptr;
+  return 0;
+}
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(stltopo_runtime) {
@@ -62,4 +86,5 @@ EMSCRIPTEN_BINDINGS(stltopo_runtime) {
   function("_testFill", &testFill);
   function("_testRelease", &testRelease);
   function("_testAbort", &testAbort);
+  function("_testNewFails", &testNewFails);
 }

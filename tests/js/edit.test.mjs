@@ -109,6 +109,24 @@ test('a wasm abort of the full module: the next EditableMesh.from() gets a fresh
   em.dispose();
 });
 
+test('a wasm abort under live editable meshes: their calls give an StlError, not the RuntimeError', async () => {
+  // An abort inside a call (operator new failing in a repair plan of millions of items) came
+  // out of planRepair() as a raw RuntimeError, and every later call of an editable mesh of
+  // that instance threw one too.
+  const mesh = await loadStlFile(cubeFile());
+  const em = await EditableMesh.from(mesh);
+  assert.equal(em.nTriangles, 12);
+  const entry = await getFull();
+  assert.throws(() => entry.module._testAbort(), WebAssembly.RuntimeError);
+  for (const call of [() => em.planRepair(), () => em.removeTriangle(0), () => em.toStl(), () => em.validate()]) {
+    assert.throws(call, (e) => e instanceof StlError && e.code === 'invalid-argument' && /lost/.test(e.message));
+  }
+  em.dispose();
+  const fresh = await EditableMesh.from(mesh);
+  assert.equal(fresh.planRepair().after.watertight, true);
+  fresh.dispose();
+});
+
 test('remove a cube face, fill the hole: stats follow and equal a fresh load', async () => {
   const mesh = await loadStlFile(cubeFile());
   const em = await EditableMesh.from(mesh);

@@ -122,6 +122,25 @@ test('a wasm abort (RuntimeError) drops the instance; the next load gets a fresh
   assert.notEqual(await _internal.getModule(), entry);
 });
 
+test('operator new failing: the instance aborts with its reason, an out-of-memory StlError, then a fresh one', async () => {
+  // A repair plan's vectors and strings (a soup of 2M triangles) fail in operator new, far
+  // below the top of the heap when the block is large; the abort had no reason, and the API
+  // gave the raw RuntimeError.
+  const entry = await _internal.getModule();
+  let raw = null;
+  assert.throws(() => entry.module._testNewFails(), (e) => {
+    raw = e;
+    return e instanceof WebAssembly.RuntimeError;
+  });
+  assert.match(raw.message, /out of memory/);
+  assert.equal(entry.dead, true);
+  const err = _internal.wasmFailure(entry, raw);
+  assert.ok(err instanceof StlError && err.code === 'out-of-memory', String(err));
+  const m = await loadStl(cube);
+  assert.equal(m.nTriangles, 12);
+  assert.notEqual(await _internal.getModule(), entry);
+});
+
 test('1000 alternating bad and good loads: the good results stay right', async () => {
   const good = await loadStl(cube);
   const bads = [

@@ -8,9 +8,9 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { loadStl, fromIndexed, toStl, EditableMesh, StlError } from 'stltopo';
+import { loadStl, fromIndexed, toStl, EditableMesh, StlError, planRepair } from 'stltopo';
 import { api } from '../../dist/instance.node.js';
-import { fixtures, gridStl } from './helpers.mjs';
+import { fixtures, gridStl, soupStl } from './helpers.mjs';
 
 const _internal = api.internal; // the test hooks (not public)
 const TWO_GB = 2 ** 31;
@@ -169,4 +169,38 @@ test('at the top of the 4 GB heap a load fails with out-of-memory, and the modul
   }
   assert.deepEqual(snapshot(await loadStl(stl)), expected);
   assert.equal(await _internal.getModule(), entry);
+});
+
+test('a repair plan past the top of the 4 GB heap: out-of-memory, then the module works again', async () => {
+  // A soup's default plan has an item a triangle (its hole filled). Planned with the heap
+  // full, it runs out: here at the editor's topology, which the core checks (a status); at
+  // an allocation it does not check (a vector or string of the plan: the npm CLI's `repair`
+  // of a 2M-triangle soup) the instance aborts, which edit.test.mjs covers.
+  const mesh = await loadStl(soupStl(20000));
+  const expected = JSON.stringify(await planRepair(mesh));
+  const entry = await _internal.getFull();
+  const M = entry.module;
+  const em = await EditableMesh.from(mesh);
+  const other = await EditableMesh.from(mesh);
+  const blocks = [];
+  for (let n = 2 ** 30; n >= 4096; n /= 2) {
+    for (let p = M._malloc(n) >>> 0; p !== 0; p = M._malloc(n) >>> 0) blocks.push(p);
+  }
+  try {
+    assert.throws(() => em.planRepair(), (e) => e instanceof StlError && e.code === 'out-of-memory', 'an StlError');
+  } finally {
+    if (!entry.dead) freeAll(M, blocks);
+  }
+  if (entry.dead) {
+    // The instance aborted: its meshes say so, and the next EditableMesh gets a fresh one.
+    assert.throws(() => other.nTriangles, (e) => e instanceof StlError && /lost/.test(e.message));
+    assert.notEqual(await _internal.getFull(), entry);
+  } else {
+    assert.equal(JSON.stringify(other.planRepair()), expected, 'the same instance carries on');
+  }
+  other.dispose();
+  em.dispose();
+  const again = await EditableMesh.from(mesh);
+  assert.equal(JSON.stringify(again.planRepair()), expected);
+  again.dispose();
 });

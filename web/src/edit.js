@@ -75,11 +75,41 @@ export function createPlanRepair(EditableMesh) {
 }
 
 /**
- * A new session of module M with the arrays of `source` (a Mesh, or { positions, triangles,
+ * The session `s` of module entry `entry`, its methods guarded: what escapes a call into wasm
+ * becomes failure(entry, e) (wasm.js wasmFailure). An instance that aborted (its heap
+ * exhausted: a repair plan of millions of items) is dropped by it, so the next EditableMesh
+ * gets a fresh one, and the editable meshes it held say so on their next call.
+ */
+function guard(entry, s, failure) {
+  return new Proxy(s, {
+    get(target, key) {
+      const v = target[key];
+      if (typeof v !== 'function') return v;
+      return (...args) => {
+        if (entry.dead && key !== 'delete' && key !== 'isDeleted') {
+          throw stlError('invalid-argument', 'the editable mesh is lost: its WebAssembly instance stopped (out of memory)');
+        }
+        try {
+          return v.apply(target, args);
+        } catch (e) {
+          throw failure(entry, e);
+        }
+      };
+    },
+  });
+}
+
+/**
+ * A new session of module entry `entry` with the arrays of `source` (a Mesh, or { positions, triangles,
  * ... }) staged, before its init() or planRepairStaged(). Deleted again when staging fails.
  */
-function stage(M, source) {
-  const s = new M._EditableMesh();
+function stage(entry, source, failure) {
+  let s;
+  try {
+    s = guard(entry, new entry.module._EditableMesh(), failure);
+  } catch (e) {
+    throw failure(entry, e);
+  }
   try {
     const up = (name, arr) => {
       if (!arr) return;
@@ -109,7 +139,7 @@ function stage(M, source) {
  * Creates the EditableMesh class on a module getter (async () => entry with .module), as
  * index.js and node.js make it for their module.
  */
-export function createEditableMesh(getModule) {
+export function createEditableMesh(getModule, failure = (entry, e) => e) {
   class EditableMesh {
     #m;
     #session;
@@ -148,7 +178,7 @@ export function createEditableMesh(getModule) {
     static async from(source, options = {}) {
       if (!source || !source.positions || !source.triangles) throw invalid('EditableMesh.from() needs a Mesh or { positions, triangles }');
       const entry = await getModule();
-      const s = stage(entry.module, source);
+      const s = stage(entry, source, failure);
       try {
         // Without a tolerance the editor is built at the first call that needs it (#live):
         // from() + planRepair() + applyRepair() then never builds the editor of the input
@@ -169,7 +199,7 @@ export function createEditableMesh(getModule) {
       if (!source || !source.positions || !source.triangles) throw invalid('planRepair() needs a Mesh or an EditableMesh');
       const o = normalizeRepairOptions(options);
       const entry = await getModule();
-      const s = stage(entry.module, source);
+      const s = stage(entry, source, failure);
       try {
         return repairPlanFrom(check(s.planRepairStaged(o, false)), o);
       } finally {

@@ -21,7 +21,7 @@ export async function toStl(mesh, options) {
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
-export const EditableMesh = createEditableMesh(api.internal.editModule);
+export const EditableMesh = createEditableMesh(api.internal.editModule, api.internal.wasmFailure);
 
 /** A repair plan for a Mesh or an EditableMesh (docs/REPAIR.md); changes nothing. */
 export const planRepair = createPlanRepair(EditableMesh);

@@ -125,11 +125,14 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
       const M = entry.module;
       const heap = M && M.wasmMemory ? M.wasmMemory.buffer.byteLength : M && M.HEAPU8 ? M.HEAPU8.length : 0;
       if (heap + (64 << 20) >= entry.heapMax || /memory|OOM|alloc/i.test(entry.lastError)) {
-        return stlError('out-of-memory', `the WebAssembly heap is exhausted (${e.message})`);
+        return stlError('out-of-memory', `the WebAssembly heap is exhausted (${entry.lastError || e.message})`);
       }
       return e;
     }
     if (isRangeError) return stlError('out-of-memory', e.message);
+    // A result past the engine's string limit (V8: 2^29 - 24 characters), in Node an Error of
+    // its own code (a RangeError in browsers, taken above).
+    if (e && e.code === 'ERR_STRING_TOO_LONG') return stlError('out-of-memory', e.message);
     return e;
   }
 
@@ -434,6 +437,8 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
     threadsFor: (o) => (instantiateThreaded ? threadsFor(o, defaultThreads, cores) : 1),
     /** The module EditableMesh needs (its row of MODULE_OF). */
     editModule: () => moduleFor('edit'),
+    /** What escaped a call into wasm, as an error; an instance that aborted is dropped. */
+    wasmFailure,
     /** The error JSON line of the native CLI for err, written by `entry` when it is alive. */
     async errorJson(file, err, entry = null) {
       return errorJson(entry && !entry.dead ? entry : await moduleFor('errorJson'), file, err);

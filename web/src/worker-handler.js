@@ -93,7 +93,7 @@ export function serve(port, internal, { fileSource = null } = {}) {
     }
     if (msg.type === Msg.Editable) {
       try {
-        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule);
+        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule, internal.wasmFailure);
         const [reply, transfer] = await editableCall(msg);
         port.post(reply, transfer);
       } catch (e) {
@@ -118,7 +118,7 @@ export function serve(port, internal, { fileSource = null } = {}) {
     if (msg.type === Msg.Repair) {
       let em = null;
       try {
-        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule);
+        if (!EditableMesh) EditableMesh = createEditableMesh(internal.editModule, internal.wasmFailure);
         if (msg.mode === 'plan') {
           const plan = await EditableMesh.planRepairOf(msg.mesh, msg.options);
           port.post(repairedMessage({ plan }), repairTransferList(plan));
