@@ -331,6 +331,28 @@ TEST(Repair, ZeroAreaRemovesDegenerateTriangles) {
   EXPECT_EQ(left.log.after.stats.triangles, 13u);
 }
 
+TEST(Repair, AStepThatRemovesEveryTriangleIsUndone) {
+  // Found by fuzz_repair (the CI's smoke run): zero-area removed the only three triangles,
+  // all degenerate, of a file with colours, and its undo said "the change log does not fit
+  // this mesh": the attributes are per triangle, and the check took their layout from the
+  // mesh after the step, which without triangles has none. The colours (VisCAM words, the
+  // first one without its bit) must come back with the triangles.
+  gen::Soup s;
+  s.v = {{0, 0, 0}, {1, 0, 0}, {-8192, -25443.387f, -25443.387f}, {-25443.387f, -25443.387f, -25443.387f}};
+  s.f = {{0, 1, 0}, {2, 3, 3}, {3, 3, 3}};
+  s.attr = {0, 0xC6C6, 0xC6C6};
+  const Mesh m = meshOf(s);
+  ASSERT_EQ(m.colorConvention, ColorConvention::VisCam);
+  for (const bool withStitch : {false, true}) {
+    RepairOptions o = withStitch ? only({RepairStepKind::ZeroArea, RepairStepKind::Stitch, RepairStepKind::SmallShells})
+                                 : only({RepairStepKind::ZeroArea});
+    o.stitchTolerance = 0.071;
+    Outcome r = checkRepair(m, o, withStitch ? "three degenerate triangles, with stitch" : "three degenerate triangles");
+    EXPECT_EQ(r.log.after.stats.triangles, 0u);
+    EXPECT_EQ(r.log.after.stats.vertices, 0u);
+  }
+}
+
 TEST(Repair, ZeroAreaOnABoundaryCollapses) {
   // An open square (0,0)-(2,1) whose bottom side is cut at m = (0.125, 0) into three
   // triangles, plus a sliver (0, 1, m) below: its longest edge 0-1 is on the boundary, and

@@ -421,6 +421,17 @@ AttrLayout layoutOf(const Mesh& m) {
   }
   return l;
 }
+// The layout of the attributes `names` (a step log's: layoutOf's names, in its order); false
+// when one is not a file attribute.
+bool layoutOfNames(const std::vector<std::string>& names, AttrLayout& l) {
+  l = AttrLayout{};
+  for (const std::string& n : names) {
+    if (!fileAttribute(n)) return false;
+    l.names.push_back(n);
+    l.strides.push_back(n == kAttrWord ? 2 : n == kAttrColor ? 3 : n == kAttrColorValid ? 1 : 12);
+  }
+  return true;
+}
 const uint8_t* meshAttr(const Mesh& m, const std::string& n, uint32_t t) {
   if (n == kAttrWord) return reinterpret_cast<const uint8_t*>(m.attributes.data() + t);
   if (n == kAttrColor) return m.colors.data() + 3 * size_t(t);
@@ -643,7 +654,10 @@ Status meshBeforeIn(const Mesh& after, const RepairStepLog& L, Mesh& b) {
     }
     ++k;
   }
-  const AttrLayout lay = layoutOf(after);
+  // The attributes are per triangle: a mesh without triangles (a step removed them all) has
+  // none to tell its layout by, and takes the log's.
+  AttrLayout lay = layoutOf(after);
+  if (after.nTriangles() == 0 && !layoutOfNames(L.attributeNames, lay)) return mismatch();
   if (lay.names != L.attributeNames) return mismatch();
   const size_t nRemoved = L.removedTriangles.size();
   for (size_t a = 0; a < lay.names.size(); ++a) {
@@ -1380,7 +1394,7 @@ std::string repairPlanJson(const RepairPlan& plan) {
   j.key("remaining");
   j.str(plan.remaining);
   j.close('}');
-  return j.s;
+  return std::move(j.s);
 }
 
 std::string repairLogJson(const RepairLog& log) {
@@ -1431,7 +1445,7 @@ std::string repairLogJson(const RepairLog& log) {
   j.s += log.afterReport.empty() ? "null" : log.afterReport;
   j.first = false;
   j.close('}');
-  return j.s;
+  return std::move(j.s);
 }
 
 }  // namespace stltopo
