@@ -224,7 +224,7 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     }
   }
   j.close('}');
-  return j.s;
+  return std::move(j.s);
 }
 
 using detail::appendf;
@@ -280,7 +280,7 @@ std::string errorJson(const std::string& file, const Status& error) {
   location(j, error);
   j.close('}');
   j.close('}');
-  return j.s;
+  return std::move(j.s);
 }
 
 }  // namespace stltopo

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include "float_format.h"
 #include "stltopo/mesh.h"
@@ -16,6 +17,8 @@ namespace stltopo::detail {
 // A JSON writer for the reports: s holds the text, `first` whether the next key or
 // element is the first of its object or array. With a sink (the reports in pieces), spill()
 // hands s to it once it holds a piece, and empties it: the lists call it after each item.
+// A function that returns the text returns std::move(j.s): a member is returned by copy
+// (a second 320 MB at the peak of a 1M-triangle soup's repair plan).
 struct Json {
   std::string s;
   bool first = true;

@@ -193,7 +193,7 @@ void detail::writeShellList(Json& j, const Array<Shell>& shells, const ShellNest
 std::string shellJson(const Shell& shell, uint32_t id) {
   Json j;
   writeShell(j, shell, id);
-  return j.s;
+  return std::move(j.s);
 }
 
 std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t id) {
@@ -204,13 +204,13 @@ std::string splitLineJson(const std::string& file, const Shell& shell, uint32_t 
   j.key("shell");
   writeShell(j, shell, id);
   j.close('}');
-  return j.s;
+  return std::move(j.s);
 }
 
 std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nesting) {
   Json j;
   detail::writeShellList(j, shells, nesting);
-  return j.s;
+  return std::move(j.s);
 }
 
 std::string shellRangeJson(const Array<Shell>& shells, const ShellNesting* nesting, size_t first, size_t count) {
@@ -224,7 +224,7 @@ std::string shellRangeJson(const Array<Shell>& shells, const ShellNesting* nesti
     writeShell(j, shells[i], uint32_t(i), nesting);
   }
   j.close(']');
-  return j.s;
+  return std::move(j.s);
 }
 
 void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max,
@@ -387,7 +387,7 @@ void detail::writeDefects(Json& j, const Mesh& mesh, const Topology& t, const De
 std::string defectsJson(const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {
   Json j;
   detail::writeDefects(j, mesh, t, d, max);
-  return j.s;
+  return std::move(j.s);
 }
 
 std::string defectsText(const Mesh& mesh, const Topology& t, const Defects& d, uint32_t max) {

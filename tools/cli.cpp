@@ -735,13 +735,18 @@ int repairFile(const std::string& in, const std::string& outFile, const stltopo:
   auto verdict = [](const stltopo::RepairFigures& f) {
     return f.stats.watertight && f.stats.manifold && f.selfIntersections != stltopo::kInvalid && f.solid ? 0 : 3;
   };
-  auto withFile = [&](const std::string& json, const std::string& out) {
+  // Prints the plan's or log's JSON with "file" (and "out") as its first keys, and a newline:
+  // written as it is, not copied (a 1M-triangle soup's plan has 320 MB of JSON).
+  auto printWithFile = [&](const std::string& json, const std::string& out) {
     std::string head = "{\"file\":" + stltopo::jsonString(in);
     if (!out.empty()) head += ",\"out\":" + stltopo::jsonString(out);
-    return head + (json.size() > 2 ? "," + json.substr(1) : "}");
+    head += json.size() > 2 ? "," : "}";
+    std::fwrite(head.data(), 1, head.size(), stdout);
+    if (json.size() > 2) std::fwrite(json.data() + 1, 1, json.size() - 1, stdout);
+    std::fputc('\n', stdout);
   };
   if (outFile.empty()) {
-    std::printf("%s\n", withFile(stltopo::repairPlanJson(plan), "").c_str());
+    printWithFile(stltopo::repairPlanJson(plan), "");
     return verdict(plan.steps.empty() ? plan.before : plan.steps.back().after);
   }
   stltopo::TopologyOptions to;
@@ -756,7 +761,7 @@ int repairFile(const std::string& in, const std::string& outFile, const stltopo:
   s = out.open(outFile);
   if (s.ok()) s = out.close(stltopo::writeStl(result, Output::sink, &out, wo));
   if (!s.ok()) return fail(outFile, s);
-  std::printf("%s\n", withFile(stltopo::repairLogJson(log), outFile).c_str());
+  printWithFile(stltopo::repairLogJson(log), outFile);
   return verdict(log.after);
 }
 
