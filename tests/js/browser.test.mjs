@@ -151,12 +151,14 @@ test('browser: Web Worker (stltopo/worker and { worker: true }): same result, pr
     let code = null;
     try { await w.loadStl(big, { signal: ac.signal }); } catch (e) { code = e.code; }
     const abortMs = performance.now() - t0;
+    const t1 = performance.now();
     const full = await w.loadStl(big);
+    const fullMs = performance.now() - t1;
     return {
       same: same(inline.positions, a.positions) && same(inline.halfedges.next, b.halfedges.next),
       statsSame: JSON.stringify(inline.stats) === JSON.stringify(a.stats),
       last: progress.at(-1), valid: a.validate(), ownBuffer: a.positions.buffer.byteLength === a.positions.byteLength,
-      code, abortMs, bigTriangles: full.nTriangles, bigHoles: full.holes.length,
+      code, abortMs, fullMs, bigTriangles: full.nTriangles, bigHoles: full.holes.length,
     };
   }, rel('bunny.stl'));
   assert.ok(r.same && r.statsSame);
@@ -164,7 +166,9 @@ test('browser: Web Worker (stltopo/worker and { worker: true }): same result, pr
   assert.deepEqual(r.valid, { ok: true });
   assert.ok(r.ownBuffer);
   assert.equal(r.code, 'aborted');
-  assert.ok(r.abortMs < 300, `abort took ${r.abortMs} ms`);
+  // Against the same load to the end, on the same page (an absolute 300 ms failed once when
+  // the VM was slow: 328 ms).
+  assert.ok(r.abortMs < r.fullMs / 2, `abort took ${r.abortMs} ms, the whole load ${r.fullMs} ms`);
   assert.equal(r.bigTriangles, 720000);
   assert.equal(r.bigHoles, 1);
 });
