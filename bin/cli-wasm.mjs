@@ -63,11 +63,12 @@ export function cliCalls(internal) {
       await readInto(session, entry, source, o);
       return {
         ok: true,
-        // The full module's JSON comes in pieces (Uint8Arrays): as one string, a report of
+        // The full module's report comes in pieces (Uint8Arrays): as one string, the JSON of
         // some 1.4M shells would pass V8's string limit.
-        text: !json ? session.infoText(file, shells, withDefects, max)
-          : session.infoJsonPieces ? [...session.infoJsonPieces(file, shells, withDefects, max), new Uint8Array([10])]
-            : `${session.infoJson(file, shells, withDefects, max)}\n`,
+        text: !session.infoJsonPieces ? (json ? `${session.infoJson(file, shells, withDefects, max)}\n`
+          : session.infoText(file, shells, withDefects, max))
+          : json ? [...session.infoJsonPieces(file, shells, withDefects, max), new Uint8Array([10])]
+            : session.infoTextPieces(file, shells, withDefects, max),
       };
     }, {
       async fail(err) {

@@ -60,14 +60,24 @@ class FullSession : public Session {
   // infoJson in pieces (stltopo::infoJson with a sink): an array of Uint8Array copies, each
   // of about a MiB, whose bytes joined are infoJson's: the npm CLI's report, which as one JS
   // string would stop at V8's string limit (512 MiB: a triangle soup of 1.4M triangles with
-  // --shells), and which the heap then never holds whole.
+  // --shells), and which the heap then never holds whole. infoTextPieces: infoText's, likewise.
   val infoJsonPieces(const std::string& file, bool shells, bool defects, double maxDefects) const {
-    val pieces = val::array();
-    const ReportSink sink = [&pieces](const char* d, size_t n) {
-      pieces.call<void>("push", val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(d))).call<val>("slice"));
+    return pieces(true, file, shells, defects, maxDefects);
+  }
+  val infoTextPieces(const std::string& file, bool shells, bool defects, double maxDefects) const {
+    return pieces(false, file, shells, defects, maxDefects);
+  }
+  val pieces(bool json, const std::string& file, bool shells, bool defects, double maxDefects) const {
+    val list = val::array();
+    const ReportSink sink = [&list](const char* d, size_t n) {
+      list.call<void>("push", val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(d))).call<val>("slice"));
     };
-    stltopo::infoJson(sink, file, mesh_, hasTopology_ ? &topo_ : nullptr, extras(shells, defects, maxDefects));
-    return pieces;
+    const Topology* t = hasTopology_ ? &topo_ : nullptr;
+    if (json)
+      stltopo::infoJson(sink, file, mesh_, t, extras(shells, defects, maxDefects));
+    else
+      stltopo::infoText(sink, file, mesh_, t, extras(shells, defects, maxDefects));
+    return list;
   }
 
   // The shell list, for mesh.shells: an array of Uint8Arrays, each the JSON array of the
@@ -251,6 +261,7 @@ Session* newSession(double maxTriangles, double maxBytes, double sizeHint, bool 
 
 void registerModuleSession(const emscripten::class_<Session>& session) {
   session.function("infoJsonPieces", &Full<&FullSession::infoJsonPieces>::call)
+      .function("infoTextPieces", &Full<&FullSession::infoTextPieces>::call)
       .function("shellList", &Full<&FullSession::shellList>::call)
       .function("shellCount", &Full<&FullSession::shellCount>::call)
       .function("selectShell", &Full<&FullSession::selectShell>::call)

@@ -234,7 +234,7 @@ std::string infoText(const std::string& file, const Mesh& m, const Topology* t) 
 }
 
 std::string detail::infoTextWith(const std::string& file, const Mesh& m, const Topology* t,
-                                 const ExtrasWriter* extras) {
+                                 const ExtrasWriter* extras, const ReportSink* sink) {
   std::string o;
   appendf(o, "%s: %s STL, %zu solid%s, %u triangles, %u vertices", file.c_str(), formatName(m.format), m.solids.size(),
           m.solids.size() == 1 ? "" : "s", m.nTriangles(), m.nVertices());
@@ -260,7 +260,7 @@ std::string detail::infoTextWith(const std::string& file, const Mesh& m, const T
       appendf(o, "  zero-area triangles %zu, duplicate triangles %u\n", checks->zeroArea.size(),
               checks->nDuplicateTriangles);
     if (extras && extras->extras.intersections) extras->geometryText(o, extras->extras);
-    if (extras) extras->text(o, m, *t, extras->extras);
+    if (extras) extras->text(o, m, *t, extras->extras, sink);
   }
   for (const auto& w : m.warnings) appendf(o, "  warning %s\n", w.message.c_str());
   return o;

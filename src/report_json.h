@@ -89,7 +89,9 @@ void writeDefects(Json& j, const Mesh& mesh, const Topology& topo, const Defects
 struct ExtrasWriter {
   const ReportExtras& extras;
   void (*json)(Json& j, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
-  void (*text)(std::string& out, const Mesh& mesh, const Topology& topo, const ReportExtras& extras);
+  // With a sink, the lines of a long list are handed to it from `out` as they are written.
+  void (*text)(std::string& out, const Mesh& mesh, const Topology& topo, const ReportExtras& extras,
+               const ReportSink* sink);
   // The intersection keys / line, when extras.intersections is given.
   void (*geometryJson)(Json& j, const ReportExtras& extras);
   void (*geometryText)(std::string& out, const ReportExtras& extras);
@@ -97,6 +99,7 @@ struct ExtrasWriter {
 // The report; with a sink, what is left of it (the pieces spill() handed on come before).
 std::string infoJsonWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras,
                          const ReportSink* sink = nullptr);
-std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras);
+std::string infoTextWith(const std::string& file, const Mesh& mesh, const Topology* topo, const ExtrasWriter* extras,
+                         const ReportSink* sink = nullptr);
 
 }  // namespace stltopo::detail

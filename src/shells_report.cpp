@@ -456,8 +456,10 @@ std::string defectsText(const Mesh& mesh, const Topology& t, const Defects& d, u
   return o;
 }
 
-std::string shellsText(const Array<Shell>& shells) {
-  std::string o;
+namespace {
+
+// The line of each shell, appended to o; with a sink, o goes to it whenever it holds a piece.
+void appendShellsText(std::string& o, const Array<Shell>& shells, const ReportSink* sink) {
   for (size_t i = 0; i < shells.size(); ++i) {
     const Shell& s = shells[i];
     appendf(o, "  shell %zu: %u triangles, %s, %s, %s, volume %.9g, area %.9g, bbox ", i, s.triangles,
@@ -467,7 +469,18 @@ std::string shellsText(const Array<Shell>& shells) {
     o += " .. ";
     appendPoint(o, s.bboxMax);
     o += '\n';
+    if (sink && o.size() >= kReportPiece) {
+      (*sink)(o.data(), o.size());
+      o.clear();
+    }
   }
+}
+
+}  // namespace
+
+std::string shellsText(const Array<Shell>& shells) {
+  std::string o;
+  appendShellsText(o, shells, nullptr);
   return o;
 }
 
@@ -477,8 +490,8 @@ void extrasJson(Json& j, const Mesh& mesh, const Topology& t, const ReportExtras
   if (x.shells) detail::writeShellList(j, *x.shells, x.intersections ? x.nesting : nullptr);
   if (x.defects) detail::writeDefects(j, mesh, t, *x.defects, x.maxDefects, x.checks, x.intersections);
 }
-void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const ReportExtras& x) {
-  if (x.shells) o += shellsText(*x.shells);
+void extrasText(std::string& o, const Mesh& mesh, const Topology& t, const ReportExtras& x, const ReportSink* sink) {
+  if (x.shells) appendShellsText(o, *x.shells, sink);
   if (x.defects) o += defectsText(mesh, t, *x.defects, x.maxDefects);
   if (x.defects && x.intersections) {
     const Intersections& f = *x.intersections;
@@ -538,6 +551,13 @@ void infoJson(const ReportSink& sink, const std::string& file, const Mesh& mesh,
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
   const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
   return detail::infoTextWith(file, mesh, topo, &w);
+}
+
+void infoText(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
+              const ReportExtras& extras) {
+  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
+  const std::string rest = detail::infoTextWith(file, mesh, topo, &w, &sink);
+  if (!rest.empty()) sink(rest.data(), rest.size());
 }
 
 }  // namespace stltopo

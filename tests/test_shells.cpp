@@ -486,14 +486,15 @@ TEST(Shells, ToleranceWeldCountsTheWeldedVertices) {
   EXPECT_FALSE(exact.shells[0].closed());
 }
 
-// The report in pieces (what `info --json` prints of a triangle soup, a shell a triangle):
-// the pieces joined are the report, each but the last holds at least kReportPiece bytes and
-// at most one list item more, and the shell list in ranges is the shell list.
+// The report in pieces (what `info --json` prints of a triangle soup, a shell a triangle),
+// JSON and text: the pieces joined are the report, each but the last holds at least
+// kReportPiece bytes and at most one list item more, and the shell list in ranges is the list.
 TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
   gen::Soup s;
-  // 3000 pairs of triangles: the second of each crosses the first (an intersection each),
-  // and no two pairs share a corner: 6000 shells, 6000 holes, 3000 crossing pairs.
-  for (int i = 0; i < 3000; ++i) {
+  // 5000 pairs of triangles: the second of each crosses the first (an intersection each),
+  // and no two pairs share a corner: 10,000 shells and holes, 5000 crossing pairs (the text
+  // report's shell lines alone are some 1.4 MB).
+  for (int i = 0; i < 5000; ++i) {
     const float x = float(3 * (i % 60)), y = float(3 * (i / 60));
     const uint32_t b = uint32_t(s.v.size());
     s.v.push_back({x, y, 0});
@@ -507,10 +508,10 @@ TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
   }
   Analyzed a;
   analyze(s, a);
-  ASSERT_EQ(a.shells.size(), 6000u);
+  ASSERT_EQ(a.shells.size(), 10000u);
   GeometryReport geo;
   ASSERT_TRUE(analyzeGeometry(a.mesh, a.topo, geo, IntersectionOptions{}, true).ok());
-  ASSERT_EQ(geo.intersections.nPairs(), 3000u);
+  ASSERT_EQ(geo.intersections.nPairs(), 5000u);
   for (int withGeometry = 0; withGeometry < 2; ++withGeometry) {
     ReportExtras x;
     x.shells = withGeometry ? &geo.shells : &a.shells;
@@ -534,7 +535,19 @@ TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
       EXPECT_LT(pieces[i].size(), kReportPiece + 4096) << "piece " << i;
     }
     EXPECT_TRUE(joined == whole) << joined.size() << " bytes joined, " << whole.size() << " whole";
-    if (withGeometry) EXPECT_NE(whole.find("\"selfIntersections\":{\"count\":3000,"), std::string::npos);
+    if (withGeometry) EXPECT_NE(whole.find("\"selfIntersections\":{\"count\":5000,"), std::string::npos);
+    // The text report likewise: a line a shell, handed on as the lines are written.
+    const std::string text = infoText("soup.stl", a.mesh, &a.topo, x);
+    std::vector<std::string> lines;
+    infoText([&](const char* d, size_t n) { lines.emplace_back(d, n); }, "soup.stl", a.mesh, &a.topo, x);
+    ASSERT_GE(lines.size(), 2u) << text.size();
+    std::string joinedText;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      joinedText += lines[i];
+      if (i + 1 < lines.size()) EXPECT_GE(lines[i].size(), kReportPiece) << "text piece " << i;
+      if (i + 1 < lines.size()) EXPECT_LT(lines[i].size(), kReportPiece + 4096) << "text piece " << i;
+    }
+    EXPECT_TRUE(joinedText == text) << joinedText.size() << " bytes joined, " << text.size() << " whole";
   }
   for (const Array<Shell>* list : {&a.shells, &geo.shells}) {
     const ShellNesting* nest = list == &geo.shells ? &geo.nesting : nullptr;
@@ -549,9 +562,9 @@ TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
       joined += r.substr(1, r.size() - 2);
     }
     EXPECT_TRUE(joined + "]" == whole) << joined.size() << " bytes joined, " << whole.size() << " whole";
-    EXPECT_EQ(shellRangeJson(*list, nest, 5999, 1000), "[" + whole.substr(whole.rfind(",{\"id\":5999,") + 1));
-    EXPECT_EQ(shellRangeJson(*list, nest, 6000, 10), "[]");
-    EXPECT_EQ(shellRangeJson(*list, nest, 7000, 10), "[]");
+    EXPECT_EQ(shellRangeJson(*list, nest, 9999, 1000), "[" + whole.substr(whole.rfind(",{\"id\":9999,") + 1));
+    EXPECT_EQ(shellRangeJson(*list, nest, 10000, 10), "[]");
+    EXPECT_EQ(shellRangeJson(*list, nest, 11000, 10), "[]");
   }
   EXPECT_NE(shellListJson(geo.shells, &geo.nesting).find("\"intersectsShells\":[1]"), std::string::npos);
 }

@@ -290,8 +290,8 @@ struct Result {
   std::string out, err;
 };
 
-// `direct`: a JSON report goes there in pieces as it is written (stltopo::infoJson with a
-// sink), not into the result: a report of millions of shells is never held whole.
+// `direct`: the report goes there in pieces as it is written (stltopo::infoJson and infoText
+// with a sink), not into the result: a report of millions of shells is never held whole.
 Result reportOneOrThrow(const Input& in, const InfoConfig& c, FILE* direct, bool& wrote);
 
 // reportOne, with an exhausted heap (the core's arrays say so by a status; the report's
@@ -305,7 +305,7 @@ Result reportOne(const Input& in, const InfoConfig& c, FILE* direct = nullptr) {
     Result r;
     r.ok = false;
     const stltopo::Status s =
-        stltopo::Status::error(stltopo::Code::OutOfMemory, "out of memory while writing the report of " + in.path);
+        stltopo::Status::error(stltopo::Code::OutOfMemory, "out of memory while reporting " + in.path);
     if (c.json)
       r.out = (wrote ? "\n" : "") + stltopo::errorJson(in.path, s) + "\n";
     else
@@ -364,14 +364,17 @@ Result reportOneOrThrow(const Input& in, const InfoConfig& c, FILE* direct, bool
   extras.intersections = c.intersections && t ? &geo.intersections : nullptr;
   extras.nesting = c.intersections && t ? &geo.nesting : nullptr;
   extras.solid = geo.solid;
-  if (c.json && direct) {
-    stltopo::infoJson(
-        [direct, &wrote](const char* d, size_t n) {
-          std::fwrite(d, 1, n, direct);
-          wrote = true;
-        },
-        file, mesh, t, extras);
-    std::fputc('\n', direct);
+  if (direct) {
+    const stltopo::ReportSink sink = [direct, &wrote](const char* d, size_t n) {
+      std::fwrite(d, 1, n, direct);
+      wrote = true;
+    };
+    if (c.json) {
+      stltopo::infoJson(sink, file, mesh, t, extras);
+      std::fputc('\n', direct);
+    } else {
+      stltopo::infoText(sink, file, mesh, t, extras);
+    }
   } else {
     r.out = c.json ? stltopo::infoJson(file, mesh, t, extras) + "\n" : stltopo::infoText(file, mesh, t, extras);
   }

@@ -58,6 +58,9 @@ constexpr size_t kReportPiece = size_t(1) << 20;
 // triangle soup lists a shell per triangle, some 390 bytes each (770 MB for 2M triangles).
 void infoJson(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
               const ReportExtras& extras);
+// infoText with extras in pieces, likewise (a line a shell: some 150 bytes each).
+void infoText(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
+              const ReportExtras& extras);
 // infoText with the shell lines and then the defect lines after the topology's.
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras);
 // JSON object for a failed file: {"file":..,"error":{code,message,location}}.

@@ -126,7 +126,7 @@ test('--intersections --shells --defects: byte-identical on meshes of several ch
   }
 });
 
-test('--shells --defects of a soup: a report of many pieces, byte-identical, one job or two', { skip }, () => {
+test('--shells --defects of a soup: a report of many pieces, JSON and text, byte-identical, one job or two', { skip }, () => {
   // 30,000 shells and holes: some 20 MB of JSON, which both CLIs now write in pieces of 1 MiB
   // (native: straight to standard output with one job; npm: Uint8Arrays out of wasm, moved
   // from the worker with two). As one string the npm CLI's report stopped at V8's string
@@ -144,6 +144,10 @@ test('--shells --defects of a soup: a report of many pieces, byte-identical, one
     assert.equal(rb.defects.holes.items.length, 29999);
     const two = assertSameRun([...args, '--jobs', '2', a, b]);
     assert.ok(two.stdout.equals(one.stdout), 'the same bytes with --jobs 2');
+    // The text report, a line a shell (3.8 MB each), in pieces too.
+    const text = assertSameRun(['info', '--shells', a, b]);
+    assert.ok(text.stdout.length > 6 << 20, `${text.stdout.length} bytes of text`);
+    assert.ok(assertSameRun(['info', '--shells', '--jobs', '2', a, b]).stdout.equals(text.stdout), 'text, --jobs 2');
   } finally {
     rmSync(dir, { recursive: true, force: true });
   }
