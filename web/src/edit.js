@@ -87,7 +87,7 @@ function guard(entry, s, failure) {
       if (typeof v !== 'function') return v;
       return (...args) => {
         if (entry.dead && key !== 'delete' && key !== 'isDeleted') {
-          throw stlError('invalid-argument', 'the editable mesh is lost: its WebAssembly instance stopped (out of memory)');
+          throw stlError('invalid-argument', 'the editable mesh is lost: its WebAssembly instance aborted');
         }
         try {
           return v.apply(target, args);

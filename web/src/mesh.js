@@ -277,7 +277,7 @@ export class Mesh {
       this.shells = null;
     } else {
       // Parsed on first read, then a plain property (one the caller set first stays): a soup
-      // has a shell a triangle, and 1M shell objects take some 900 MB of JS heap.
+      // has a shell a triangle, some 430 bytes of JS heap each (2M shells: 0.86 GiB).
       Object.defineProperty(this, 'shells', {
         enumerable: true,
         configurable: true,
