@@ -70,7 +70,7 @@ class FullSession : public Session {
   val pieces(bool json, const std::string& file, bool shells, bool defects, double maxDefects) const {
     val list = val::array();
     const ReportSink sink = [&list](const char* d, size_t n) {
-      list.call<void>("push", val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(d))).call<val>("slice"));
+      list.call<void>("push", bytesToJs(d, n));
     };
     const Topology* t = hasTopology_ ? &topo_ : nullptr;
     if (json)

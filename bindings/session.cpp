@@ -206,8 +206,10 @@ val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bo
   return val::null();
 }
 
-val Session::bytesToJs(const std::string& s) {
-  return val(typed_memory_view(s.size(), reinterpret_cast<const uint8_t*>(s.data()))).call<val>("slice");
+val Session::bytesToJs(const std::string& s) { return bytesToJs(s.data(), s.size()); }
+
+val Session::bytesToJs(const char* data, size_t n) {
+  return val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(data))).call<val>("slice");
 }
 
 val Session::remember(const Status& s) {

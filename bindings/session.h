@@ -80,6 +80,7 @@ class Session {
   // failure's status.
   emscripten::val buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells);
   static emscripten::val bytesToJs(const std::string& s);
+  static emscripten::val bytesToJs(const char* data, size_t n);
   // upload()'s adapter: `a` resized to n elements, as a writable view; null when it fails.
   template <class T>
   static emscripten::val uploadTo(Array<T>& a, double n) {

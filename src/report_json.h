@@ -14,6 +14,15 @@
 
 namespace stltopo::detail {
 
+// With a sink, hands o to it once o holds a piece (kReportPiece bytes), and empties it: the
+// reports in pieces call it after each list item, so a piece is a little over a MiB.
+inline void spillPiece(std::string& o, const ReportSink* sink) {
+  if (sink && o.size() >= kReportPiece) {
+    (*sink)(o.data(), o.size());
+    o.clear();
+  }
+}
+
 // A JSON writer for the reports: s holds the text, `first` whether the next key or
 // element is the first of its object or array. With a sink (the reports in pieces), spill()
 // hands s to it once it holds a piece, and empties it: the lists call it after each item.
@@ -23,12 +32,7 @@ struct Json {
   std::string s;
   bool first = true;
   const ReportSink* sink = nullptr;
-  void spill() {
-    if (sink && s.size() >= kReportPiece) {
-      (*sink)(s.data(), s.size());
-      s.clear();
-    }
-  }
+  void spill() { spillPiece(s, sink); }
   void open(char c) {
     s += c;
     first = true;

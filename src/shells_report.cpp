@@ -469,10 +469,7 @@ void appendShellsText(std::string& o, const Array<Shell>& shells, const ReportSi
     o += " .. ";
     appendPoint(o, s.bboxMax);
     o += '\n';
-    if (sink && o.size() >= kReportPiece) {
-      (*sink)(o.data(), o.size());
-      o.clear();
-    }
+    detail::spillPiece(o, sink);
   }
 }
 

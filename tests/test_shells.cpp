@@ -523,17 +523,22 @@ TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
       x.nesting = &geo.nesting;
       x.solid = geo.solid;
     }
+    // The pieces joined; every piece but the last holds a piece's bytes and a list item at most.
+    const auto join = [](const std::vector<std::string>& pieces, const char* what) {
+      std::string joined;
+      for (size_t i = 0; i < pieces.size(); ++i) {
+        joined += pieces[i];
+        if (i + 1 == pieces.size()) break;
+        EXPECT_GE(pieces[i].size(), kReportPiece) << what << " piece " << i;
+        EXPECT_LT(pieces[i].size(), kReportPiece + 4096) << what << " piece " << i;
+      }
+      return joined;
+    };
     const std::string whole = infoJson("soup.stl", a.mesh, &a.topo, x);
     std::vector<std::string> pieces;
     infoJson([&](const char* d, size_t n) { pieces.emplace_back(d, n); }, "soup.stl", a.mesh, &a.topo, x);
     ASSERT_GE(pieces.size(), 3u) << whole.size();
-    std::string joined;
-    for (size_t i = 0; i < pieces.size(); ++i) {
-      joined += pieces[i];
-      if (i + 1 == pieces.size()) break;
-      EXPECT_GE(pieces[i].size(), kReportPiece) << "piece " << i;
-      EXPECT_LT(pieces[i].size(), kReportPiece + 4096) << "piece " << i;
-    }
+    const std::string joined = join(pieces, "JSON");
     EXPECT_TRUE(joined == whole) << joined.size() << " bytes joined, " << whole.size() << " whole";
     if (withGeometry) EXPECT_NE(whole.find("\"selfIntersections\":{\"count\":5000,"), std::string::npos);
     // The text report likewise: a line a shell, handed on as the lines are written.
@@ -541,12 +546,7 @@ TEST(Shells, ReportInPiecesIsTheReportAndTheShellRangesAreTheList) {
     std::vector<std::string> lines;
     infoText([&](const char* d, size_t n) { lines.emplace_back(d, n); }, "soup.stl", a.mesh, &a.topo, x);
     ASSERT_GE(lines.size(), 2u) << text.size();
-    std::string joinedText;
-    for (size_t i = 0; i < lines.size(); ++i) {
-      joinedText += lines[i];
-      if (i + 1 < lines.size()) EXPECT_GE(lines[i].size(), kReportPiece) << "text piece " << i;
-      if (i + 1 < lines.size()) EXPECT_LT(lines[i].size(), kReportPiece + 4096) << "text piece " << i;
-    }
+    const std::string joinedText = join(lines, "text");
     EXPECT_TRUE(joinedText == text) << joinedText.size() << " bytes joined, " << text.size() << " whole";
   }
   for (const Array<Shell>* list : {&a.shells, &geo.shells}) {
