@@ -5,11 +5,13 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawn } from 'node:child_process';
-import { existsSync, readFileSync, copyFileSync } from 'node:fs';
+import { existsSync, readFileSync, copyFileSync, mkdtempSync, writeFileSync, rmSync } from 'node:fs';
+import os from 'node:os';
 import http from 'node:http';
 import path from 'node:path';
 import { root, artifacts, freePort, startSite, launchChromium, newPage as openPage, closePage, settle, pageStats }
   from './demo-page.mjs';
+import { soupStl } from '../js/helpers.mjs';
 
 const fixtures = path.join(root, 'tests/fixtures');
 const cli = path.join(root, 'build/stltopo');
@@ -182,6 +184,36 @@ test('a mesh over the preview limit is drawn coarser, says so, and keeps every f
   await loadThroughInput(page, TRIAMID);
   assert.equal(await page.evaluate(() => document.querySelector('#scale-note').hidden), true, 'a small mesh clears the note');
   await closePage(page);
+});
+
+test('many defects: the overlays past their limits are drawn plainer, the page says so, and the figures are whole', async () => {
+  // A triangle soup (no corner shared: a hole a triangle) of 1,500 triangles: 4,500 hole edges
+  // and 1,500 small holes, under the defaults (20,000 edges, 2,000 rings); ?fatLines= and
+  // ?rings= lower them so that it takes the path a soup of millions takes.
+  const dir = mkdtempSync(path.join(os.tmpdir(), 'stltopo-demo-'));
+  const soup = path.join(dir, 'soup.stl');
+  writeFileSync(soup, soupStl(1500));
+  const page = await newPage();
+  await openDemo(page, '?sample=shared');
+  assert.equal(await loadThroughInput(page, soup), 'ready');
+  assert.equal(await page.evaluate(() => document.querySelector('#scale-note').hidden), true, 'no note under the defaults');
+  await openDemo(page, '?sample=shared&fatLines=1000&rings=1000');
+  assert.equal(await loadThroughInput(page, soup), 'ready');
+  await assertMatchesCli(page, soup);
+  const note = await page.evaluate(() => (document.querySelector('#scale-note').hidden ? null : document.querySelector('#scale-note').textContent));
+  assert.match(note ?? '', /the view draws the 4,500 hole edges as 1-pixel lines, and no rings on the 1,500 small holes \(past 1,000 edges of a kind, or 1,000 small holes\)/);
+  // The plain lines are drawn: the view with the holes differs from the view without.
+  const canvas = page.locator('#viewport canvas');
+  const withHoles = await canvas.screenshot();
+  await page.click('[data-layer="holes"]');
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  assert.notDeepEqual(await canvas.screenshot(), withHoles, 'the holes layer drew nothing');
+  await page.click('[data-layer="holes"]');
+  await page.screenshot({ path: path.join(artifacts, 'demo-plain-overlays.png') });
+  await loadThroughInput(page, SPHERE_HOLE);
+  assert.equal(await page.evaluate(() => document.querySelector('#scale-note').hidden), true, 'a mesh of few defects clears the note');
+  await closePage(page);
+  rmSync(dir, { recursive: true, force: true });
 });
 
 test('edit mode: remove a triangle, fill the hole, flip the shell, download and read it back', async () => {

@@ -3,6 +3,7 @@
 import { loadStl, toStl } from 'stltopo/worker';
 import { samples } from './samples.js';
 import { $, viewer } from './page.js';
+import { FAT_LINE_SEGMENTS, MAX_RINGS } from './viewer.js';
 import { showProgress, hideProgress, showError, hideError, showMesh, clearPanels, showScaleNote } from './panels.js';
 import { stopEditing, setLoaded } from './edit-panel.js';
 import { setRepairSource, repairedStl } from './repair-panel.js';
@@ -12,13 +13,18 @@ import { setUnionSource, setUnionReplace } from './union-panel.js';
 export const GEOMETRY_MAX_BYTES = 1e9;
 
 // What the page says about a mesh too large for everything: the coarse view (the viewer's
-// stride, 1 when it draws every triangle), the skipped geometry pass ('' when neither applies).
-function scaleNote(mesh, stride, geometry, total) {
+// stride, 1 when it draws every triangle), the plainer overlays (the viewer's `plainer`), the
+// skipped geometry pass ('' when none applies).
+function scaleNote(mesh, { stride, plainer }, geometry, total) {
   const parts = [];
   const n = mesh.nTriangles;
   if (stride > 1) {
     parts.push(`Large mesh: the view draws 1 triangle in ${stride} (${Math.ceil(n / stride).toLocaleString('en-US')} of ` +
       `${n.toLocaleString('en-US')}), without colours; every figure and defect is of the whole mesh.`);
+  }
+  if (plainer.length) {
+    parts.push(`Many defects: the view draws ${plainer.join(', and ')} (past ${FAT_LINE_SEGMENTS.toLocaleString('en-US')} ` +
+      `edges of a kind, or ${MAX_RINGS.toLocaleString('en-US')} small holes); the lists and figures are whole.`);
   }
   if (!geometry) {
     parts.push(`Exact geometry skipped: the file is ${(total / 1e9).toFixed(1)} GB, and self-intersections and nesting ` +
@@ -85,7 +91,7 @@ export async function load(source, { name, credit = '' } = {}) {
     hasModel = true;
     $('#download').hidden = false;
     showMesh(mesh, { name, credit, parseMs: tParsed - t0, sceneMs, totalMs: performance.now() - t0 });
-    showScaleNote(scaleNote(mesh, viewer.stride, geometry, total));
+    showScaleNote(scaleNote(mesh, viewer, geometry, total));
     hideProgress();
     current = null;
     setState('ready');
@@ -127,7 +133,7 @@ async function replaceModel(mesh, { name, credit, t0, keepUnionUndo }) {
   await stopEditing();
   const sceneMs = present(mesh, name, { keepView: true, keepUnionUndo });
   showMesh(mesh, { name, credit, parseMs: performance.now() - t0 - sceneMs, sceneMs, totalMs: performance.now() - t0 });
-  showScaleNote(scaleNote(mesh, viewer.stride, true, 0));
+  showScaleNote(scaleNote(mesh, viewer, true, 0));
 }
 setUnionReplace(replaceModel);
 

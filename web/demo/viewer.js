@@ -43,8 +43,22 @@ export function meshToGeometry(mesh, { useColors = true, fallback = colors.front
   return toBufferGeometry(mesh, { colors: useColors, normals: false, defaultColor: [(n >> 16) & 255, (n >> 8) & 255, n & 255] });
 }
 
+const query = new URLSearchParams(globalThis.location?.search ?? '');
+
 /** Meshes with more triangles are drawn coarser (Viewer.setMesh); ?previewTriangles=N sets it (the tests). */
-export const PREVIEW_TRIANGLES = Number(new URLSearchParams(globalThis.location?.search ?? '').get('previewTriangles')) || 2_000_000;
+export const PREVIEW_TRIANGLES = Number(query.get('previewTriangles')) || 2_000_000;
+
+/**
+ * Overlays past these sizes are drawn plainer, and the page says so (Viewer.plainer): a line
+ * layer of more than FAT_LINE_SEGMENTS segments as 1-pixel lines rather than screen-wide ones,
+ * and the holes without rings when more than MAX_RINGS are small. A screen-wide line is a quad
+ * with its own shader work per pixel: in Chromium's software renderer (no GPU) one pass took
+ * some 30 µs a segment a frame, so a triangle soup of 100k triangles (a hole a triangle, 300k
+ * hole edges in two passes, 100k rings) took 21 s a frame. ?fatLines=N and ?rings=N set them
+ * (the tests).
+ */
+export const FAT_LINE_SEGMENTS = Number(query.get('fatLines')) || 20_000;
+export const MAX_RINGS = Number(query.get('rings')) || 2_000;
 
 /** A geometry sharing `g`'s attributes that draws triangles 0, stride, 2·stride, … of it. */
 function strided(g, stride) {
@@ -226,6 +240,7 @@ export class Viewer {
     this.geometry = null;
     this.drawGeometry = null;
     this.layers = {};
+    this.plainer = [];
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
@@ -324,9 +339,12 @@ export class Viewer {
       const group = new THREE.Group();
       group.add(this.lines(xyz, rgb, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
       group.add(this.lines(xyz, rgb, { width: 5, order: 11 }));
+      this.notePlainLines(xyz, 'hole edges');
       const small = holes.map((h) => loopFrame(mesh, h.vertices)).map((f, i) => ({ ...f, id: holes[i].id }))
         .filter((f) => f.radius < diag * 0.04);
-      if (small.length) {
+      if (small.length > MAX_RINGS) {
+        this.plainer.push(`no rings on the ${small.length.toLocaleString('en-US')} small holes`);
+      } else if (small.length) {
         group.add(this.rings(small.flatMap((f) => f.centre.toArray()), small.map((f) => holeColor(f.id))));
       }
       this.model.add(group);
@@ -335,6 +353,7 @@ export class Viewer {
     if (seams.length) {
       const { xyz, rgb } = loopSegments(mesh, seams, () => colors.seams);
       this.layers.seams = this.lines(xyz, rgb, { width: 3, order: 13, depthTest: false, opacity: 0.9 });
+      this.notePlainLines(xyz, 'seam edges');
       this.model.add(this.layers.seams);
     }
     for (const [name, kind, width] of [['inconsistent', kPairInconsistent, 4], ['nonManifold', kPairNonManifold, 4.5]]) {
@@ -344,6 +363,7 @@ export class Viewer {
       const rgb = new Float32Array(xyz.length);
       for (let i = 0; i < rgb.length; i += 3) rgb.set([c.r, c.g, c.b], i);
       this.layers[name] = this.lines(xyz, rgb, { width, order: 14, depthTest: false });
+      this.notePlainLines(xyz, name === 'inconsistent' ? 'inconsistent edges' : 'non-manifold edges');
       // Problem edges are often tiny next to the model: ring each one (when there are few).
       if (xyz.length / 6 <= 500) {
         const mids = [];
@@ -406,7 +426,28 @@ export class Viewer {
     return points;
   }
 
+  /** What the line layer of segments `xyz` gives up (FAT_LINE_SEGMENTS), for the page's note. */
+  notePlainLines(xyz, what) {
+    const n = xyz.length / 6;
+    if (n > FAT_LINE_SEGMENTS) this.plainer.push(`the ${n.toLocaleString('en-US')} ${what} as 1-pixel lines`);
+  }
+
+  /**
+   * Line segments (6 floats each in `xyz`, a colour per end in `rgb`) `width` pixels wide, or
+   * 1 pixel wide past FAT_LINE_SEGMENTS of them.
+   */
   lines(xyz, rgb, { width, opacity = 1, depthTest = true, order = 10 }) {
+    if (xyz.length / 6 > FAT_LINE_SEGMENTS) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.Float32BufferAttribute(xyz, 3));
+      g.setAttribute('color', new THREE.Float32BufferAttribute(rgb, 3));
+      const thin = new THREE.LineSegments(g, new THREE.LineBasicMaterial({
+        vertexColors: true, depthTest, depthWrite: false, transparent: opacity < 1, opacity,
+      }));
+      thin.renderOrder = order;
+      thin.frustumCulled = false;
+      return thin;
+    }
     const g = new LineSegmentsGeometry();
     g.setPositions(xyz);
     g.setColors(rgb);
