@@ -241,6 +241,7 @@ export class Viewer {
     this.drawGeometry = null;
     this.layers = {};
     this.plainer = [];
+    this.lastThin = null;
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
@@ -438,9 +439,15 @@ export class Viewer {
    */
   lines(xyz, rgb, { width, opacity = 1, depthTest = true, order = 10 }) {
     if (xyz.length / 6 > FAT_LINE_SEGMENTS) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.Float32BufferAttribute(xyz, 3));
-      g.setAttribute('color', new THREE.Float32BufferAttribute(rgb, 3));
+      // Two passes over the same segments (the holes') share one geometry: one upload.
+      let g = this.lastThin?.xyz === xyz && this.lastThin.rgb === rgb ? this.lastThin.g : null;
+      if (!g) {
+        const f32 = (a) => (a instanceof Float32Array ? a : new Float32Array(a));
+        g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.BufferAttribute(f32(xyz), 3));
+        g.setAttribute('color', new THREE.BufferAttribute(f32(rgb), 3));
+        this.lastThin = { xyz, rgb, g };
+      }
       const thin = new THREE.LineSegments(g, new THREE.LineBasicMaterial({
         vertexColors: true, depthTest, depthWrite: false, transparent: opacity < 1, opacity,
       }));
