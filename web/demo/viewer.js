@@ -87,13 +87,26 @@ function loopSegments(mesh, loops, colorOf) {
     color.set(colorOf(loop));
     const vs = loop.vertices;
     for (let j = 0; j < vs.length; j++) {
-      const a = vs[j], b = vs[(j + 1) % vs.length];
-      xyz.set([p[3 * a], p[3 * a + 1], p[3 * a + 2], p[3 * b], p[3 * b + 1], p[3 * b + 2]], o);
-      rgb.set([color.r, color.g, color.b, color.r, color.g, color.b], o);
+      putSegment(xyz, o, p, vs[j], vs[(j + 1) % vs.length]);
+      for (let k = 0; k < 6; k += 3) {
+        rgb[o + k] = color.r;
+        rgb[o + k + 1] = color.g;
+        rgb[o + k + 2] = color.b;
+      }
       o += 6;
     }
   }
   return { xyz, rgb };
+}
+
+/** Writes the segment from vertex a to vertex b of positions `p` at xyz[o..o + 6). */
+function putSegment(xyz, o, p, a, b) {
+  xyz[o] = p[3 * a];
+  xyz[o + 1] = p[3 * a + 1];
+  xyz[o + 2] = p[3 * a + 2];
+  xyz[o + 3] = p[3 * b];
+  xyz[o + 4] = p[3 * b + 1];
+  xyz[o + 5] = p[3 * b + 2];
 }
 
 /** Segments of the undirected edges whose pair kind is `kind` (one segment per half-edge pair). */
@@ -108,8 +121,7 @@ function pairSegments(mesh, kind) {
   let o = 0;
   for (let k = 0; k < pairKind.length; k++) {
     if (pairKind[k] !== kind) continue;
-    const a = vert[2 * k], b = vert[2 * k + 1];
-    xyz.set([p[3 * a], p[3 * a + 1], p[3 * a + 2], p[3 * b], p[3 * b + 1], p[3 * b + 2]], o);
+    putSegment(xyz, o, p, vert[2 * k], vert[2 * k + 1]);
     o += 6;
   }
   return xyz;
@@ -118,9 +130,13 @@ function pairSegments(mesh, kind) {
 /** Loop centre, radius and (Newell) normal of a vertex loop. */
 export function loopFrame(mesh, vertices) {
   const p = mesh.positions;
-  const centre = new THREE.Vector3();
-  for (const v of vertices) centre.add(new THREE.Vector3(p[3 * v], p[3 * v + 1], p[3 * v + 2]));
-  centre.divideScalar(Math.max(1, vertices.length));
+  let cx = 0, cy = 0, cz = 0;
+  for (const v of vertices) {
+    cx += p[3 * v];
+    cy += p[3 * v + 1];
+    cz += p[3 * v + 2];
+  }
+  const centre = new THREE.Vector3(cx, cy, cz).divideScalar(Math.max(1, vertices.length));
   let radius = 0;
   const normal = new THREE.Vector3();
   for (let j = 0; j < vertices.length; j++) {
@@ -341,8 +357,11 @@ export class Viewer {
       group.add(this.lines(xyz, rgb, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
       group.add(this.lines(xyz, rgb, { width: 5, order: 11 }));
       this.notePlainLines(xyz, 'hole edges');
-      const small = holes.map((h) => loopFrame(mesh, h.vertices)).map((f, i) => ({ ...f, id: holes[i].id }))
-        .filter((f) => f.radius < diag * 0.04);
+      const small = [];
+      for (const h of holes) {
+        const f = loopFrame(mesh, h.vertices);
+        if (f.radius < diag * 0.04) small.push(Object.assign(f, { id: h.id }));
+      }
       if (small.length > MAX_RINGS) {
         this.plainer.push(`no rings on the ${small.length.toLocaleString('en-US')} small holes`);
       } else if (small.length) {
