@@ -127,8 +127,12 @@ function pairSegments(mesh, kind) {
   return xyz;
 }
 
-/** Loop centre, radius and (Newell) normal of a vertex loop. */
-export function loopFrame(mesh, vertices) {
+/**
+ * The centre (the mean of its vertices) and radius (the largest distance of a vertex from the
+ * centre) of a vertex loop, into out[0..3] = x, y, z, radius: no object a loop (a triangle
+ * soup has a hole a triangle).
+ */
+function loopCentre(mesh, vertices, out) {
   const p = mesh.positions;
   let cx = 0, cy = 0, cz = 0;
   for (const v of vertices) {
@@ -136,19 +140,33 @@ export function loopFrame(mesh, vertices) {
     cy += p[3 * v + 1];
     cz += p[3 * v + 2];
   }
-  const centre = new THREE.Vector3(cx, cy, cz).divideScalar(Math.max(1, vertices.length));
+  const n = Math.max(1, vertices.length);
+  cx /= n;
+  cy /= n;
+  cz /= n;
   let radius = 0;
+  for (const v of vertices) radius = Math.max(radius, Math.hypot(p[3 * v] - cx, p[3 * v + 1] - cy, p[3 * v + 2] - cz));
+  out[0] = cx;
+  out[1] = cy;
+  out[2] = cz;
+  out[3] = radius;
+  return out;
+}
+
+/** Loop centre, radius and (Newell) normal of a vertex loop. */
+export function loopFrame(mesh, vertices) {
+  const p = mesh.positions;
+  const [cx, cy, cz, radius] = loopCentre(mesh, vertices, new Float64Array(4));
   const normal = new THREE.Vector3();
   for (let j = 0; j < vertices.length; j++) {
     const a = vertices[j], b = vertices[(j + 1) % vertices.length];
-    const ax = p[3 * a] - centre.x, ay = p[3 * a + 1] - centre.y, az = p[3 * a + 2] - centre.z;
-    const bx = p[3 * b] - centre.x, by = p[3 * b + 1] - centre.y, bz = p[3 * b + 2] - centre.z;
+    const ax = p[3 * a] - cx, ay = p[3 * a + 1] - cy, az = p[3 * a + 2] - cz;
+    const bx = p[3 * b] - cx, by = p[3 * b + 1] - cy, bz = p[3 * b + 2] - cz;
     normal.x += (ay - by) * (az + bz);
     normal.y += (az - bz) * (ax + bx);
     normal.z += (ax - bx) * (ay + by);
-    radius = Math.max(radius, Math.hypot(ax, ay, az));
   }
-  return { centre, radius, normal };
+  return { centre: new THREE.Vector3(cx, cy, cz), radius, normal };
 }
 
 function circleSprite() {
@@ -357,15 +375,19 @@ export class Viewer {
       group.add(this.lines(xyz, rgb, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
       group.add(this.lines(xyz, rgb, { width: 5, order: 11 }));
       this.notePlainLines(xyz, 'hole edges');
-      const small = [];
+      const c = new Float64Array(4);
+      const centres = [], ringColors = [];
+      let nSmall = 0;
       for (const h of holes) {
-        const f = loopFrame(mesh, h.vertices);
-        if (f.radius < diag * 0.04) small.push(Object.assign(f, { id: h.id }));
+        if (loopCentre(mesh, h.vertices, c)[3] >= diag * 0.04) continue;
+        if (++nSmall > MAX_RINGS) continue;
+        centres.push(c[0], c[1], c[2]);
+        ringColors.push(holeColor(h.id));
       }
-      if (small.length > MAX_RINGS) {
-        this.plainer.push(`no rings on the ${small.length.toLocaleString('en-US')} small holes`);
-      } else if (small.length) {
-        group.add(this.rings(small.flatMap((f) => f.centre.toArray()), small.map((f) => holeColor(f.id))));
+      if (nSmall > MAX_RINGS) {
+        this.plainer.push(`no rings on the ${nSmall.toLocaleString('en-US')} small holes`);
+      } else if (nSmall) {
+        group.add(this.rings(centres, ringColors));
       }
       this.model.add(group);
       this.layers.holes = group;
