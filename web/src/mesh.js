@@ -85,7 +85,11 @@ function parseShells(pieces) {
   const shells = [];
   for (const piece of pieces) {
     for (const s of JSON.parse(decoder.decode(piece))) {
-      s.bbox = { min: s.bbox.min.map(Math.fround), max: s.bbox.max.map(Math.fround) };
+      const { min, max } = s.bbox; // rounded to float32 in place: no new arrays a shell
+      for (let k = 0; k < 3; ++k) {
+        min[k] = Math.fround(min[k]);
+        max[k] = Math.fround(max[k]);
+      }
       shells.push(s);
     }
   }
