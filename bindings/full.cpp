@@ -5,8 +5,10 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <algorithm>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "session.h"
 
@@ -80,17 +82,72 @@ class FullSession : public Session {
     return list;
   }
 
-  // The shell list, for mesh.shells: an array of Uint8Arrays, each the JSON array of the
-  // next kShellsPerPiece shells (stltopo::shellRangeJson); null without shells. In pieces
-  // for the same reason as infoJsonPieces; JS parses them when mesh.shells is first read.
-  static constexpr size_t kShellsPerPiece = 16384;
-  val shellList() const {
+  // The shell list as columns, for mesh.shells (JS builds each shell's object from them on
+  // first read, with the keys and values of shellRangeJson's JSON; web/src/mesh.js
+  // buildShells); null without shells. Copies, some 70 bytes a shell: a soup's shell list as
+  // JSON was formatted here (%e and strtod round trips in long double, 2.6 s for 500k shells)
+  // and parsed in JS (2.5 s more).
+  //   names: the columns of `counts`, in the JSON's order: triangles, vertices, the surface
+  //          counts (STLTOPO_SURFACE_COUNTS)
+  //   counts: Uint32Array, names.length + 3 a shell: those, then solid (an index, kMixedSolid
+  //          or kInvalid), orientation (Orientation) and flags (1 closed, 2 manifold,
+  //          4 consistent, 8 has a genus)
+  //   reals: Float64Array, 4 a shell: eulerCharacteristic, genus (0 without one), area, volume
+  //   box: Float32Array, 6 a shell: bbox min xyz, max xyz
+  //   with the intersection pass: selfIntersects (Uint8Array), intersectsOffsets,
+  //   intersectsShells, parent and depth (Uint32Arrays) of its ShellNesting
+  val shellTable() const {
     if (!hasShells_) return val::null();
-    val pieces = val::array();
-    for (size_t first = 0; first < shells_.size(); first += kShellsPerPiece)
-      pieces.call<void>("push", bytesToJs(shellRangeJson(shells_, hasIntersections_ ? &nesting_ : nullptr, first,
-                                                         kShellsPerPiece)));
-    return pieces;
+    const size_t n = shells_.size();
+    val names = val::array();
+#define STLTOPO_NAME(count, name, doc) names.call<void>("push", std::string(#name));
+    names.call<void>("push", std::string("triangles"));
+    names.call<void>("push", std::string("vertices"));
+    STLTOPO_SURFACE_COUNTS(STLTOPO_NAME)
+#undef STLTOPO_NAME
+    const size_t k = names["length"].as<size_t>() + 3;
+    std::vector<uint32_t> counts(n * k);
+    std::vector<double> reals(n * 4);
+    std::vector<float> box(n * 6);
+    for (size_t i = 0; i < n; ++i) {
+      const Shell& sh = shells_[i];
+      uint32_t* c = counts.data() + i * k;
+      *c++ = sh.triangles;
+      *c++ = sh.vertices;
+#define STLTOPO_COUNT(count, name, doc) *c++ = sh.name;
+      STLTOPO_SURFACE_COUNTS(STLTOPO_COUNT)
+#undef STLTOPO_COUNT
+      *c++ = sh.solid;
+      *c++ = uint32_t(sh.orientation());
+      *c++ = (sh.closed() ? 1u : 0u) | (sh.manifold() ? 2u : 0u) | (sh.consistent() ? 4u : 0u) |
+             (sh.hasGenus() ? 8u : 0u);
+      double* r = reals.data() + i * 4;
+      r[0] = double(sh.eulerCharacteristic());
+      r[1] = sh.hasGenus() ? sh.genus() : 0;
+      r[2] = sh.area;
+      r[3] = sh.volume;
+      std::copy(sh.bboxMin, sh.bboxMin + 3, box.data() + i * 6);
+      std::copy(sh.bboxMax, sh.bboxMax + 3, box.data() + i * 6 + 3);
+    }
+    val t = val::object();
+    t.set("names", names);
+    t.set("counts", copyOf(counts.data(), counts.size()));
+    t.set("reals", copyOf(reals.data(), reals.size()));
+    t.set("box", copyOf(box.data(), box.size()));
+    // As shellRangeJson: the nesting only when it is of this list.
+    if (hasIntersections_ && nesting_.depth.size() == n) {
+      t.set("selfIntersects", copyOf(nesting_.selfIntersects.data(), nesting_.selfIntersects.size()));
+      t.set("intersectsOffsets", copyOf(nesting_.intersectsOffsets.data(), nesting_.intersectsOffsets.size()));
+      t.set("intersectsShells", copyOf(nesting_.intersectsShells.data(), nesting_.intersectsShells.size()));
+      t.set("parent", copyOf(nesting_.parent.data(), nesting_.parent.size()));
+      t.set("depth", copyOf(nesting_.depth.data(), nesting_.depth.size()));
+    }
+    return t;
+  }
+  // A JS copy (a typed array of its own) of n elements at p.
+  template <class T>
+  static val copyOf(const T* p, size_t n) {
+    return val(typed_memory_view(n, p)).call<val>("slice");
   }
   // The number of shells; -1 without shells.
   double shellCount() const { return hasShells_ ? double(shells_.size()) : -1; }
@@ -262,7 +319,7 @@ Session* newSession(double maxTriangles, double maxBytes, double sizeHint, bool 
 void registerModuleSession(const emscripten::class_<Session>& session) {
   session.function("infoJsonPieces", &Full<&FullSession::infoJsonPieces>::call)
       .function("infoTextPieces", &Full<&FullSession::infoTextPieces>::call)
-      .function("shellList", &Full<&FullSession::shellList>::call)
+      .function("shellTable", &Full<&FullSession::shellTable>::call)
       .function("shellCount", &Full<&FullSession::shellCount>::call)
       .function("selectShell", &Full<&FullSession::selectShell>::call)
       .function("splitLine", &Full<&FullSession::splitLine>::call)

@@ -32,6 +32,7 @@ test('{ intersections: true }: stats, shells and every geometry defect equal the
     for (const k of KEYS) assert.deepEqual(mesh.stats[k], want[k], `${f}: ${k}`);
     assert.deepEqual(mesh.shells.map((s) => [s.selfIntersects, s.intersectsShells, s.parent, s.depth]),
       want.shellList.map((s) => [s.selfIntersects, s.intersectsShells, s.parent, s.depth]), `${f}: shells`);
+    mesh.shells.forEach((s, i) => assert.deepEqual(Object.keys(s), Object.keys(want.shellList[i]), `${f}: shell ${i}'s keys`));
     for (const kind of ['zeroAreaTriangles', 'duplicateTriangles', 'selfIntersections']) {
       const n = mesh.defectCount(kind);
       assert.equal(n, want.defects[kind].count, `${f}: ${kind} count`);

@@ -74,24 +74,43 @@ export function untrackSession(owner) {
   if (registry) registry.unregister(owner);
 }
 
+const ORIENTATIONS = ['inconsistent', 'open', 'outward', 'inward', 'flat']; // Orientation's order
+const kMixedSolid = kInvalid - 1;
+
 /**
- * The shell objects of a load's shell list: pieces of JSON (Uint8Arrays, each the array of
- * the next shells; as one string the list of a soup of 1.4M triangles would pass V8's
- * string limit), with each bbox as the float32 values themselves (the JSON has their
- * shortest digits).
+ * mesh.shells from the bindings' columns (FullSession::shellTable): each shell's object with
+ * the keys, in order, and the values of its JSON in `info --json --shells` (the bounding box
+ * as float32 values).
  */
-function parseShells(pieces) {
-  const decoder = new TextDecoder();
-  const shells = [];
-  for (const piece of pieces) {
-    for (const s of JSON.parse(decoder.decode(piece))) {
-      const { min, max } = s.bbox; // rounded to float32 in place: no new arrays a shell
-      for (let k = 0; k < 3; ++k) {
-        min[k] = Math.fround(min[k]);
-        max[k] = Math.fround(max[k]);
-      }
-      shells.push(s);
+function buildShells(t) {
+  const { names, counts, reals, box } = t;
+  const k = names.length + 3;
+  const n = reals.length / 4;
+  const nest = t.parent ? t : null;
+  const shells = new Array(n);
+  for (let i = 0; i < n; ++i) {
+    const c = i * k;
+    const s = { id: i };
+    for (let j = 0; j < names.length; ++j) s[names[j]] = counts[c + j];
+    const solid = counts[c + k - 3];
+    const flags = counts[c + k - 1];
+    s.eulerCharacteristic = reals[4 * i];
+    s.genus = flags & 8 ? reals[4 * i + 1] : null;
+    s.closed = (flags & 1) !== 0;
+    s.manifold = (flags & 2) !== 0;
+    s.consistent = (flags & 4) !== 0;
+    s.orientation = ORIENTATIONS[counts[c + k - 2]];
+    s.solid = solid === kMixedSolid ? 'mixed' : solid === kInvalid ? null : solid;
+    s.bbox = { min: [box[6 * i], box[6 * i + 1], box[6 * i + 2]], max: [box[6 * i + 3], box[6 * i + 4], box[6 * i + 5]] };
+    s.area = reals[4 * i + 2];
+    s.volume = reals[4 * i + 3];
+    if (nest) {
+      s.selfIntersects = nest.selfIntersects[i] !== 0;
+      s.intersectsShells = Array.from(nest.intersectsShells.subarray(nest.intersectsOffsets[i], nest.intersectsOffsets[i + 1]));
+      s.parent = nest.parent[i] === kInvalid ? null : nest.parent[i];
+      s.depth = nest.depth[i] === kInvalid ? null : nest.depth[i];
     }
+    shells[i] = s;
   }
   return shells;
 }
@@ -280,13 +299,13 @@ export class Mesh {
     if (!raw.hasShells) {
       this.shells = null;
     } else {
-      // Parsed on first read, then a plain property (one the caller set first stays): a soup
+      // Built on first read, then a plain property (one the caller set first stays): a soup
       // has a shell a triangle, some 430 bytes of JS heap each (2M shells: 0.86 GiB).
       Object.defineProperty(this, 'shells', {
         enumerable: true,
         configurable: true,
         get: () => {
-          const shells = parseShells(raw.shellPieces);
+          const shells = buildShells(raw.shellTable);
           settle(this, 'shells', shells);
           return shells;
         },

@@ -72,7 +72,7 @@ export const errorMessage = (e) => ({ type: Msg.Error, error: errorToMessage(e) 
 export function transferList(raw) {
   const set = new Set();
   for (const a of Object.values(raw.arrays)) if (a && a.buffer) set.add(a.buffer);
-  for (const p of raw.shellPieces || []) set.add(p.buffer);
+  for (const a of Object.values(raw.shellTable || {})) if (a && a.buffer) set.add(a.buffer);
   return [...set];
 }
 

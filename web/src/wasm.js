@@ -242,7 +242,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
       hasNormals: meta.hasNormals,
       hasShells: meta.hasShells,
       hasIntersections: !!meta.hasIntersections,
-      shellPieces: meta.hasShells ? session.shellList() : null, // mesh.shells, parsed on first read
+      shellTable: meta.hasShells ? session.shellTable() : null, // mesh.shells' columns, built on first read
       indexed: meta.indexed,
       solids: meta.solids,
       warnings: meta.warnings,
