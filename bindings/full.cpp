@@ -84,9 +84,10 @@ class FullSession : public Session {
 
   // The shell list as columns, for mesh.shells (JS builds each shell's object from them on
   // first read, with the keys and values of shellRangeJson's JSON; web/src/mesh.js
-  // buildShells); null without shells. Copies, some 70 bytes a shell: a soup's shell list as
-  // JSON was formatted here (%e and strtod round trips in long double, 2.6 s for 500k shells)
-  // and parsed in JS (2.5 s more).
+  // buildShells); null without shells. Copies, 104 bytes a shell (more with the nesting): as
+  // JSON, the shell list of the 500k-triangle soup took 5 s of its load here (each double's
+  // %e and strtod round trips are long double arithmetic, 128-bit software floats in wasm)
+  // and 2.5 s more to parse in JS.
   //   names: the columns of `counts`, in the JSON's order: triangles, vertices, the surface
   //          counts (STLTOPO_SURFACE_COUNTS)
   //   counts: Uint32Array, names.length + 3 a shell: those, then solid (an index, kMixedSolid
@@ -143,11 +144,6 @@ class FullSession : public Session {
       t.set("depth", copyOf(nesting_.depth.data(), nesting_.depth.size()));
     }
     return t;
-  }
-  // A JS copy (a typed array of its own) of n elements at p.
-  template <class T>
-  static val copyOf(const T* p, size_t n) {
-    return val(typed_memory_view(n, p)).call<val>("slice");
   }
   // The number of shells; -1 without shells.
   double shellCount() const { return hasShells_ ? double(shells_.size()) : -1; }

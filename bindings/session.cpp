@@ -208,9 +208,7 @@ val Session::buildTopology(bool topology, double tolerance, bool prevAndFace, bo
 
 val Session::bytesToJs(const std::string& s) { return bytesToJs(s.data(), s.size()); }
 
-val Session::bytesToJs(const char* data, size_t n) {
-  return val(typed_memory_view(n, reinterpret_cast<const uint8_t*>(data))).call<val>("slice");
-}
+val Session::bytesToJs(const char* data, size_t n) { return copyOf(reinterpret_cast<const uint8_t*>(data), n); }
 
 val Session::remember(const Status& s) {
   if (!s.ok()) last_ = s;

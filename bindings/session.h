@@ -81,6 +81,11 @@ class Session {
   emscripten::val buildTopology(bool topology, double tolerance, bool prevAndFace, bool shells);
   static emscripten::val bytesToJs(const std::string& s);
   static emscripten::val bytesToJs(const char* data, size_t n);
+  // A JS copy (a typed array of its own) of the n elements at p.
+  template <class T>
+  static emscripten::val copyOf(const T* p, size_t n) {
+    return emscripten::val(emscripten::typed_memory_view(n, p)).call<emscripten::val>("slice");
+  }
   // upload()'s adapter: `a` resized to n elements, as a writable view; null when it fails.
   template <class T>
   static emscripten::val uploadTo(Array<T>& a, double n) {
