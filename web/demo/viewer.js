@@ -379,7 +379,7 @@ export class Viewer {
       const centres = [], ringColors = [];
       let nSmall = 0;
       for (const h of holes) {
-        if (loopCentre(mesh, h.vertices, c)[3] >= diag * 0.04) continue;
+        if (!(loopCentre(mesh, h.vertices, c)[3] < diag * 0.04)) continue; // small ones only (a NaN radius is not small)
         if (++nSmall > MAX_RINGS) continue;
         centres.push(c[0], c[1], c[2]);
         ringColors.push(holeColor(h.id));
