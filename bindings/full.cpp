@@ -83,7 +83,7 @@ class FullSession : public Session {
   }
 
   // The shell list as columns, for mesh.shells (JS builds each shell's object from them on
-  // first read, with the keys and values of shellRangeJson's JSON; web/src/mesh.js
+  // first read, with the keys and values of the shell list's JSON; web/src/mesh.js
   // buildShells); null without shells. Copies, 104 bytes a shell (more with the nesting): as
   // JSON, the shell list of the 500k-triangle soup took 5 s of its load here (each double's
   // %e and strtod round trips are long double arithmetic, 128-bit software floats in wasm)
@@ -135,7 +135,7 @@ class FullSession : public Session {
     t.set("counts", copyOf(counts.data(), counts.size()));
     t.set("reals", copyOf(reals.data(), reals.size()));
     t.set("box", copyOf(box.data(), box.size()));
-    // As shellRangeJson: the nesting only when it is of this list.
+    // As the JSON lists: the nesting only when it is of this list.
     if (hasIntersections_ && nesting_.depth.size() == n) {
       t.set("selfIntersects", copyOf(nesting_.selfIntersects.data(), nesting_.selfIntersects.size()));
       t.set("intersectsOffsets", copyOf(nesting_.intersectsOffsets.data(), nesting_.intersectsOffsets.size()));

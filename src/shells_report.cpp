@@ -533,28 +533,40 @@ void geometryText(std::string& o, const ReportExtras& e) {
 
 }  // namespace
 
+namespace {
+
+// The writer of the extras (the shell list, the defects, the geometry) for the reports.
+detail::ExtrasWriter writerOf(const ReportExtras& extras) {
+  return {extras, extrasJson, extrasText, geometryJson, geometryText};
+}
+
+// A report in pieces: what its writer left after the pieces it handed on, handed on too.
+void handOn(const ReportSink& sink, const std::string& rest) {
+  if (!rest.empty()) sink(rest.data(), rest.size());
+}
+
+}  // namespace
+
 std::string infoJson(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
+  const detail::ExtrasWriter w = writerOf(extras);
   return detail::infoJsonWith(file, mesh, topo, &w);
 }
 
 void infoJson(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
               const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
-  const std::string rest = detail::infoJsonWith(file, mesh, topo, &w, &sink);
-  if (!rest.empty()) sink(rest.data(), rest.size());
+  const detail::ExtrasWriter w = writerOf(extras);
+  handOn(sink, detail::infoJsonWith(file, mesh, topo, &w, &sink));
 }
 
 std::string infoText(const std::string& file, const Mesh& mesh, const Topology* topo, const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
+  const detail::ExtrasWriter w = writerOf(extras);
   return detail::infoTextWith(file, mesh, topo, &w);
 }
 
 void infoText(const ReportSink& sink, const std::string& file, const Mesh& mesh, const Topology* topo,
               const ReportExtras& extras) {
-  const detail::ExtrasWriter w{extras, extrasJson, extrasText, geometryJson, geometryText};
-  const std::string rest = detail::infoTextWith(file, mesh, topo, &w, &sink);
-  if (!rest.empty()) sink(rest.data(), rest.size());
+  const detail::ExtrasWriter w = writerOf(extras);
+  handOn(sink, detail::infoTextWith(file, mesh, topo, &w, &sink));
 }
 
 }  // namespace stltopo

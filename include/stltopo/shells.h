@@ -126,7 +126,7 @@ struct ShellNesting;
 std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nesting = nullptr);
 // The JSON array ("[{...},...]") of shells [first, first + count) of the list, each as
 // shellListJson gives it (its id its index in `shells`): a list too long for one string
-// (the JS API's mesh.shells of a soup, a shell a triangle) in ranges. Empty ("[]") past the end.
+// (a triangle soup has a shell a triangle) in ranges. Empty ("[]") past the end.
 std::string shellRangeJson(const Array<Shell>& shells, const ShellNesting* nesting, size_t first, size_t count);
 // `"defects":{...}`: each kind with its count and its first `maxPerKind` items; a hole's or
 // seam's vertex list (and a seam's cut-edge list) is cut at `maxPerKind` entries too, its
