@@ -59,6 +59,8 @@ export const PREVIEW_TRIANGLES = Number(query.get('previewTriangles')) || 2_000_
  */
 export const FAT_LINE_SEGMENTS = Number(query.get('fatLines')) || 20_000;
 export const MAX_RINGS = Number(query.get('rings')) || 2_000;
+/** Whether the segments `xyz` (6 floats each) are drawn as 1-pixel lines. */
+const isThin = (xyz) => xyz.length / 6 > FAT_LINE_SEGMENTS;
 
 /** A geometry sharing `g`'s attributes that draws triangles 0, stride, 2·stride, … of it. */
 function strided(g, stride) {
@@ -275,7 +277,6 @@ export class Viewer {
     this.drawGeometry = null;
     this.layers = {};
     this.plainer = [];
-    this.lastThin = null;
     if (this.mesh !== next) this.mesh?.dispose?.(); // the same mesh shown again (an edit) stays alive
     this.mesh = null;
     this.highlight = null;
@@ -372,8 +373,9 @@ export class Viewer {
     if (holes.length) {
       const { xyz, rgb } = loopSegments(mesh, holes, (h) => holeColor(h.id));
       const group = new THREE.Group();
-      group.add(this.lines(xyz, rgb, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
-      group.add(this.lines(xyz, rgb, { width: 5, order: 11 }));
+      const g = this.lineGeometry(xyz, rgb);
+      group.add(this.linesOf(g, { width: 2.5, opacity: 0.45, depthTest: false, order: 10 }));
+      group.add(this.linesOf(g, { width: 5, order: 11 }));
       this.notePlainLines(xyz, 'hole edges');
       const c = new Float64Array(4);
       const centres = [], ringColors = [];
@@ -470,40 +472,43 @@ export class Viewer {
 
   /** What the line layer of segments `xyz` gives up (FAT_LINE_SEGMENTS), for the page's note. */
   notePlainLines(xyz, what) {
-    const n = xyz.length / 6;
-    if (n > FAT_LINE_SEGMENTS) this.plainer.push(`the ${n.toLocaleString('en-US')} ${what} as 1-pixel lines`);
+    if (isThin(xyz)) this.plainer.push(`the ${(xyz.length / 6).toLocaleString('en-US')} ${what} as 1-pixel lines`);
   }
 
   /**
-   * Line segments (6 floats each in `xyz`, a colour per end in `rgb`) `width` pixels wide, or
-   * 1 pixel wide past FAT_LINE_SEGMENTS of them.
+   * The geometry of line segments (6 floats each in `xyz`, a colour per end in `rgb`):
+   * screen-wide lines', or past FAT_LINE_SEGMENTS of them 1-pixel lines'. Passes over the same
+   * segments (the holes') share one: one upload.
    */
-  lines(xyz, rgb, { width, opacity = 1, depthTest = true, order = 10 }) {
-    if (xyz.length / 6 > FAT_LINE_SEGMENTS) {
-      // Two passes over the same segments (the holes') share one geometry: one upload.
-      let g = this.lastThin?.xyz === xyz && this.lastThin.rgb === rgb ? this.lastThin.g : null;
-      if (!g) {
-        const f32 = (a) => (a instanceof Float32Array ? a : new Float32Array(a));
-        g = new THREE.BufferGeometry();
-        g.setAttribute('position', new THREE.BufferAttribute(f32(xyz), 3));
-        g.setAttribute('color', new THREE.BufferAttribute(f32(rgb), 3));
-        this.lastThin = { xyz, rgb, g };
-      }
-      const thin = new THREE.LineSegments(g, new THREE.LineBasicMaterial({
-        vertexColors: true, depthTest, depthWrite: false, transparent: opacity < 1, opacity,
-      }));
-      thin.renderOrder = order;
-      thin.frustumCulled = false;
-      return thin;
+  lineGeometry(xyz, rgb) {
+    if (isThin(xyz)) {
+      const f32 = (a) => (a instanceof Float32Array ? a : new Float32Array(a));
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(f32(xyz), 3));
+      g.setAttribute('color', new THREE.BufferAttribute(f32(rgb), 3));
+      return g;
     }
     const g = new LineSegmentsGeometry();
     g.setPositions(xyz);
     g.setColors(rgb);
-    const m = new LineMaterial({
-      linewidth: width, vertexColors: true, depthTest, depthWrite: false,
-      transparent: opacity < 1, opacity, worldUnits: false,
-    });
-    const lines = new LineSegments2(g, m);
+    return g;
+  }
+
+  /** Line segments `width` pixels wide (1 pixel when thin; see lineGeometry). */
+  lines(xyz, rgb, options) {
+    return this.linesOf(this.lineGeometry(xyz, rgb), options);
+  }
+
+  /** A pass over the segments of a lineGeometry(). */
+  linesOf(g, { width, opacity = 1, depthTest = true, order = 10 }) {
+    const lines = g.isLineSegmentsGeometry
+      ? new LineSegments2(g, new LineMaterial({
+        linewidth: width, vertexColors: true, depthTest, depthWrite: false,
+        transparent: opacity < 1, opacity, worldUnits: false,
+      }))
+      : new THREE.LineSegments(g, new THREE.LineBasicMaterial({
+        vertexColors: true, depthTest, depthWrite: false, transparent: opacity < 1, opacity,
+      }));
     lines.renderOrder = order;
     lines.frustumCulled = false;
     return lines;
