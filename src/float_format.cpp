@@ -68,22 +68,47 @@ std::string shortestFrom(double x, bool isFloat, bool from15) {
   return rendered(neg, digits, exp10);
 }
 
+// The digits and decimal exponent shortestByPrinting() gives for the positive finite double
+// v, by exact 128-bit arithmetic (float_shortest.h), or false when it cannot decide: a
+// candidate exactly on the boundary of the interval that reads back as v, or a magnitude
+// whose scaled numbers do not fit 128 bits (below about 1e-14, above about 1e46).
+bool exactDigits(double v, uint64_t& digits, int& p, int& exp10) {
+  const uint64_t bits = bitCast<uint64_t>(v), mant = bits & ((uint64_t(1) << 52) - 1), ex = bits >> 52;
+  Exact x;
+  x.m = ex == 0 ? mant : mant | (uint64_t(1) << 52);
+  x.e = ex == 0 ? -1074 : int(ex) - 1075;
+  x.narrowBelow = mant == 0 && ex > 1;
+  const int b2 = x.e + (63 - __builtin_clzll(x.m));  // floor(log2 v)
+  const int E10 = int((int64_t(b2) * 78913) >> 18);  // floor(log10 v) or one less
+  return digitsIn<U128, 17>(x, E10, digits, p, exp10) == Found::Yes;
+}
+
 }  // namespace
 
 // For p = 1, 2, ... print x correctly rounded to p digits (the C library's %e) and keep
 // the first that the C library reads back as the same value.
 std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, isFloat, false); }
 
-// The same digits as shortestByPrinting(x, false) with 1 to 3 printings instead of up to 17
-// (a report of 20,000 shells spent a third of its time here; bench/PROFILE.md, *Stop 50*).
-// For a normal double x: if the p-digit rounding r_p of x reads back as x for some p <= 15,
+// The same digits as shortestByPrinting(x, false). Exact integer arithmetic decides nearly
+// every double of a report (a report of 1M shells spent 40% of its time printing and reading
+// doubles natively, more in wasm, where musl does both in 128-bit long double:
+// bench/PROFILE.md, *Stop 68*). The rest take 1 to 3 printings: for a normal double x, if
+// the p-digit rounding r_p of x reads back as x for some p <= 15,
 // then r_p is within half an ulp of x (a relative 2^-53 < 1.2e-16), and every other 15-digit
 // decimal is at least a 15-digit step away (a relative 1e-15 or more) less that: so r_p,
 // padded with zeros, is the 15-digit rounding r_15. Hence: when r_15 reads back as x, the
 // shortest p is r_15's digits without its trailing zeros (a shorter p would have left more
 // zeros), and those digits are r_p; when it does not, no p <= 15 does, and the search starts
 // at 16. Subnormal doubles, whose ulp is relatively larger, take the search from 1.
-std::string shortestDouble(double x) { return shortestFrom(x, false, true); }
+std::string shortestDouble(double x) {
+  uint64_t digits;
+  int p, exp10;
+  if (x != 0 && std::isfinite(x) && exactDigits(std::fabs(x), digits, p, exp10)) {
+    char out[32];
+    return std::string(out, renderDigits(std::signbit(x), digits, p, exp10, out));
+  }
+  return shortestFrom(x, false, true);
+}
 
 size_t formatShortest(float f, char* out) { return formatShortestHere(f, out); }
 

@@ -41,10 +41,11 @@ bool same(uint32_t b) {
   return fast == ref;
 }
 
-// The report's doubles (area, volume, a shell's figures): shortestDouble, which starts the
-// search at 15 digits, against the search from 1 digit, on doubles near powers of ten and
-// two, short decimals and their neighbours, sums of floats (as the report makes them),
-// random bit patterns, and the subnormal and largest ones.
+// The report's doubles (area, volume, a shell's figures): shortestDouble, by exact integer
+// arithmetic or else a search that starts at 15 digits, against the search from 1 digit, on
+// doubles near powers of ten and two, short decimals and their neighbours, sums of floats (as
+// the report makes them), random bit patterns and magnitudes, exact ties, and the subnormal and
+// largest ones.
 bool sameDouble(double x) {
   if (!std::isfinite(x)) return true;
   const std::string fast = stltopo::detail::shortestDouble(x), ref = shortestByPrinting(x, false);
@@ -95,6 +96,17 @@ TEST(FloatFormat, DoublesMatchPrintingFromOneDigit) {
     double x;
     std::memcpy(&x, &b, 8);
     if (!sameDouble(x)) return;
+  }
+  for (int i = 0; i < 20000 * kSamples; ++i) {  // 2^-53 to 2^162, where the exact 128-bit path decides
+    const double x = std::ldexp(1.0 + double(rng() >> 11) * 0x1p-53, int(rng() % 216) - 53);
+    if (!sameDouble(x) || !sameDouble(-x)) return;
+  }
+  for (uint64_t i = 1; i <= 3000 * uint64_t(kSamples); ++i) {  // exact halves and ties: binary
+    // fractions, integers past 2^53 (where a shorter decimal falls midway between two doubles),
+    // and multiples of 2^60
+    if (!sameDouble(double(i) / 8) || !sameDouble(double((uint64_t(1) << 53) + 2 * i)) ||
+        !sameDouble(double((uint64_t(1) << 54) + 4 * i)) || !sameDouble(std::ldexp(double(i), 60)))
+      return;
   }
   for (uint64_t b = 0; b < 2000; ++b) {  // the smallest subnormals, and the largest doubles
     double x, y;
