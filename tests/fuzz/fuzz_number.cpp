@@ -10,12 +10,18 @@
 //   - a token strtof does not read entirely, or one longer than kMaxNumberChars:
 //     ascii-syntax at line 3 (the first malformed token's vertex line);
 //   - otherwise, when a token reads as NaN or +-Inf (1e999 too): non-finite for triangle 0.
+// The report's double formatting too, differential against printing: for each token that
+// strtod_l reads to a finite double, for that double scaled into the exact path's range, and
+// for the input's first 8 bytes as a double, shortestDouble gives the text of the search by
+// printing from 1 digit.
 #include <locale.h>
 #include <clocale>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
+#include "float_format.h"
 #include "fuzz_common.h"
 
 using namespace stltopo;
@@ -33,6 +39,10 @@ bool numberByte(uint8_t c) {
 
 enum class Expect { Ok, Syntax, NonFinite };
 
+void checkShortestDouble(double x) {
+  if (std::isfinite(x)) FUZZ_CHECK(stltopo::detail::shortestDouble(x) == stltopo::detail::shortestByPrinting(x, false));
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -48,6 +58,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     i = j;
   }
   while (tok.size() < 9) tok.push_back("0");
+
+  for (const std::string& t : tok) {
+    const double x = strtod_l(t.c_str(), nullptr, cLocale());
+    checkShortestDouble(x);
+    int e = 0;
+    const double m = std::frexp(x, &e);  // the same mantissa at 2^-53 to 2^162
+    checkShortestDouble(std::ldexp(m, (e % 216 + 216) % 216 - 53));
+  }
+  if (size >= 8) {
+    double x;
+    std::memcpy(&x, data, 8);
+    checkShortestDouble(x);
+  }
 
   Expect expect = Expect::Ok;
   float want[9];
