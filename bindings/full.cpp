@@ -136,7 +136,7 @@ class FullSession : public Session {
     t.set("reals", copyOf(reals.data(), reals.size()));
     t.set("box", copyOf(box.data(), box.size()));
     // As the JSON lists: the nesting only when it is of this list.
-    if (hasIntersections_ && nesting_.depth.size() == n) {
+    if (hasIntersections_ && nesting_.isOf(n)) {
       t.set("selfIntersects", copyOf(nesting_.selfIntersects.data(), nesting_.selfIntersects.size()));
       t.set("intersectsOffsets", copyOf(nesting_.intersectsOffsets.data(), nesting_.intersectsOffsets.size()));
       t.set("intersectsShells", copyOf(nesting_.intersectsShells.data(), nesting_.intersectsShells.size()));

@@ -2446,7 +2446,7 @@ bool solidButForShells(const Topology& topo, const TriangleChecks& checks, const
 bool isSolid(const Topology& topo, const TriangleChecks& checks, const Intersections& found, const Array<Shell>& shells,
              const ShellNesting& nesting) {
   if (!solidButForShells(topo, checks, found)) return false;
-  if (shells.size() != nesting.depth.size()) return false;
+  if (!nesting.isOf(shells.size())) return false;
   for (size_t s = 0; s < shells.size(); ++s) {
     if (nesting.depth[s] == kInvalid) return false;
     const Orientation o = shells[s].orientation();

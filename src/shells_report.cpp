@@ -172,7 +172,7 @@ void writeShell(Json& j, const Shell& s, uint32_t id, const ShellNesting* nest =
 }  // namespace
 
 void detail::writeShellList(Json& j, const Array<Shell>& shells, const ShellNesting* nesting) {
-  if (nesting && nesting->depth.size() != shells.size()) nesting = nullptr;
+  if (nesting && !nesting->isOf(shells.size())) nesting = nullptr;
   j.key("shellList");
   // About 410 bytes a shell (480 with its nesting): room for them at once (pages not written
   // to are never touched), instead of the string's doublings, each a copy into fresh memory (a
@@ -214,7 +214,7 @@ std::string shellListJson(const Array<Shell>& shells, const ShellNesting* nestin
 }
 
 std::string shellRangeJson(const Array<Shell>& shells, const ShellNesting* nesting, size_t first, size_t count) {
-  if (nesting && nesting->depth.size() != shells.size()) nesting = nullptr;
+  if (nesting && !nesting->isOf(shells.size())) nesting = nullptr;
   const size_t end = first >= shells.size() ? first : first + std::min(count, shells.size() - first);
   Json j;
   (void)detail::tryReserve(j.s, (end - first) * (nesting ? 576 : 512) + 2);

@@ -142,6 +142,10 @@ struct ShellNesting {
   Array<uint32_t> intersectsShells;
   Array<uint32_t> parent;
   Array<uint32_t> depth;
+
+  // Whether this is the nesting of a list of `shells` shells: the reports write it beside a
+  // shell list only then (an empty nesting, of a mesh not checked, is of the empty list only).
+  bool isOf(size_t shells) const { return depth.size() == shells; }
 };
 
 // Needs Topology::triangleShell, `shells` from findShellsAndDefects and `found` from
