@@ -1,5 +1,5 @@
-// Shortest round-trip decimals (see float_format.h). The exact float path is in
-// float_shortest.h, which the ASCII writer compiles too.
+// Shortest round-trip decimals (see float_format.h). The exact integer path is in
+// float_shortest.h, whose float half the ASCII writer compiles too.
 #include "float_format.h"
 
 #include <locale.h>

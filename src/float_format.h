@@ -14,7 +14,8 @@ namespace stltopo::detail {
 std::string shortest(double x, bool isFloat);
 // The same as shortest(), always through printf and strtof (the reference for tests).
 std::string shortestByPrinting(double x, bool isFloat);
-// shortest(x, false): the same digits as shortestByPrinting(x, false) in 1 to 3 printings.
+// shortest(x, false): the same digits as shortestByPrinting(x, false), by exact integer
+// arithmetic for nearly every double, else in 1 to 3 printings.
 std::string shortestDouble(double x);
 
 // Room formatShortest() needs: "-100000000000000000000" (21 digits) is the longest.

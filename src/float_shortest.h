@@ -1,5 +1,5 @@
-// The exact float path of the shortest decimals (float_format.h), for the two files that
-// compile it: float_format.cpp (shortest() and formatShortest(): the report's few numbers,
+// The exact path of the shortest decimals (float_format.h), for the two files that compile
+// it: float_format.cpp (shortest(), shortestDouble() and formatShortest(): the report's numbers,
 // compiled for size in the wasm build, where the core module has no writer) and write_stl.cpp
 // (the ASCII writer's hot loop, compiled for speed). Everything here has internal linkage,
 // so that each of them keeps its own copy, built with its own flags: one shared copy at -Oz
