@@ -89,7 +89,7 @@ bool exactDigits(double v, uint64_t& digits, int& p, int& exp10) {
 // the first that the C library reads back as the same value.
 std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, isFloat, false); }
 
-// The same digits as shortestByPrinting(x, false). Exact integer arithmetic decides nearly
+// The digits of shortestByPrinting(x, false). Exact integer arithmetic decides nearly
 // every double of a report (a report of 1M shells spent 40% of its time printing and reading
 // doubles natively, more in wasm, where musl does both in 128-bit long double:
 // bench/PROFILE.md, *Stop 68*). The rest take 1 to 3 printings: for a normal double x, if
@@ -100,25 +100,21 @@ std::string shortestByPrinting(double x, bool isFloat) { return shortestFrom(x, 
 // shortest p is r_15's digits without its trailing zeros (a shorter p would have left more
 // zeros), and those digits are r_p; when it does not, no p <= 15 does, and the search starts
 // at 16. Subnormal doubles, whose ulp is relatively larger, take the search from 1.
-std::string shortestDouble(double x) {
+size_t formatShortest(double x, char* out) {
   uint64_t digits;
   int p, exp10;
-  if (x != 0 && std::isfinite(x) && exactDigits(std::fabs(x), digits, p, exp10)) {
-    char out[32];
-    return std::string(out, renderDigits(std::signbit(x), digits, p, exp10, out));
-  }
-  return shortestFrom(x, false, true);
+  if (x != 0 && std::isfinite(x) && exactDigits(std::fabs(x), digits, p, exp10))
+    return renderDigits(std::signbit(x), digits, p, exp10, out);
+  const std::string s = shortestFrom(x, false, true);
+  std::memcpy(out, s.data(), s.size());
+  return s.size();
+}
+
+std::string shortestDouble(double x) {
+  char out[kMaxDoubleChars];
+  return std::string(out, formatShortest(x, out));
 }
 
 size_t formatShortest(float f, char* out) { return formatShortestHere(f, out); }
-
-std::string shortest(double x, bool isFloat) {
-  if (x == 0) return std::signbit(x) ? "-0" : "0";
-  if (isFloat) {
-    char buf[kMaxFloatChars];
-    return std::string(buf, formatShortestHere(float(x), buf));
-  }
-  return shortestDouble(x);
-}
 
 }  // namespace stltopo::detail

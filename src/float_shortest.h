@@ -1,5 +1,5 @@
 // The exact path of the shortest decimals (float_format.h), for the two files that compile
-// it: float_format.cpp (shortest(), shortestDouble() and formatShortest(): the report's numbers,
+// it: float_format.cpp (the two formatShortest() and shortestDouble(): the report's numbers,
 // compiled for size in the wasm build, where the core module has no writer) and write_stl.cpp
 // (the ASCII writer's hot loop, compiled for speed). Everything here has internal linkage,
 // so that each of them keeps its own copy, built with its own flags: one shared copy at -Oz
@@ -160,7 +160,7 @@ Found digitsIn(const Exact& x, int E10, uint64_t& digits, int& p, int& exp10) {
   p = kDigits;
   if (x.narrowBelow) {
     // The gap differs on the two sides, so a longer candidate can fail where a shorter
-    // one passed: take the first that fits, as shortest() does.
+    // one passed: take the first that fits, as the search by printing does.
     for (int q = 1; q < kDigits; ++q) {
       uint64_t c;
       Fit fit = candidate(kDigits - q, c);
@@ -205,7 +205,7 @@ size_t renderDigits(bool neg, uint64_t digits, int p, int exp10, char* out) {
   return render(neg, d, n, exp10, out);
 }
 
-// The digits and decimal exponent shortest() gives for the positive finite float f, or
+// The digits and decimal exponent formatShortest() gives for the positive finite float f, or
 // false when the integer arithmetic cannot decide (a candidate exactly on the boundary of
 // the interval that reads back as f, or sizes out of range).
 bool exactDigits(float f, uint64_t& digits, int& p, int& exp10) {

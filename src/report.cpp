@@ -16,7 +16,6 @@ namespace stltopo {
 namespace {
 
 using detail::Json;
-using detail::shortest;
 
 void location(Json& j, const Status& st) {
   if (st.offset != kNoOffset) {
@@ -160,9 +159,9 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     j.bbox(mesh.bboxMin, mesh.bboxMax);
   }
   j.key("area");
-  j.s += shortest(mesh.area, false);
+  j.f64(mesh.area);
   j.key("volume");
-  j.s += shortest(mesh.volume, false);
+  j.f64(mesh.volume);
   j.key("warnings");
   j.open('[');
   for (const Status& w : mesh.warnings) {
@@ -199,7 +198,7 @@ std::string detail::infoJsonWith(const std::string& file, const Mesh& mesh, cons
     j.key("genus");
     if (t.watertight() && t.manifold()) {            // a pinched closed mesh is no surface: no genus
       int64_t twice = 2 * int64_t(t.nShells) - chi;  // genus = (2 shells - chi) / 2
-      j.s += shortest(double(twice) / 2, false);
+      j.f64(double(twice) / 2);
     } else {
       j.s += "null";
     }

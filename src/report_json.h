@@ -61,8 +61,14 @@ struct Json {
     first = false;
   }
   // A float32 coordinate (-0 printed as 0) or a float64 figure, in shortest form.
-  void f32(float v) { s += shortest(v + 0.0f, true); }
-  void f64(double v) { s += shortest(v, false); }
+  void f32(float v) {
+    char b[kMaxFloatChars];
+    s.append(b, formatShortest(v + 0.0f, b));
+  }
+  void f64(double v) {
+    char b[kMaxDoubleChars];
+    s.append(b, formatShortest(v, b));
+  }
   // [x,y,z] of float32 coordinates, and {"min":[..],"max":[..]}.
   void point(const float* p) {
     s += '[';
