@@ -66,6 +66,32 @@ test('toStl: every fixture reads back with the same arrays, binary and ASCII', a
   }
 });
 
+test('toStl in Node copies a binary file once into an array of its size, and does not trust the figures for it', async () => {
+  // One solid, and two (a binary file has 84 bytes a solid and 50 a triangle); copies and views.
+  const meshes = [];
+  for (const f of ['rear_case.stl', 'multibody.stl']) {
+    const bytes = readFileSync(fixture(f));
+    meshes.push(await loadStl(bytes), await loadStl(bytes, { view: true }));
+  }
+  assert.deepEqual(meshes.map((m) => m.solids.length), [1, 1, 2, 2]);
+  for (const m of meshes) {
+    const chunks = [];
+    for await (const c of writeStl(m)) chunks.push(c);
+    const whole = Buffer.concat(chunks);
+    const bin = await toStl(m);
+    assert.ok(sameBytes(bin, whole));
+    assert.equal(bin.buffer.byteLength, bin.length);
+    // The array is sized from nTriangles and solids; a changed figure still gives the file.
+    const n = m.nTriangles;
+    for (const wrong of [0, 1, n + 7]) {
+      m.nTriangles = wrong;
+      assert.ok(sameBytes(await toStl(m), whole), `nTriangles ${wrong}`);
+    }
+    m.nTriangles = n;
+    if (m.dispose) m.dispose();
+  }
+});
+
 test('writeStl: bounded chunks that join to toStl; views and the worker write the same bytes', async () => {
   const bytes = readFileSync(fixture('rear_case.stl'));
   const m = await loadStl(bytes);

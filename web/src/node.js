@@ -4,7 +4,6 @@ import { stlError } from './errors.js';
 import { createEditableMesh, createPlanRepair } from './edit.js';
 import { createUnion } from './union.js';
 import { normalizeOptions } from './options.js';
-import { concatBytes } from './wasm.js';
 
 export const loadStl = api.loadStl;
 export const fromIndexed = api.fromIndexed;
@@ -12,7 +11,7 @@ export const writeStl = api.writeStl;
 
 /** Node: the STL file of a mesh as one Uint8Array (writeStl() streams it instead). */
 export async function toStl(mesh, options) {
-  return concatBytes(...(await api.stlChunks(mesh, options)));
+  return api.stlBytes(mesh, options);
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */

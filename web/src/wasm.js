@@ -337,8 +337,9 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
     }, { keep: true });
   }
 
-  // The chunks of the STL file of a session's mesh, each copied out of wasm memory.
-  async function* sessionChunks(entry, session, o) {
+  // The chunks of the STL file of a session's mesh, each copied out of wasm memory (copy
+  // false: views of it, each valid until the next is asked for).
+  async function* sessionChunks(entry, session, o, copy = true) {
     const st = session.writeBegin(o.format, o.colors, o.name, o.normals === 'stored', o.chunkBytes);
     if (st) throw fromStatus(st);
     for (;;) {
@@ -347,7 +348,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
         const r = session.writeNext();
         if (r === null) return;
         if (!ArrayBuffer.isView(r)) throw fromStatus(r);
-        chunk = r.slice();
+        chunk = copy ? r.slice() : r;
       } catch (e) {
         throw wasmFailure(entry, e);
       }
@@ -358,11 +359,11 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
   // Writes a mesh (a Mesh, or writeInput() data from another thread) as STL, chunk by chunk,
   // in this thread: through the mesh's own session for a live view of the full module, else
   // through a session of the full module its arrays are uploaded to.
-  async function* writeHere(mesh, o) {
+  async function* writeHere(mesh, o, copy = true) {
     const entry = await moduleFor('write', o);
     const live = mesh instanceof Mesh ? liveSession.get(mesh) : null;
     if (live && live.entry === entry) {
-      yield* sessionChunks(entry, live.session, o);
+      yield* sessionChunks(entry, live.session, o, copy);
       return;
     }
     const input = mesh instanceof Mesh ? writeInput(mesh) : mesh;
@@ -375,7 +376,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
         view.set(src);
       }
       session.setMeta(input.colorConvention, input.solids);
-      yield* sessionChunks(entry, session, o);
+      yield* sessionChunks(entry, session, o, copy);
     });
   }
 
@@ -398,6 +399,28 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
     const chunks = [];
     for await (const c of writeStl(mesh, options)) chunks.push(c);
     return chunks;
+  }
+
+  /** toStl() in Node: the file as one Uint8Array. A binary file's size is known beforehand (84
+   * bytes a solid and 50 a triangle), so its chunks go from wasm memory straight into it: one
+   * copy where stlChunks() and a join make two, each into fresh memory (the 1M torus: 285-300
+   * against 143-155 ms, *Stop 68* in bench/PROFILE.md). */
+  async function stlBytes(mesh, options) {
+    const o = normalizeWriteOptions(options);
+    const here = mesh instanceof Mesh && !workerHome.get(mesh) && !(o.worker && loadWorker);
+    if (!here || o.format !== 'binary') return concatBytes(...(await stlChunks(mesh, options)));
+    const out = new Uint8Array(84 * Math.max(1, mesh.solids.length) + 50 * mesh.nTriangles);
+    const rest = [];  // what does not fit: nothing, unless the mesh's figures were changed
+    let at = 0;
+    for await (const view of writeHere(mesh, o, false)) {
+      if (rest.length === 0 && at + view.length <= out.length) {
+        out.set(view, at);
+        at += view.length;
+      } else {
+        rest.push(view.slice());
+      }
+    }
+    return rest.length === 0 && at === out.length ? out : concatBytes(out.subarray(0, at), ...rest);
   }
 
   // A module instantiated on this thread (the core, else the full one), for validate() of
@@ -479,7 +502,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
   }
   setIntersectionFinder(findIntersections);
 
-  return { loadStl, loadFromSource, fromIndexed, writeStl, stlChunks, findIntersections, internal };
+  return { loadStl, loadFromSource, fromIndexed, writeStl, stlChunks, stlBytes, findIntersections, internal };
 }
 
 /** The bytes of several Uint8Arrays, joined. */
