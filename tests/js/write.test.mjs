@@ -83,7 +83,7 @@ test('toStl in Node copies a binary file once into an array of its size, and doe
     assert.equal(bin.buffer.byteLength, bin.length);
     // The array is sized from nTriangles and solids; a changed figure still gives the file.
     const n = m.nTriangles;
-    for (const wrong of [0, 1, n + 7]) {
+    for (const wrong of [0, 1, n + 7, 1e15, -1, NaN]) {
       m.nTriangles = wrong;
       assert.ok(sameBytes(await toStl(m), whole), `nTriangles ${wrong}`);
     }

@@ -408,8 +408,10 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
   async function stlBytes(mesh, options) {
     const o = normalizeWriteOptions(options);
     const here = mesh instanceof Mesh && !workerHome.get(mesh) && !(o.worker && loadWorker);
-    if (!here || o.format !== 'binary') return concatBytes(...(await stlChunks(mesh, options)));
-    const out = new Uint8Array(84 * Math.max(1, mesh.solids.length) + 50 * mesh.nTriangles);
+    const n = here ? mesh.nTriangles : NaN;  // trusted for the size only when the arrays agree
+    const sized = Number.isInteger(n) && n >= 0 && mesh.triangles && mesh.triangles.length === 3 * n;
+    if (!sized || o.format !== 'binary') return concatBytes(...(await stlChunks(mesh, options)));
+    const out = new Uint8Array(84 * Math.max(1, mesh.solids.length) + 50 * n);
     const rest = [];  // what does not fit: nothing, unless the mesh's figures were changed
     let at = 0;
     for await (const view of writeHere(mesh, o, false)) {
