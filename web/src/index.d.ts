@@ -513,7 +513,7 @@ export interface WriteOptions {
   name?: string;
   /** 'stored' (default): the stored normals when the mesh kept them; 'computed': from the winding. */
   normals?: 'stored' | 'computed';
-  /** Largest chunk of writeStl() (default 1 MiB; at least 16 KiB is used). */
+  /** Largest chunk of writeStl() (default 1 MiB; toStl() in browsers 8 MiB; at least 16 KiB is used). */
   chunkBytes?: number;
   /** Write in a worker (meshes of stltopo/worker are always written in one). */
   worker?: boolean;

@@ -17,7 +17,7 @@ export const writeStl = api.writeStl;
 
 /** The STL file of a mesh as a Blob (type model/stl), assembled from writeStl()'s chunks. */
 export async function toStl(mesh, options) {
-  return new Blob(await api.stlChunks(mesh, options), { type: 'model/stl' });
+  return api.stlBlob(mesh, options);
 }
 
 /** Local edits on a copy of a mesh in wasm memory (edit.js, docs/EDITING.md). */
