@@ -380,11 +380,17 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
     });
   }
 
+  /** The worker that writes this mesh (the one that holds it, or a fresh one when the options
+   * ask for a worker), or null when it is written on this thread. */
+  function writerHome(mesh, o) {
+    return workerHome.get(mesh) || (o.worker && loadWorker ? loadWorker : null);
+  }
+
   /** The STL file of a mesh as an async iterator of Uint8Array chunks. */
   function writeStl(mesh, options) {
     const o = normalizeWriteOptions(options);
     if (!(mesh instanceof Mesh)) throw stlError('invalid-argument', 'writeStl() needs a Mesh of loadStl() or fromIndexed()');
-    const home = workerHome.get(mesh) || (o.worker && loadWorker ? loadWorker : null);
+    const home = writerHome(mesh, o);
     if (home) {
       return (async function* inWorker() {
         const w = await home();
@@ -407,7 +413,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
    * against 143-155 ms, *Stop 68* in bench/PROFILE.md). */
   async function stlBytes(mesh, options) {
     const o = normalizeWriteOptions(options);
-    const here = mesh instanceof Mesh && !workerHome.get(mesh) && !(o.worker && loadWorker);
+    const here = mesh instanceof Mesh && !writerHome(mesh, o);
     const n = here ? mesh.nTriangles : NaN;  // trusted for the size only when the arrays agree
     const sized = Number.isInteger(n) && n >= 0 && mesh.triangles && mesh.triangles.length === 3 * n;
     if (!sized || o.format !== 'binary') return concatBytes(...(await stlChunks(mesh, options)));
@@ -435,7 +441,7 @@ export function createStltopo({ instantiate, instantiateFull, loadWorker = null,
   async function stlBlob(mesh, options) {
     const o = normalizeWriteOptions(options);
     const type = { type: 'model/stl' };
-    const here = mesh instanceof Mesh && !workerHome.get(mesh) && !(o.worker && loadWorker);
+    const here = mesh instanceof Mesh && !writerHome(mesh, o);
     if (!here) return new Blob(await stlChunks(mesh, options), type);
     const parts = [];
     const big = options && options.chunkBytes !== undefined ? o : { ...o, chunkBytes: BLOB_CHUNK_BYTES };
