@@ -14,6 +14,7 @@ void trim(const char*& b, const char*& e) {
 bool Builder::reserveTriangles(uint64_t n) {
   if (n > opt.maxTriangles) n = opt.maxTriangles;
   if (n <= mesh.nTriangles()) return true;
+  plannedTriangles = n;
   uint64_t v = n / 2 + 16;
   if (!mesh.triangles.reserve(size_t(n) * 3) || !mesh.attributes.reserve(size_t(n)) ||
       (opt.keepNormals && !mesh.normals.reserve(size_t(n) * 3)) || !mesh.positions.reserve(size_t(v) * 3) ||
@@ -47,8 +48,21 @@ bool Builder::growSlots(Array<Slot>& t, uint32_t& mask, uint32_t forVertices) {
   return true;
 }
 
-bool Builder::growTable(uint32_t forVertices) {
+bool Builder::growTable(uint32_t forVertices, uint64_t trianglesDone) {
   if (recent.empty() && !recent.assign(kRecent, Slot{0, 0, 0, kInvalid})) return false;
+  // A soup: at least 31/32 of the corners so far were new vertices, over a thousand triangles
+  // or more. Its table would double from reserveTriangles's half a vertex a triangle to three,
+  // each doubling a fresh table filled again (a 1M soup: 16 -> 128 MB). A file that welds
+  // after a soup-like start gets a table larger than it needs (at most for 3 vertices a
+  // triangle, as a soup's); when that cannot be had, the table doubles as before.
+  const uint64_t t = trianglesDone;
+  if (t >= 1024 && plannedTriangles > t && uint64_t(forVertices) * 32 >= 93 * t) {
+    const uint64_t want = std::min<uint64_t>(uint64_t(forVertices) + 3 * (plannedTriangles - t), 1u << 30);
+    if (growSlots(table, mask, uint32_t(want))) {
+      (void)mesh.positions.reserve(size_t(want) * 3);  // else it grows as it goes
+      return true;
+    }
+  }
   return growSlots(table, mask, forVertices);
 }
 

@@ -107,7 +107,14 @@ struct Builder {
 
   static inline uint32_t slotHash(const Slot& k) { return hash3(k.x, k.y, k.z); }
 
-  bool growTable(uint32_t forVertices);
+  // Grows the weld table for forVertices vertices (kept at most half full), and the recent
+  // list. trianglesDone: how many triangles were welded before the one being welded (0 when
+  // unknown). When nearly every corner so far was a new vertex (a triangle soup: 3 a
+  // triangle) and the input's size says how many triangles are left (reserveTriangles), the
+  // table is sized at once for as many new vertices as their corners, and the positions with
+  // it, instead of doubling two or three times into fresh memory (see growTable).
+  bool growTable(uint32_t forVertices, uint64_t trianglesDone = 0);
+  uint64_t plannedTriangles = 0;  // reserveTriangles's figure: what the input can hold
 #if STLTOPO_THREADS
   // A batch of `count` whole binary records at rec (the first at input offset `offset`) on up
   // to `threads` threads, with the mesh that add() gives one record at a time. Records are
@@ -244,7 +251,7 @@ struct Builder {
     k.id = id;
     table[i] = k;
     r = k;
-    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1)) return kInvalid;
+    if (size_t(id + 1) * 2 > table.size() && !growTable(id + 1, mesh.nTriangles())) return kInvalid;
     return id;
   }
 

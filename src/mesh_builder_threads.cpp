@@ -440,7 +440,8 @@ uint64_t Builder::addBatchLookups(const uint8_t* rec, uint32_t count, unsigned n
       }
       ++added;
       k.id = appendVertex(x, y, z);
-      if (k.id == kInvalid || (table[i] = k, size_t(k.id + 1) * 2 > table.size() && !growTable(k.id + 1))) {
+      if (k.id == kInvalid ||
+          (table[i] = k, size_t(k.id + 1) * 2 > table.size() && !growTable(k.id + 1, t0 + c / 3))) {
         error = oom(k.id == kInvalid ? "the vertex array" : "the weld table");
         return c / 3 + 1;
       }

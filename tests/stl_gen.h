@@ -114,6 +114,28 @@ inline Soup torus(int n, int m, const std::vector<int>& skip = {}, float R = 3, 
   return s;
 }
 
+// A file that is a triangle soup for its first `soup` triangles (3 new vertices each, random
+// points in [-50, 50]^3), then a 60 x 100 torus (12,000 triangles that weld), then `again`
+// triangles on the soup's points: the reader's weld table, sized for a soup by then
+// (Builder::growTable), has to weld the rest as the doubling one would.
+inline Soup soupThenWelded(uint32_t soup = 6000, uint32_t again = 3000, unsigned seed = 5) {
+  Soup s;
+  uint64_t x = seed * 0x9E3779B97F4A7C15ull + 1;
+  auto next = [&x] {  // splitmix64: the same points on every standard library
+    uint64_t z = (x += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  };
+  auto coord = [&] { return float(int64_t(next() % 2000001) - 1000000) / 20000.0f; };
+  for (uint32_t i = 0; i < 3 * soup; ++i) s.v.push_back({coord(), coord(), coord()});
+  for (uint32_t i = 0; i < soup; ++i) s.f.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  append(s, torus(60, 100));
+  for (uint32_t i = 0; i < again; ++i)
+    s.f.push_back({uint32_t(next() % (3 * soup)), uint32_t(next() % (3 * soup)), uint32_t(next() % (3 * soup))});
+  return s;
+}
+
 inline std::string readFile(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;

@@ -4,6 +4,7 @@
 #include <locale.h>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <random>
 
 #include "predicates.h"  // private (src/): the normal mismatch's exact sign, checked below
@@ -258,6 +259,42 @@ TEST(ReadStl, VertexIdsFollowFirstAppearance) {
   const uint32_t expected[6] = {0, 1, 2, 2, 1, 3};
   for (int i = 0; i < 6; ++i) EXPECT_EQ(m.triangles[i], expected[i]);
   EXPECT_EQ(m.positions[9], 9.0f);
+}
+
+// Exact welding by first appearance, whatever size the weld table had: a file whose first
+// part is a soup (the table is then sized at once for 3 vertices a triangle, where it doubled
+// before) and whose rest welds, against a brute-force weld, whole (the input's size known, so
+// the table is sized for a soup) and in chunks (size unknown: the table doubles).
+TEST(ReadStl, ASoupThatWeldsLaterGetsTheIdsOfFirstAppearance) {
+  const gen::Soup s = gen::soupThenWelded();
+  const std::string bytes = gen::binary(s);
+  std::map<std::array<uint32_t, 3>, uint32_t> ids;  // coordinates' bits (-0 as +0) -> id
+  std::vector<float> positions;
+  std::vector<uint32_t> triangles;
+  for (const auto& f : s.f)
+    for (uint32_t c : f) {
+      const auto& p = s.v[c];
+      std::array<uint32_t, 3> key;
+      for (int k = 0; k < 3; ++k) {
+        const float z = p[size_t(k)] + 0.0f;
+        std::memcpy(&key[size_t(k)], &z, 4);
+      }
+      auto [it, fresh] = ids.emplace(key, uint32_t(ids.size()));
+      if (fresh) positions.insert(positions.end(), p.begin(), p.end());
+      triangles.push_back(it->second);
+    }
+  Mesh whole, chunked;
+  ASSERT_TRUE(gen::read(bytes, whole).ok());
+  ASSERT_TRUE(gen::readChunked(bytes, 4096, chunked).ok());
+  ASSERT_EQ(whole.nVertices(), ids.size());
+  ASSERT_EQ(whole.triangles.size(), triangles.size());
+  EXPECT_EQ(std::memcmp(whole.positions.data(), positions.data(), positions.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(whole.triangles.data(), triangles.data(), triangles.size() * 4), 0);
+  EXPECT_TRUE(gen::sameMesh(whole, chunked));
+  // Sized once for the soup's projected 3 vertices a triangle (10,517 + 3 x 17,495), where
+  // doubling from half a vertex a triangle stops at 42,064 vertices.
+  EXPECT_GE(whole.positions.capacity(), 3u * 63002u);
+  EXPECT_LT(chunked.positions.capacity(), 3u * 63002u);
 }
 
 TEST(ReadStl, VisCamColours) {

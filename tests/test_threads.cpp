@@ -376,6 +376,27 @@ TEST(Threads, TheReadWeldsGridOrderByPiecesAndRandomOrderByLookups) {
   EXPECT_GT(m.nVertices(), 20000u / 2 + 16) << "the weld table did not have to grow";
 }
 
+// A soup whose rest welds (gen::soupThenWelded): on 2 threads its weld table is sized for the
+// soup in a batch welded by lookups (Builder::growTable from addBatchLookups), and the arrays
+// are still those of one thread.
+TEST(Threads, ASoupThatWeldsLaterIsTheSameForEveryThreadCount) {
+  if (!kThreaded) GTEST_SKIP() << "no threads in this build";
+  const std::string bytes = gen::binary(gen::soupThenWelded());
+  SmallGrain grain(64);  // batches of 512 records, then of 4,096
+  const std::string one = run(bytes, 1, 0, false);
+  const uint64_t lookups = stltopo::threadedReadBatchesForTesting(2);
+  EXPECT_TRUE(run(bytes, 2, 0, false) == one) << "2 threads differ from one";
+  EXPECT_GT(stltopo::threadedReadBatchesForTesting(2), lookups) << "no batch welded by lookups";
+  EXPECT_TRUE(run(bytes, 3, 4096, false) == one) << "3 threads in 4096-byte pieces differ";
+  stltopo::Mesh m;
+  stltopo::ReadOptions ro;
+  ro.threads = 2;
+  ASSERT_TRUE(gen::read(bytes, m, ro).ok());
+  // The table grew (10,517 vertices) in the second batch (records 512 to 4,607), by lookups,
+  // and was sized for 3 vertices a triangle to the end (see ReadStl.ASoupThatWelds...).
+  EXPECT_GE(m.positions.capacity(), 3u * 63002u);
+}
+
 // The plan, the change log and the result of a repair with every step, on `threads`.
 std::string repairWith(const std::string& bytes, unsigned threads) {
   stltopo::Mesh mesh;
